@@ -1,0 +1,30 @@
+//! Robots from URDF: kinematic trees, the virtual mount, joint groups, the configuration space,
+//! forward kinematics, Jacobians, inverse kinematics, link collision geometry.
+//!
+//! This crate owns the layout of a configuration vector (`docs/robots.md`): no other crate
+//! interprets coordinates; everything goes through [`Robot`] methods.
+
+mod collision;
+mod configuration;
+mod error;
+mod ik;
+mod kinematics;
+mod mesh;
+mod mount;
+mod robot;
+mod urdf;
+
+pub use configuration::{
+    LIMIT_TOLERANCE, UNBOUNDED_SAMPLE_HALF_WIDTH, slerp, uniform_rotation, wrap_angle,
+};
+pub use error::{IkError, RobotError};
+pub use ik::{
+    DEFAULT_DAMPING, DEFAULT_MAX_ITERATIONS, DEFAULT_ORIENTATION_TOLERANCE,
+    DEFAULT_POSITION_TOLERANCE, DEFAULT_RESTARTS, IkConfig, pose_error_norms, solve_ik,
+};
+pub use lamp_geometry::{Pose, Shape};
+pub use mount::Mount;
+pub use robot::{
+    ALL_GROUP, ARM_GROUP, BASE_GROUP, Coordinate, CoordinateKind, GRIPPER_GROUP, JointGroup,
+    LinkGeometry, LinkId, Robot,
+};

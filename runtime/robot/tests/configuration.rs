@@ -1,0 +1,246 @@
+//! Configuration space: layout, groups, named configurations, wrap-aware distance and interpolation,
+//! rotation slerp, sampling and limits.
+
+mod common;
+
+use std::f64::consts::PI;
+
+use approx::assert_relative_eq;
+use lamp_geometry::{Rotation, Vec3};
+use lamp_robot::{Mount, wrap_angle};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+const TOLERANCE: f64 = 1e-12;
+
+#[test]
+fn fetch_layout_and_groups() {
+    let robot = common::load("fetch.urdf", Mount::Planar);
+    let expected = [
+        "base_x",
+        "base_y",
+        "base_yaw",
+        "torso_lift_joint",
+        "shoulder_pan_joint",
+        "shoulder_lift_joint",
+        "upperarm_roll_joint",
+        "elbow_flex_joint",
+        "forearm_roll_joint",
+        "wrist_flex_joint",
+        "wrist_roll_joint",
+        "l_gripper_finger_joint",
+        "r_gripper_finger_joint",
+    ];
+    assert_eq!(robot.coordinate_names(), expected);
+    assert_eq!(robot.group("base").expect("base").coordinates, [0, 1, 2]);
+    assert_eq!(robot.group("arm").expect("arm").coordinates, [3, 4, 5, 6, 7, 8, 9, 10]);
+    assert_eq!(robot.group("gripper").expect("gripper").coordinates, [11, 12]);
+    assert_eq!(robot.end_effector(), robot.link_id("gripper_link"));
+    let fixed = common::fetch_fixed();
+    assert!(fixed.group("base").is_none(), "a fixed mount has no base group");
+    let custom = fixed
+        .with_group("hand", &["r_gripper_finger_joint", "l_gripper_finger_joint"])
+        .expect("group");
+    assert_eq!(custom.group("hand").expect("hand").coordinates, [8, 9]);
+    assert!(
+        custom.clone().with_group("arm", &["torso_lift_joint"]).is_err(),
+        "built-in groups are reserved"
+    );
+    assert!(custom.with_group("bad", &["no_such_joint"]).is_err());
+}
+
+#[test]
+fn named_configuration_sets_joints_and_rejects_unknown_names() {
+    let robot = common::fetch_fixed();
+    let tuck = [
+        ("torso_lift_joint", 0.0),
+        ("shoulder_pan_joint", 1.32),
+        ("shoulder_lift_joint", 1.40),
+        ("upperarm_roll_joint", -0.20),
+        ("elbow_flex_joint", 1.72),
+        ("forearm_roll_joint", 0.0),
+        ("wrist_flex_joint", 1.66),
+        ("wrist_roll_joint", 0.0),
+    ];
+    let mut q = robot.neutral_configuration();
+    robot.apply_named_configuration(tuck, &mut q).expect("tuck joints exist");
+    assert_eq!(&q[..8], [0.0, 1.32, 1.40, -0.20, 1.72, 0.0, 1.66, 0.0]);
+    assert!(robot.within_limits(&q));
+    assert!(robot.apply_named_configuration([("elbow", 1.0)], &mut q).is_err());
+}
+
+#[test]
+fn yaw_interpolates_across_pi_not_through_zero() {
+    let robot = common::load("magnetic_gripper.urdf", Mount::Planar);
+    let a = [0.0, 0.0, 3.0];
+    let b = [0.0, 0.0, -3.0];
+    let mut middle = [0.0; 3];
+    robot.interpolate(&a, &b, 0.5, &mut middle);
+    assert_relative_eq!(wrap_angle(middle[2] - PI), 0.0, epsilon = TOLERANCE);
+    assert_relative_eq!(robot.distance(&a, &b), 2.0 * PI - 6.0, epsilon = TOLERANCE);
+    robot.interpolate(&a, &b, 0.25, &mut middle);
+    assert_relative_eq!(middle[2], 3.0 + 0.25 * (2.0 * PI - 6.0), epsilon = TOLERANCE);
+    robot.interpolate(&a, &b, 1.0, &mut middle);
+    assert_relative_eq!(middle[2], -3.0, epsilon = 1e-9);
+    // Translation is plain Euclidean.
+    assert_relative_eq!(
+        robot.distance(&[0.0, 0.0, 0.0], &[3.0, 4.0, 0.0]),
+        5.0,
+        epsilon = TOLERANCE
+    );
+}
+
+#[test]
+fn continuous_joints_wrap_and_bounded_joints_do_not() {
+    let robot = common::fetch_fixed();
+    let roll = robot.coordinate_index("upperarm_roll_joint").expect("continuous joint");
+    let elbow = robot.coordinate_index("elbow_flex_joint").expect("revolute joint");
+    let mut a = robot.neutral_configuration();
+    let mut b = a.clone();
+    a[roll] = PI - 0.1;
+    b[roll] = -PI + 0.1;
+    assert_relative_eq!(robot.distance(&a, &b), 0.2, epsilon = 1e-12);
+    a[roll] = 0.0;
+    b[roll] = 0.0;
+    a[elbow] = -2.0;
+    b[elbow] = 2.0;
+    assert_relative_eq!(robot.distance(&a, &b), 4.0, epsilon = 1e-12);
+    let mut middle = a.clone();
+    robot.interpolate(&a, &b, 0.5, &mut middle);
+    assert_relative_eq!(middle[elbow], 0.0, epsilon = 1e-12);
+}
+
+#[test]
+fn floating_rotation_interpolates_by_slerp_without_wrap_problems() {
+    let robot = common::load("magnetic_gripper.urdf", Mount::Floating);
+    let gripper = robot.link_id("gripper_link").expect("gripper_link");
+    // Two rotations about z at ±(π − 0.1): as rotation vectors they point in opposite directions,
+    // but they are only 0.2 rad apart.
+    let a = [0.0, 0.0, 0.0, 0.0, 0.0, PI - 0.1];
+    let b = [1.0, 0.0, 0.0, 0.0, 0.0, -(PI - 0.1)];
+    assert_relative_eq!(robot.distance(&a, &b), (1.0f64 + 0.04).sqrt(), epsilon = 1e-9);
+    let mut middle = [0.0; 6];
+    robot.interpolate(&a, &b, 0.5, &mut middle);
+    let rotation = robot.link_pose(&middle, gripper).rotation;
+    assert_relative_eq!(
+        rotation.angle_to(&Rotation::from_axis_angle(&Vec3::z_axis(), PI)),
+        0.0,
+        epsilon = 1e-9
+    );
+    assert_relative_eq!(middle[0], 0.5, epsilon = TOLERANCE);
+    // Every interpolated rotation lies on the geodesic: angles from a grow linearly.
+    let (ra, rb) = (robot.link_pose(&a, gripper).rotation, robot.link_pose(&b, gripper).rotation);
+    for step in 0..=10 {
+        let t = f64::from(step) / 10.0;
+        robot.interpolate(&a, &b, t, &mut middle);
+        let r = robot.link_pose(&middle, gripper).rotation;
+        assert_relative_eq!(ra.angle_to(&r), t * ra.angle_to(&rb), epsilon = 1e-9);
+        assert!(
+            Vec3::new(middle[3], middle[4], middle[5]).norm() <= PI + 1e-12,
+            "rotation vector stays canonical"
+        );
+    }
+    // A general pair: slerp midpoint is equidistant from both ends.
+    let c = [0.0, 0.0, 0.0, 2.0, -1.0, 0.5];
+    let d = [0.0, 0.0, 0.0, -1.0, 0.3, 2.2];
+    robot.interpolate(&c, &d, 0.5, &mut middle);
+    let (rc, rd, rm) = (
+        robot.link_pose(&c, gripper).rotation,
+        robot.link_pose(&d, gripper).rotation,
+        robot.link_pose(&middle, gripper).rotation,
+    );
+    assert_relative_eq!(rc.angle_to(&rm), rd.angle_to(&rm), epsilon = 1e-9);
+    assert_relative_eq!(rc.angle_to(&rm) * 2.0, rc.angle_to(&rd), epsilon = 1e-9);
+}
+
+#[test]
+fn sampling_respects_limits_groups_and_is_deterministic() {
+    let robot = common::load("fetch.urdf", Mount::Planar)
+        .with_coordinate_limits("base_x", -1.0, 3.0)
+        .expect("base_x exists");
+    let arm = robot.group("arm").expect("arm").clone();
+    let all = robot.group("all").expect("all").clone();
+    let mut reference = robot.neutral_configuration();
+    reference[0] = 0.5;
+    reference[11] = 0.02;
+    let mut rng = ChaCha8Rng::seed_from_u64(42);
+    let mut q = reference.clone();
+    let mut minimum = vec![f64::INFINITY; robot.dof()];
+    let mut maximum = vec![f64::NEG_INFINITY; robot.dof()];
+    for _ in 0..2000 {
+        robot.sample_uniform(&arm, &reference, &mut rng, &mut q);
+        assert!(robot.within_limits(&q));
+        for index in 0..robot.dof() {
+            if !arm.coordinates.contains(&index) {
+                assert_eq!(
+                    q[index], reference[index],
+                    "coordinate {index} outside the group changed"
+                );
+            }
+        }
+        robot.sample_uniform(&all, &reference, &mut rng, &mut q);
+        assert!(robot.within_limits(&q));
+        for index in 0..robot.dof() {
+            minimum[index] = minimum[index].min(q[index]);
+            maximum[index] = maximum[index].max(q[index]);
+        }
+    }
+    // Samples cover the limits: base_x in [-1, 3], shoulder pan close to ±1.6056, yaw the full circle.
+    assert!(minimum[0] >= -1.0 && minimum[0] < -0.9 && maximum[0] <= 3.0 && maximum[0] > 2.9);
+    assert!(minimum[4] < -1.55 && maximum[4] > 1.55);
+    assert!(minimum[2] < -3.0 && maximum[2] > 3.0);
+    // Unbounded base_y samples stay within the documented half width around the reference.
+    assert!(
+        minimum[1] >= -lamp_robot::UNBOUNDED_SAMPLE_HALF_WIDTH
+            && maximum[1] <= lamp_robot::UNBOUNDED_SAMPLE_HALF_WIDTH
+    );
+
+    let mut first = reference.clone();
+    let mut second = reference.clone();
+    robot.sample_uniform(&all, &reference, &mut ChaCha8Rng::seed_from_u64(3), &mut first);
+    robot.sample_uniform(&all, &reference, &mut ChaCha8Rng::seed_from_u64(3), &mut second);
+    assert_eq!(first, second);
+}
+
+#[test]
+fn clamp_and_limits() {
+    let robot = common::load("fetch.urdf", Mount::Planar);
+    let mut q = robot.neutral_configuration();
+    q[2] = 4.0; // yaw
+    q[3] = 1.0; // torso beyond 0.38615
+    q[4] = -3.0; // shoulder pan below -1.6056
+    assert!(!robot.within_limits(&q));
+    robot.clamp(&mut q);
+    assert!(robot.within_limits(&q));
+    assert_relative_eq!(q[2], 4.0 - 2.0 * PI, epsilon = TOLERANCE);
+    assert_relative_eq!(q[3], 0.38615, epsilon = TOLERANCE);
+    assert_relative_eq!(q[4], -1.6056, epsilon = TOLERANCE);
+    q[5] = f64::NAN;
+    assert!(!robot.within_limits(&q));
+    assert!(
+        !robot.within_limits(&q[..4]),
+        "a configuration of the wrong length is not within limits"
+    );
+    assert!(robot.clone().with_coordinate_limits("base_x", 1.0, -1.0).is_err());
+    assert!(robot.with_coordinate_limits("nope", 0.0, 1.0).is_err());
+}
+
+#[test]
+fn uniform_rotation_sampling_covers_so3_evenly() {
+    // The mean of R·e_z over uniform rotations is 0 and its z component is uniform on [-1, 1].
+    let mut rng = ChaCha8Rng::seed_from_u64(8);
+    let samples = 20_000;
+    let mut mean = Vec3::zeros();
+    let mut below = 0;
+    for _ in 0..samples {
+        let direction = lamp_robot::uniform_rotation(&mut rng) * Vec3::z();
+        mean += direction;
+        if direction.z < -0.5 {
+            below += 1;
+        }
+    }
+    mean /= f64::from(samples);
+    assert!(mean.norm() < 0.02, "mean direction {mean:?}");
+    let fraction = f64::from(below) / f64::from(samples);
+    assert!((fraction - 0.25).abs() < 0.015, "P(z < -0.5) = {fraction}");
+}
