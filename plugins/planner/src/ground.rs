@@ -1,0 +1,488 @@
+//! Grounding with relaxed reachability.
+//!
+//! Actions are instantiated only for bindings whose positive preconditions are reachable in the
+//! delete relaxation from the initial state; the reachable set is grown to a fixpoint by joining
+//! each action's positive preconditions against it. Bindings respect parameter types (an object fits
+//! a parameter when its type is the parameter's type or a subtype), equality constraints, and
+//! negative preconditions on static predicates (which are exact: static atoms never change).
+//! Atoms of static predicates are compiled away; a fluent atom that is never reachable is always
+//! false, so negative conditions on it are dropped.
+
+use std::collections::{BTreeMap, HashSet};
+
+use lamp_pddl::{Condition, Domain, Literal, Problem, Term};
+
+use crate::PlannerError;
+use crate::task::{FactId, GroundAtom, GroundTask, GroundingVerdict, Operator};
+
+/// A ground atom over indices: the predicate index followed by the object indices.
+type Key = Vec<u32>;
+
+/// An argument of a lifted atom after name resolution.
+#[derive(Clone, Copy, Debug)]
+enum Slot {
+    Parameter(usize),
+    Object(u32),
+}
+
+#[derive(Clone, Debug)]
+struct LiftedAtom {
+    predicate: u32,
+    slots: Vec<Slot>,
+}
+
+#[derive(Debug)]
+struct LiftedAction {
+    name: String,
+    /// For each parameter, the objects that fit its type, in object order.
+    candidates: Vec<Vec<u32>>,
+    positive: Vec<LiftedAtom>,
+    negative: Vec<LiftedAtom>,
+    /// `(left, right, must_be_equal)`.
+    equalities: Vec<(Slot, Slot, bool)>,
+    add: Vec<LiftedAtom>,
+    delete: Vec<LiftedAtom>,
+}
+
+/// Names and indices shared by the whole grounding.
+struct Universe {
+    predicates: Vec<String>,
+    is_static: Vec<bool>,
+    objects: Vec<String>,
+}
+
+impl Universe {
+    fn ground_atom(&self, key: &[u32]) -> GroundAtom {
+        GroundAtom {
+            predicate: self.predicates[key[0] as usize].clone(),
+            arguments: key[1..]
+                .iter()
+                .map(|&object| self.objects[object as usize].clone())
+                .collect(),
+        }
+    }
+}
+
+/// Grounds `problem` over `domain`. Both must pass `lamp_pddl`'s checks.
+///
+/// # Errors
+/// [`PlannerError::InvalidInput`] when the model fails the checks, and
+/// [`PlannerError::TooManyOperators`] when grounding would exceed `max_operators`.
+pub fn ground(
+    domain: &Domain,
+    problem: &Problem,
+    max_operators: usize,
+) -> Result<GroundTask, PlannerError> {
+    let mut errors = lamp_pddl::check_domain(domain);
+    if errors.is_empty() {
+        errors = lamp_pddl::check_problem(domain, problem);
+    }
+    if !errors.is_empty() {
+        return Err(PlannerError::InvalidInput(lamp_pddl::PddlErrors { errors }));
+    }
+
+    // Objects in name order: indices then sort like names, which fixes every later order.
+    let mut typed_objects: Vec<(&str, &str)> = domain
+        .constants
+        .iter()
+        .chain(&problem.objects)
+        .map(|o| (o.name.as_str(), o.type_name.as_str()))
+        .collect();
+    typed_objects.sort_unstable();
+    let object_index: BTreeMap<&str, u32> =
+        typed_objects.iter().zip(0_u32..).map(|((name, _), index)| (*name, index)).collect();
+
+    let predicate_index: BTreeMap<&str, u32> =
+        domain.predicates.iter().zip(0_u32..).map(|(p, index)| (p.name.as_str(), index)).collect();
+    let mut is_static = vec![true; domain.predicates.len()];
+    for action in &domain.actions {
+        for atom in action.add.iter().chain(&action.delete) {
+            if let Some(&index) = predicate_index.get(atom.predicate.as_str()) {
+                is_static[index as usize] = false;
+            }
+        }
+    }
+    let universe = Universe {
+        predicates: domain.predicates.iter().map(|p| p.name.clone()).collect(),
+        is_static,
+        objects: typed_objects.iter().map(|(name, _)| (*name).to_owned()).collect(),
+    };
+
+    let resolve_atom = |atom: &lamp_pddl::Atom, parameters: &[lamp_pddl::Typed]| LiftedAtom {
+        predicate: predicate_index.get(atom.predicate.as_str()).copied().unwrap_or(u32::MAX),
+        slots: atom.arguments.iter().map(|term| resolve(term, parameters, &object_index)).collect(),
+    };
+    let actions: Vec<LiftedAction> = domain
+        .actions
+        .iter()
+        .map(|action| {
+            let mut lifted = LiftedAction {
+                name: action.name.clone(),
+                candidates: action
+                    .parameters
+                    .iter()
+                    .map(|parameter| {
+                        typed_objects
+                            .iter()
+                            .zip(0_u32..)
+                            .filter(|((_, type_name), _)| {
+                                domain.is_subtype(type_name, &parameter.type_name)
+                            })
+                            .map(|(_, index)| index)
+                            .collect()
+                    })
+                    .collect(),
+                positive: Vec::new(),
+                negative: Vec::new(),
+                equalities: Vec::new(),
+                add: action.add.iter().map(|a| resolve_atom(a, &action.parameters)).collect(),
+                delete: action.delete.iter().map(|a| resolve_atom(a, &action.parameters)).collect(),
+            };
+            for condition in &action.precondition {
+                match condition {
+                    Condition::Atom { atom, positive: true } => {
+                        lifted.positive.push(resolve_atom(atom, &action.parameters));
+                    }
+                    Condition::Atom { atom, positive: false } => {
+                        lifted.negative.push(resolve_atom(atom, &action.parameters));
+                    }
+                    Condition::Equality { left, right, positive, .. } => lifted.equalities.push((
+                        resolve(left, &action.parameters, &object_index),
+                        resolve(right, &action.parameters, &object_index),
+                        *positive,
+                    )),
+                }
+            }
+            order_for_join(&mut lifted.positive);
+            lifted
+        })
+        .collect();
+
+    let ground_literal = |atom: &lamp_pddl::Atom| -> Key {
+        let mut key =
+            vec![predicate_index.get(atom.predicate.as_str()).copied().unwrap_or(u32::MAX)];
+        key.extend(
+            atom.arguments
+                .iter()
+                .map(|term| object_index.get(term.name()).copied().unwrap_or(u32::MAX)),
+        );
+        key
+    };
+    let initial: HashSet<Key> = problem.init.iter().map(ground_literal).collect();
+
+    // Relaxed reachability to a fixpoint; the per-predicate lists keep insertion order.
+    let mut reachable = Reachable::new(domain.predicates.len());
+    let mut initial_sorted: Vec<Key> = initial.iter().cloned().collect();
+    initial_sorted.sort_unstable();
+    for key in initial_sorted {
+        reachable.insert(key);
+    }
+    loop {
+        let mut new_atoms = Vec::new();
+        for action in &actions {
+            enumerate(action, &reachable, &initial, &universe, &mut |binding| {
+                for atom in &action.add {
+                    let key = instantiate(atom, binding);
+                    if !reachable.contains(&key) {
+                        new_atoms.push(key);
+                    }
+                }
+                true
+            });
+        }
+        if new_atoms.is_empty() {
+            break;
+        }
+        for key in new_atoms {
+            reachable.insert(key);
+        }
+    }
+
+    // Facts: reachable fluent atoms, in (predicate name, argument names) order.
+    let mut fact_keys: Vec<Key> =
+        reachable.all.iter().filter(|key| !universe.is_static[key[0] as usize]).cloned().collect();
+    let mut facts: Vec<GroundAtom> =
+        fact_keys.iter().map(|key| universe.ground_atom(key)).collect();
+    let mut order: Vec<usize> = (0..facts.len()).collect();
+    order.sort_by(|&a, &b| facts[a].cmp(&facts[b]));
+    fact_keys = order.iter().map(|&i| fact_keys[i].clone()).collect();
+    facts = order.iter().map(|&i| facts[i].clone()).collect();
+    let fact_of: std::collections::HashMap<Key, FactId> =
+        fact_keys.into_iter().zip(0_u32..).collect();
+
+    let mut operators = Vec::new();
+    let mut too_many = false;
+    for action in &actions {
+        enumerate(action, &reachable, &initial, &universe, &mut |binding| {
+            if operators.len() >= max_operators {
+                too_many = true;
+                return false;
+            }
+            let facts_of = |atoms: &[LiftedAtom]| -> Vec<FactId> {
+                let mut ids: Vec<FactId> = atoms
+                    .iter()
+                    .filter(|atom| !universe.is_static[atom.predicate as usize])
+                    .filter_map(|atom| fact_of.get(&instantiate(atom, binding)).copied())
+                    .collect();
+                ids.sort_unstable();
+                ids.dedup();
+                ids
+            };
+            operators.push(Operator {
+                action: action.name.clone(),
+                arguments: binding.iter().map(|&o| universe.objects[o as usize].clone()).collect(),
+                precondition: facts_of(&action.positive),
+                negative_precondition: facts_of(&action.negative),
+                add: facts_of(&action.add),
+                delete: facts_of(&action.delete),
+            });
+            true
+        });
+        if too_many {
+            return Err(PlannerError::TooManyOperators { limit: max_operators });
+        }
+    }
+    // Stable sort: action position (enumeration order) then argument names.
+    let position: BTreeMap<&str, usize> =
+        domain.actions.iter().enumerate().map(|(i, a)| (a.name.as_str(), i)).collect();
+    operators.sort_by(|a, b| {
+        (position.get(a.action.as_str()), &a.arguments)
+            .cmp(&(position.get(b.action.as_str()), &b.arguments))
+    });
+
+    let mut initial_facts: Vec<FactId> =
+        initial.iter().filter_map(|key| fact_of.get(key).copied()).collect();
+    initial_facts.sort_unstable();
+
+    let mut verdict = GroundingVerdict::Open;
+    let mut goal = Vec::new();
+    let mut negative_goal = Vec::new();
+    for literal in &problem.goal {
+        let key = ground_literal(&literal.atom);
+        let is_static = universe.is_static[key[0] as usize];
+        let unreachable = match (literal.positive, is_static) {
+            (true, true) => !initial.contains(&key),
+            (false, true) => initial.contains(&key),
+            (true, false) => match fact_of.get(&key) {
+                Some(&fact) => {
+                    goal.push(fact);
+                    false
+                }
+                None => true,
+            },
+            (false, false) => {
+                if let Some(&fact) = fact_of.get(&key) {
+                    negative_goal.push(fact);
+                }
+                false
+            }
+        };
+        if unreachable && verdict == GroundingVerdict::Open {
+            verdict = GroundingVerdict::GoalUnreachable { literal: literal_text(literal) };
+        }
+    }
+    goal.sort_unstable();
+    goal.dedup();
+    negative_goal.sort_unstable();
+    negative_goal.dedup();
+
+    Ok(GroundTask { facts, operators, initial: initial_facts, goal, negative_goal, verdict })
+}
+
+fn literal_text(literal: &Literal) -> String {
+    let atom = lamp_pddl::atom_text(&literal.atom);
+    if literal.positive { atom } else { format!("(not {atom})") }
+}
+
+fn resolve(term: &Term, parameters: &[lamp_pddl::Typed], objects: &BTreeMap<&str, u32>) -> Slot {
+    match term {
+        Term::Variable(name) => {
+            Slot::Parameter(parameters.iter().position(|p| &p.name == name).unwrap_or(usize::MAX))
+        }
+        Term::Constant(name) => {
+            Slot::Object(objects.get(name.as_str()).copied().unwrap_or(u32::MAX))
+        }
+    }
+}
+
+/// Orders positive preconditions so that each atom binds as few new parameters as possible given
+/// the ones before it (ties keep the written order); joins then filter early.
+fn order_for_join(atoms: &mut Vec<LiftedAtom>) {
+    let mut remaining = std::mem::take(atoms);
+    let mut bound: HashSet<usize> = HashSet::new();
+    while !remaining.is_empty() {
+        let new_parameters = |atom: &LiftedAtom| {
+            let mut new: Vec<usize> = atom
+                .slots
+                .iter()
+                .filter_map(|slot| match slot {
+                    Slot::Parameter(index) if !bound.contains(index) => Some(*index),
+                    _ => None,
+                })
+                .collect();
+            new.sort_unstable();
+            new.dedup();
+            new.len()
+        };
+        let best = (0..remaining.len()).min_by_key(|&i| new_parameters(&remaining[i])).unwrap_or(0);
+        let atom = remaining.remove(best);
+        for slot in &atom.slots {
+            if let Slot::Parameter(index) = slot {
+                bound.insert(*index);
+            }
+        }
+        atoms.push(atom);
+    }
+}
+
+/// The reachable ground atoms: a membership set and, per predicate, the argument tuples in
+/// insertion order.
+struct Reachable {
+    set: HashSet<Key>,
+    all: Vec<Key>,
+    by_predicate: Vec<Vec<Key>>,
+}
+
+impl Reachable {
+    fn new(predicates: usize) -> Self {
+        Self { set: HashSet::new(), all: Vec::new(), by_predicate: vec![Vec::new(); predicates] }
+    }
+
+    fn contains(&self, key: &Key) -> bool {
+        self.set.contains(key)
+    }
+
+    fn insert(&mut self, key: Key) {
+        if self.set.insert(key.clone()) {
+            if let Some(list) = self.by_predicate.get_mut(key[0] as usize) {
+                list.push(key.clone());
+            }
+            self.all.push(key);
+        }
+    }
+}
+
+fn instantiate(atom: &LiftedAtom, binding: &[u32]) -> Key {
+    let mut key = Vec::with_capacity(atom.slots.len() + 1);
+    key.push(atom.predicate);
+    key.extend(atom.slots.iter().map(|slot| slot_value(*slot, binding)));
+    key
+}
+
+fn slot_value(slot: Slot, binding: &[u32]) -> u32 {
+    match slot {
+        Slot::Parameter(index) => binding.get(index).copied().unwrap_or(UNBOUND),
+        Slot::Object(object) => object,
+    }
+}
+
+const UNBOUND: u32 = u32::MAX;
+
+/// Calls `visit` with every binding of `action`'s parameters whose positive preconditions are in
+/// `reachable` and whose equality and static negative conditions hold. `visit` returns `false` to
+/// stop early.
+fn enumerate(
+    action: &LiftedAction,
+    reachable: &Reachable,
+    initial: &HashSet<Key>,
+    universe: &Universe,
+    visit: &mut dyn FnMut(&[u32]) -> bool,
+) {
+    let mut binding = vec![UNBOUND; action.candidates.len()];
+    join(action, 0, &mut binding, reachable, initial, universe, visit);
+}
+
+fn join(
+    action: &LiftedAction,
+    depth: usize,
+    binding: &mut Vec<u32>,
+    reachable: &Reachable,
+    initial: &HashSet<Key>,
+    universe: &Universe,
+    visit: &mut dyn FnMut(&[u32]) -> bool,
+) -> bool {
+    if !equalities_hold(action, binding) {
+        return true;
+    }
+    let Some(atom) = action.positive.get(depth) else {
+        return bind_rest(action, 0, binding, initial, universe, visit);
+    };
+    let Some(candidates) = reachable.by_predicate.get(atom.predicate as usize) else {
+        return true;
+    };
+    for key in candidates {
+        let mut newly_bound = Vec::new();
+        let mut consistent = true;
+        for (slot, &value) in atom.slots.iter().zip(&key[1..]) {
+            match *slot {
+                Slot::Object(object) => consistent &= object == value,
+                Slot::Parameter(index) => match binding.get(index).copied() {
+                    Some(UNBOUND) => {
+                        if action.candidates[index].binary_search(&value).is_ok() {
+                            binding[index] = value;
+                            newly_bound.push(index);
+                        } else {
+                            consistent = false;
+                        }
+                    }
+                    Some(bound) => consistent &= bound == value,
+                    None => consistent = false,
+                },
+            }
+            if !consistent {
+                break;
+            }
+        }
+        let keep_going =
+            !consistent || join(action, depth + 1, binding, reachable, initial, universe, visit);
+        for index in newly_bound {
+            binding[index] = UNBOUND;
+        }
+        if !keep_going {
+            return false;
+        }
+    }
+    true
+}
+
+/// Binds parameters that no positive precondition mentions, over their typed candidates.
+fn bind_rest(
+    action: &LiftedAction,
+    from: usize,
+    binding: &mut Vec<u32>,
+    initial: &HashSet<Key>,
+    universe: &Universe,
+    visit: &mut dyn FnMut(&[u32]) -> bool,
+) -> bool {
+    let Some(index) = (from..binding.len()).find(|&i| binding[i] == UNBOUND) else {
+        let static_negatives_hold = action
+            .negative
+            .iter()
+            .filter(|atom| universe.is_static[atom.predicate as usize])
+            .all(|atom| !initial.contains(&instantiate(atom, binding)));
+        return if static_negatives_hold && equalities_hold(action, binding) {
+            visit(binding)
+        } else {
+            true
+        };
+    };
+    for position in 0..action.candidates[index].len() {
+        binding[index] = action.candidates[index][position];
+        let keep_going = !equalities_hold(action, binding)
+            || bind_rest(action, index + 1, binding, initial, universe, visit);
+        if !keep_going {
+            binding[index] = UNBOUND;
+            return false;
+        }
+    }
+    binding[index] = UNBOUND;
+    true
+}
+
+/// Whether every equality constraint whose two sides are bound holds.
+fn equalities_hold(action: &LiftedAction, binding: &[u32]) -> bool {
+    action.equalities.iter().all(|&(left, right, equal)| {
+        let (left, right) = (slot_value(left, binding), slot_value(right, binding));
+        left == UNBOUND || right == UNBOUND || (left == right) == equal
+    })
+}
