@@ -1,0 +1,105 @@
+//! `lampc`: the command-line front end. It owns all terminal and file IO of the pipeline.
+
+mod diagnostics;
+mod files;
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Learn symbolic world models from demonstrations and plan with them.
+#[derive(Parser)]
+#[command(name = "lampc", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Parse and check a spec; report every problem found.
+    Check {
+        /// The `.lamp` spec file.
+        spec: PathBuf,
+    },
+    /// Generate simulated demonstrations as MCAP files.
+    Demos { spec: PathBuf },
+    /// Learn regions, relations and actions; write PDDL, samplers and a report.
+    Build { spec: PathBuf },
+    /// Plan, refine and write a validated trajectory for one problem.
+    Solve {
+        spec: PathBuf,
+        #[arg(long)]
+        problem: String,
+    },
+    /// Draw a scene, a demonstration or a trajectory.
+    Render { file: PathBuf },
+}
+
+/// Exit code for a spec with diagnostics.
+const EXIT_DIAGNOSTICS: u8 = 1;
+/// Exit code for usage errors and commands that cannot run.
+const EXIT_UNAVAILABLE: u8 = 2;
+
+fn main() -> ExitCode {
+    install_panic_hook();
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Check { spec } => check(&spec),
+        Command::Demos { .. } => not_yet("demos"),
+        Command::Build { .. } => not_yet("build"),
+        Command::Solve { .. } => not_yet("solve"),
+        Command::Render { .. } => not_yet("render"),
+    }
+}
+
+fn check(spec: &std::path::Path) -> ExitCode {
+    let outcome = lamp_lang::check(spec, &files::DiskLoader);
+    let colour = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+    eprint!("{}", diagnostics::render_all(&outcome, colour, terminal_width()));
+    match outcome.spec {
+        Some(spec) => {
+            let problems = spec.problems.len();
+            eprintln!(
+                "{}: ok (domain `{}`, {} problem(s))",
+                spec_name(&outcome.sources),
+                spec.domain,
+                problems
+            );
+            ExitCode::SUCCESS
+        }
+        None => {
+            let count = outcome.diagnostics.len();
+            eprintln!("{}: {count} error(s)", spec_name(&outcome.sources));
+            ExitCode::from(EXIT_DIAGNOSTICS)
+        }
+    }
+}
+
+fn spec_name(sources: &lamp_lang::SourceMap) -> String {
+    sources.name(lamp_lang::FileId(0)).to_string()
+}
+
+fn terminal_width() -> usize {
+    std::env::var("COLUMNS").ok().and_then(|c| c.parse().ok()).unwrap_or(100)
+}
+
+fn not_yet(command: &str) -> ExitCode {
+    eprintln!("lampc {command}: not implemented yet");
+    ExitCode::from(EXIT_UNAVAILABLE)
+}
+
+/// A panic is a bug in lampc, never the user's fault: say so and ask for a report.
+fn install_panic_hook() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        eprintln!(
+            "internal error: lampc {} crashed. This is a bug in lampc, not in your input; \
+             please report it with the spec that triggered it.",
+            env!("CARGO_PKG_VERSION")
+        );
+        default(info);
+    }));
+}

@@ -1,0 +1,373 @@
+//! `problem` declarations: scenes and the three kinds of goal.
+
+use std::collections::BTreeMap;
+
+use super::{Checker, Declared, Dimension};
+use crate::ast::{GoalItem, Item, Name, ProblemItem, SceneItem};
+use crate::diagnostics::{SpecError, at, did_you_mean};
+use crate::parse::parse_scene_file;
+use crate::source::Span;
+
+/// Objects a goal may mention: name → type.
+type Objects = BTreeMap<String, String>;
+
+impl Checker<'_> {
+    pub(crate) fn problems(
+        &mut self,
+        items: &[Item],
+        declared: &Declared,
+    ) -> Vec<lamp_spec::Problem> {
+        let mut seen = BTreeMap::new();
+        let mut problems = Vec::new();
+        for item in items {
+            let Item::Problem(problem) = item else { continue };
+            if !self.declare(&mut seen, "problem", &problem.name) {
+                continue;
+            }
+            if let Some(problem) = self.problem(problem, declared) {
+                problems.push(problem);
+            }
+        }
+        problems
+    }
+
+    fn problem(
+        &mut self,
+        problem: &crate::ast::Problem,
+        declared: &Declared,
+    ) -> Option<lamp_spec::Problem> {
+        let errors_before = self.diagnostics.len();
+        let mut scene_span = None;
+        let mut goal_span = None;
+        let mut scene = lamp_spec::Scene::default();
+        let mut objects = Objects::new();
+        let mut goal_items: &[GoalItem] = &[];
+        for item in &problem.items {
+            match item {
+                ProblemItem::Scene { items, span } => {
+                    if self.once(&mut scene_span, "the scene", *span) {
+                        scene = self.scene(items, declared, &mut objects);
+                    }
+                }
+                ProblemItem::SceneFile(path) => {
+                    if self.once(&mut scene_span, "the scene", path.span)
+                        && let Some((file, text)) = self.load(path)
+                    {
+                        match parse_scene_file(file, &text) {
+                            Ok(items) => scene = self.scene(&items, declared, &mut objects),
+                            Err(diagnostic) => self.report(diagnostic),
+                        }
+                    }
+                }
+                ProblemItem::Goal { items, span } => {
+                    if self.once(&mut goal_span, "the goal", *span) {
+                        goal_items = items;
+                    }
+                }
+            }
+        }
+        if scene_span.is_none() {
+            self.missing(
+                problem.name.span,
+                "the problem's scene",
+                "Add `scene { … }` or `scene \"file.lamp\"` with the objects and robots.",
+            );
+        }
+        let goal = match goal_span {
+            None => {
+                self.missing(
+                    problem.name.span,
+                    "the problem's goal",
+                    "Add `goal { … }` with relation atoms, `at` poses or a `structure`.",
+                );
+                None
+            }
+            Some(span) if goal_items.is_empty() => {
+                self.missing(
+                    span,
+                    "a goal condition",
+                    "Write at least one condition inside `goal { … }`.",
+                );
+                None
+            }
+            Some(_) => self.goal(goal_items, declared, &scene, &objects),
+        };
+        (self.diagnostics.len() == errors_before).then(|| lamp_spec::Problem {
+            name: problem.name.text.clone(),
+            scene,
+            goal: goal.unwrap_or_default(),
+        })
+    }
+
+    fn scene(
+        &mut self,
+        items: &[SceneItem],
+        declared: &Declared,
+        objects: &mut Objects,
+    ) -> lamp_spec::Scene {
+        let mut scene = lamp_spec::Scene::default();
+        let mut names: BTreeMap<String, Span> = BTreeMap::new();
+        let mut placed_robots: BTreeMap<String, Span> = BTreeMap::new();
+        for item in items {
+            match item {
+                SceneItem::Object(placement) => {
+                    let known = self.object_type(declared, &placement.type_name);
+                    let new = self.declare(&mut names, "object", &placement.object);
+                    let pose = self.pose(&placement.pose);
+                    if let (true, true, Some(pose)) = (known, new, pose) {
+                        objects.insert(
+                            placement.object.text.clone(),
+                            placement.type_name.text.clone(),
+                        );
+                        scene.objects.push(lamp_spec::ObjectInstance {
+                            name: placement.object.text.clone(),
+                            type_name: placement.type_name.text.clone(),
+                            pose,
+                        });
+                    }
+                }
+                SceneItem::Robot { name, at: base, config } => {
+                    let Some(robot) = declared.robots.get(&name.text) else {
+                        let help =
+                            did_you_mean(&name.text, declared.robots.keys().map(String::as_str));
+                        self.report(at(name.span, |at| SpecError::UnknownRobot {
+                            name: name.text.clone(),
+                            at,
+                            help,
+                        }));
+                        continue;
+                    };
+                    if !self.declare(&mut placed_robots, "robot placement", name) {
+                        continue;
+                    }
+                    let base = match base {
+                        Some(pose) if robot.kind == lamp_spec::RobotKind::FixedArm => {
+                            self.report(at(pose.span, |at| SpecError::Conflict {
+                                message: format!("`{}` is a fixed arm and cannot be placed", name.text),
+                                at,
+                                help: "A fixed arm's base is set once by `mount` in the robot declaration.".to_string(),
+                            }));
+                            None
+                        }
+                        Some(pose) => self.pose(pose),
+                        None => None,
+                    };
+                    if let Some(config) = config
+                        && robot.configuration(&config.text).is_none()
+                    {
+                        let help = did_you_mean(
+                            &config.text,
+                            robot.configurations.iter().map(|c| c.name.as_str()),
+                        );
+                        self.report(at(config.span, |at| SpecError::UnknownConfiguration {
+                            robot: name.text.clone(),
+                            name: config.text.clone(),
+                            at,
+                            help,
+                        }));
+                    }
+                    for part in &robot.parts {
+                        let instance = part_instance(&robot.name, &part.type_name);
+                        objects.insert(instance, part.type_name.clone());
+                    }
+                    scene.robots.push(lamp_spec::RobotPlacement {
+                        robot: name.text.clone(),
+                        base,
+                        configuration: config.as_ref().map(|c| c.text.clone()),
+                    });
+                }
+            }
+        }
+        scene
+    }
+
+    fn goal(
+        &mut self,
+        items: &[GoalItem],
+        declared: &Declared,
+        scene: &lamp_spec::Scene,
+        objects: &Objects,
+    ) -> Option<lamp_spec::Goal> {
+        let errors_before = self.diagnostics.len();
+        let mut goal = lamp_spec::Goal::default();
+        let mut structure_span = None;
+        for item in items {
+            match item {
+                GoalItem::Atom { relation, arguments, span } => {
+                    if let Some(atom) = self.atom(relation, arguments, *span, declared, objects) {
+                        goal.atoms.push(atom);
+                    }
+                }
+                GoalItem::At { object, pose, distance, angle } => {
+                    let movable = self.scene_object(object, objects).map(|ty| {
+                        declared.object_types.get(ty).is_some_and(|(_, movable)| *movable)
+                    });
+                    if movable == Some(false) {
+                        let type_name = objects[&object.text].clone();
+                        self.report(at(object.span, |at| SpecError::NotMovable {
+                            object: object.text.clone(),
+                            type_name,
+                            at,
+                        }));
+                    }
+                    let pose = self.pose(pose);
+                    let distance = self.positive_length(distance, "the position tolerance");
+                    let angle = self.measure(angle, Dimension::Angle).filter(|angle| {
+                        self.require(
+                            *angle > 0.0,
+                            item_span(item),
+                            "the angle tolerance",
+                            "a positive angle",
+                        )
+                    });
+                    if let (Some(pose), Some(distance), Some(angle)) = (pose, distance, angle) {
+                        goal.at.push(lamp_spec::AtGoal {
+                            object: object.text.clone(),
+                            pose,
+                            position_tolerance: distance,
+                            angle_tolerance: angle,
+                        });
+                    }
+                }
+                GoalItem::Structure { name, anchor, offset, span } => {
+                    if !self.once(&mut structure_span, "a structure goal", *span) {
+                        continue;
+                    }
+                    if !declared.structures.contains_key(&name.text) {
+                        let help = did_you_mean(
+                            &name.text,
+                            declared.structures.keys().map(String::as_str),
+                        );
+                        self.report(at(name.span, |at| SpecError::UnknownStructure {
+                            name: name.text.clone(),
+                            at,
+                            help,
+                        }));
+                    }
+                    let anchored = scene.objects.iter().any(|object| object.name == anchor.text);
+                    if !anchored {
+                        self.scene_object(anchor, objects);
+                    }
+                    let offset = match offset {
+                        Some(pose) => self.pose(pose),
+                        None => Some(lamp_spec::Pose::identity()),
+                    };
+                    if let Some(offset) = offset {
+                        goal.structure = Some(lamp_spec::StructureGoal {
+                            structure: name.text.clone(),
+                            anchor: anchor.text.clone(),
+                            offset,
+                        });
+                    }
+                }
+            }
+        }
+        (self.diagnostics.len() == errors_before).then_some(goal)
+    }
+
+    /// The type of a scene object, reporting an unknown one.
+    fn scene_object<'o>(&mut self, name: &Name, objects: &'o Objects) -> Option<&'o String> {
+        let found = objects.get(&name.text);
+        if found.is_none() {
+            let help = did_you_mean(&name.text, objects.keys().map(String::as_str));
+            self.report(at(name.span, |at| SpecError::UnknownObject {
+                name: name.text.clone(),
+                at,
+                help,
+            }));
+        }
+        found
+    }
+
+    fn atom(
+        &mut self,
+        relation: &Name,
+        arguments: &[Name],
+        span: Span,
+        declared: &Declared,
+        objects: &Objects,
+    ) -> Option<lamp_spec::GoalAtom> {
+        let Some(signature) = signature(&relation.text, declared) else {
+            let help = "Goal relations are learned names `<primary>_<secondary>_<k>` and `clear_<primary>_<secondary>_<k>` over declared types, or aliases declared with `relation`.".to_string();
+            let help =
+                match did_you_mean(&relation.text, declared.aliases.keys().map(String::as_str)) {
+                    Some(suggestion) => format!("{suggestion} {help}"),
+                    None => help,
+                };
+            self.report(at(relation.span, |at| SpecError::UnknownRelation {
+                name: relation.text.clone(),
+                at,
+                help,
+            }));
+            return None;
+        };
+        let written = format!("`{}({})`", relation.text, signature.join(", "));
+        let signature_help = format!("The relation is {written}.");
+        if arguments.len() != signature.len() {
+            self.report(at(span, |at| SpecError::Arity {
+                relation: relation.text.clone(),
+                expected: signature.len(),
+                found: arguments.len(),
+                signature: signature_help,
+                at,
+            }));
+            return None;
+        }
+        let errors_before = self.diagnostics.len();
+        for (argument, expected) in arguments.iter().zip(&signature) {
+            let Some(found) = self.scene_object(argument, objects) else { continue };
+            if found != expected {
+                self.report(at(argument.span, |at| SpecError::ArgumentType {
+                    argument: argument.text.clone(),
+                    relation: relation.text.clone(),
+                    expected: expected.clone(),
+                    found: found.clone(),
+                    signature: signature_help.clone(),
+                    at,
+                }));
+            }
+        }
+        (self.diagnostics.len() == errors_before).then(|| lamp_spec::GoalAtom {
+            relation: relation.text.clone(),
+            arguments: arguments.iter().map(|a| a.text.clone()).collect(),
+        })
+    }
+}
+
+/// The PDDL object name of a robot part: `<robot>_<part>`.
+pub(crate) fn part_instance(robot: &str, part: &str) -> String {
+    format!("{robot}_{part}")
+}
+
+/// Argument types of a goal relation: an alias, `clear_<t1>_<t2>_<k>` or `<t1>_<t2>_<k>`.
+fn signature(name: &str, declared: &Declared) -> Option<Vec<String>> {
+    if let Some(alias) = declared.aliases.get(name) {
+        return Some(alias.parameters.to_vec());
+    }
+    if let Some(rest) = name.strip_prefix("clear_")
+        && let Some((primary, _)) = split_pair(rest, declared)
+    {
+        return Some(vec![primary]);
+    }
+    split_pair(name, declared).map(|(primary, secondary)| vec![primary, secondary])
+}
+
+/// Splits `<t1>_<t2>_<k>` into its two declared types; type names may contain underscores.
+fn split_pair(name: &str, declared: &Declared) -> Option<(String, String)> {
+    let (pair, index) = name.rsplit_once('_')?;
+    if index.is_empty() || !index.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    pair.match_indices('_').find_map(|(position, _)| {
+        let (primary, secondary) = (&pair[..position], &pair[position + 1..]);
+        let known = |t: &str| declared.relation_types.contains_key(t);
+        (known(primary) && known(secondary)).then(|| (primary.to_string(), secondary.to_string()))
+    })
+}
+
+fn item_span(item: &GoalItem) -> Span {
+    match item {
+        GoalItem::At { angle, .. } => angle.span,
+        GoalItem::Structure { span, .. } | GoalItem::Atom { span, .. } => *span,
+    }
+}

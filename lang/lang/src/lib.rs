@@ -1,0 +1,60 @@
+//! The `.lamp` language: grammar, syntax tree, name resolution, checks and diagnostics.
+//!
+//! [`check`] turns a spec file into a [`lamp_spec::Spec`] and every problem found on the way.
+//! The front end reads files only through a [`Loader`], so it is a pure function of its inputs.
+//! pest stays inside this crate.
+
+mod ast;
+mod check;
+mod diagnostics;
+mod parse;
+mod source;
+
+use std::path::Path;
+
+pub use diagnostics::{Diagnostic, SpecError, WithSource};
+pub use source::{FileId, Loader, MemoryLoader, SourceMap, Span, normalize};
+
+/// The result of checking a spec.
+#[derive(Debug)]
+pub struct CheckOutcome {
+    /// The checked spec, present exactly when there are no diagnostics.
+    pub spec: Option<lamp_spec::Spec>,
+    /// Every problem found, in the order found.
+    pub diagnostics: Vec<Diagnostic>,
+    /// The files read, for rendering the diagnostics.
+    pub sources: SourceMap,
+}
+
+/// Checks the spec at `path`; files it refers to are resolved against its folder.
+pub fn check(path: &Path, loader: &dyn Loader) -> CheckOutcome {
+    let display = path.display().to_string();
+    match loader.read_to_string(path) {
+        Ok(text) => check_source(&display, &text, path.parent().unwrap_or(Path::new("")), loader),
+        Err(reason) => {
+            let mut sources = SourceMap::default();
+            let file = sources.add(display.clone(), String::new());
+            let error = SpecError::UnreadableFile { path: display, reason, at: (0, 0).into() };
+            CheckOutcome {
+                spec: None,
+                diagnostics: vec![Diagnostic { file, error: Box::new(error) }],
+                sources,
+            }
+        }
+    }
+}
+
+/// Checks spec text named `name`, whose referenced files are relative to `base_dir`.
+pub fn check_source(name: &str, text: &str, base_dir: &Path, loader: &dyn Loader) -> CheckOutcome {
+    let mut sources = SourceMap::default();
+    let file = sources.add(name.to_string(), text.to_string());
+    match parse::parse_spec(file, text) {
+        Err(diagnostic) => CheckOutcome { spec: None, diagnostics: vec![diagnostic], sources },
+        Ok(items) => {
+            let mut checker = check::Checker::new(loader, base_dir.to_path_buf(), sources);
+            let spec = check::check_items(&mut checker, file, &items);
+            let (diagnostics, sources) = checker.finish();
+            CheckOutcome { spec, diagnostics, sources }
+        }
+    }
+}

@@ -1,0 +1,157 @@
+//! Source files, spans and the loader through which the front end reads files.
+//!
+//! The front end never touches the file system itself: the binary passes a loader over the
+//! real disk, tests pass an in-memory one.
+
+use std::collections::BTreeMap;
+use std::path::{Component, Path, PathBuf};
+
+/// Index of a file in a [`SourceMap`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct FileId(pub u32);
+
+/// A byte range in one file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Span {
+    pub file: FileId,
+    pub start: usize,
+    pub end: usize,
+}
+
+impl Span {
+    /// The span as miette wants it (the file is attached at render time).
+    pub fn source_span(self) -> miette::SourceSpan {
+        (self.start, self.end - self.start).into()
+    }
+}
+
+/// Reads the files a spec refers to.
+pub trait Loader {
+    /// The text of a file, or a message saying why it cannot be read.
+    fn read_to_string(&self, path: &Path) -> Result<String, String>;
+    /// Whether a file exists.
+    fn exists(&self, path: &Path) -> bool;
+    /// Paths of existing files matching a glob pattern (for demonstration sources).
+    fn glob(&self, pattern: &Path) -> Vec<PathBuf>;
+}
+
+/// An in-memory loader for tests and tools: path → contents.
+#[derive(Clone, Debug, Default)]
+pub struct MemoryLoader {
+    files: BTreeMap<PathBuf, String>,
+}
+
+impl MemoryLoader {
+    /// A loader holding the given files.
+    pub fn new<P: Into<PathBuf>, S: Into<String>>(files: impl IntoIterator<Item = (P, S)>) -> Self {
+        let files = files.into_iter().map(|(p, s)| (normalize(&p.into()), s.into())).collect();
+        MemoryLoader { files }
+    }
+}
+
+impl Loader for MemoryLoader {
+    fn read_to_string(&self, path: &Path) -> Result<String, String> {
+        self.files.get(&normalize(path)).cloned().ok_or_else(|| "no such file".to_string())
+    }
+
+    fn exists(&self, path: &Path) -> bool {
+        self.files.contains_key(&normalize(path))
+    }
+
+    fn glob(&self, pattern: &Path) -> Vec<PathBuf> {
+        let pattern = normalize(pattern).to_string_lossy().into_owned();
+        self.files
+            .keys()
+            .filter(|path| wildcard_match(&pattern, &path.to_string_lossy()))
+            .cloned()
+            .collect()
+    }
+}
+
+/// `*` matches any run of characters except `/`; everything else matches itself.
+fn wildcard_match(pattern: &str, text: &str) -> bool {
+    match pattern.split_once('*') {
+        None => pattern == text,
+        Some((head, tail)) => {
+            let Some(rest) = text.strip_prefix(head) else { return false };
+            (0..=rest.len())
+                .take_while(|&i| !rest[..i].contains('/'))
+                .any(|i| rest.is_char_boundary(i) && wildcard_match(tail, &rest[i..]))
+        }
+    }
+}
+
+/// Removes `.` and resolves `..` lexically, so `a/../b/./c` becomes `b/c`.
+pub fn normalize(path: &Path) -> PathBuf {
+    let mut out = PathBuf::new();
+    for component in path.components() {
+        match component {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                let after_parent =
+                    matches!(out.components().next_back(), Some(Component::ParentDir));
+                if out.as_os_str().is_empty() || after_parent {
+                    out.push("..");
+                } else {
+                    out.pop();
+                }
+            }
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+/// The files read while checking a spec, for rendering diagnostics.
+#[derive(Clone, Debug, Default)]
+pub struct SourceMap {
+    files: Vec<(String, String)>,
+}
+
+impl SourceMap {
+    /// Adds a file (display name, text) and returns its id.
+    pub fn add(&mut self, name: String, text: String) -> FileId {
+        self.files.push((name, text));
+        FileId(u32::try_from(self.files.len() - 1).expect("fewer than 2^32 source files"))
+    }
+
+    /// The display name of a file.
+    pub fn name(&self, file: FileId) -> &str {
+        &self.files[file.0 as usize].0
+    }
+
+    /// The text of a file.
+    pub fn text(&self, file: FileId) -> &str {
+        &self.files[file.0 as usize].1
+    }
+
+    /// The text a span covers.
+    pub fn slice(&self, span: Span) -> &str {
+        &self.text(span.file)[span.start..span.end]
+    }
+
+    /// The file as a miette source, for attaching to a report.
+    pub fn named_source(&self, file: FileId) -> miette::NamedSource<String> {
+        miette::NamedSource::new(self.name(file), self.text(file).to_string())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wildcards_stay_inside_one_folder() {
+        assert!(wildcard_match("demos/*.mcap", "demos/a.mcap"));
+        assert!(!wildcard_match("demos/*.mcap", "demos/x/a.mcap"));
+        assert!(!wildcard_match("demos/*.mcap", "demos/a.bag"));
+    }
+
+    #[test]
+    fn normalize_resolves_dots() {
+        assert_eq!(normalize(Path::new("a/../b/./c")), PathBuf::from("b/c"));
+        assert_eq!(normalize(Path::new("../robots/x.urdf")), PathBuf::from("../robots/x.urdf"));
+        assert_eq!(normalize(Path::new("../../x")), PathBuf::from("../../x"));
+        assert_eq!(normalize(Path::new("d/p/../robots/x")), PathBuf::from("d/robots/x"));
+    }
+}

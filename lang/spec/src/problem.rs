@@ -1,0 +1,69 @@
+//! Problems: a scene and a goal.
+
+use crate::Pose;
+
+/// A task to solve.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Problem {
+    pub name: String,
+    pub scene: Scene,
+    pub goal: Goal,
+}
+
+/// The initial world: object instances and robot placements.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Scene {
+    pub objects: Vec<ObjectInstance>,
+    pub robots: Vec<RobotPlacement>,
+}
+
+/// A body of a declared type at a world pose.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ObjectInstance {
+    pub name: String,
+    pub type_name: String,
+    pub pose: Pose,
+}
+
+/// Where a robot starts: its base pose (mobile and free-flying kinds) and a named configuration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RobotPlacement {
+    pub robot: String,
+    pub base: Option<Pose>,
+    pub configuration: Option<String>,
+}
+
+/// What must hold at the end. The three kinds may be combined.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Goal {
+    /// Invented-predicate atoms: learned relation names or aliases.
+    pub atoms: Vec<GoalAtom>,
+    /// World-frame target poses with tolerances.
+    pub at: Vec<AtGoal>,
+    /// A reference structure transcribed at an anchor.
+    pub structure: Option<StructureGoal>,
+}
+
+/// `relation(arg, …)`; `relation` is a learned name (`t1_t2_k`, `clear_t1_t2_k`) or an alias.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GoalAtom {
+    pub relation: String,
+    pub arguments: Vec<String>,
+}
+
+/// `at OBJECT POSE within DISTANCE ANGLE`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AtGoal {
+    pub object: String,
+    pub pose: Pose,
+    pub position_tolerance: f64,
+    pub angle_tolerance: f64,
+}
+
+/// `structure NAME at ANCHOR offset POSE`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StructureGoal {
+    pub structure: String,
+    pub anchor: String,
+    pub offset: Pose,
+}

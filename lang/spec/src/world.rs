@@ -1,0 +1,93 @@
+//! Object types, demonstration sources, relation aliases and reference structures.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use crate::{OptionValue, Pose};
+
+/// Whether bodies of a type can be moved by a robot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Mobility {
+    Static,
+    Movable,
+}
+
+/// An object type declared with `type NAME { … }`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ObjectType {
+    pub name: String,
+    pub mobility: Mobility,
+    /// The static world body: present in scenes and collisions, excluded from relations.
+    pub world: bool,
+    /// The type's geometry as a compound of shapes placed in the object's frame.
+    pub shapes: Vec<ShapePart>,
+}
+
+/// One shape of a type, placed at `origin` in the object's frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShapePart {
+    pub shape: ShapeSpec,
+    pub origin: Pose,
+}
+
+/// Geometry in metres. Primitives are centred on their origin; cylinders run along z.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ShapeSpec {
+    Box { size: [f64; 3] },
+    Cylinder { radius: f64, height: f64 },
+    Sphere { radius: f64 },
+    Mesh { path: PathBuf, mode: MeshMode },
+}
+
+/// How a mesh is used for collision.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeshMode {
+    ConvexHull,
+    TriMesh,
+}
+
+/// Where demonstrations come from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DemoSource {
+    /// Recorded files matching a glob pattern relative to the spec's folder.
+    Files { pattern: String },
+    /// A simulated demonstrator shipped with lamp.
+    Simulated {
+        demonstrator: String,
+        count: u32,
+        /// Fraction of demonstrations cut short at a random point.
+        cut_fraction: f64,
+        /// Number of objects of the manipulated type per demonstration.
+        objects: u32,
+        seed: u64,
+        /// Demonstrator-specific options, by name.
+        options: BTreeMap<String, OptionValue>,
+    },
+}
+
+/// `relation NAME(T1, T2) = region of S in P containing POSE`: a stable name for a learned
+/// region, bound by an example pose of `secondary` in `primary`'s frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RelationAlias {
+    pub name: String,
+    /// Argument types in the order the alias is written with.
+    pub parameters: [String; 2],
+    pub primary: String,
+    pub secondary: String,
+    pub example: Pose,
+}
+
+/// A reference structure: object poses relative to an anchor.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Structure {
+    pub name: String,
+    pub placements: Vec<Placement>,
+}
+
+/// An object of a type at a pose relative to the structure's anchor.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Placement {
+    pub object: String,
+    pub type_name: String,
+    pub pose: Pose,
+}
