@@ -1,5 +1,8 @@
 //! `lampc`: the command-line front end. It owns all terminal and file IO of the pipeline.
 
+// The binary is the one place that talks to the terminal.
+#![allow(clippy::print_stdout, clippy::print_stderr)]
+
 mod diagnostics;
 mod files;
 

@@ -18,7 +18,9 @@ pub struct Diagnostic {
 impl Diagnostic {
     /// The stable code, e.g. `lamp::resolve::unknown_type`.
     pub fn code(&self) -> String {
-        miette::Diagnostic::code(self.error.as_ref()).map(|code| code.to_string()).unwrap_or_default()
+        miette::Diagnostic::code(self.error.as_ref())
+            .map(|code| code.to_string())
+            .unwrap_or_default()
     }
 
     /// The primary span's byte range.

@@ -178,18 +178,22 @@ impl Lower {
     }
 
     fn quantity(&self, pair: Pair<'_, Rule>) -> Quantity {
-        let span = self.span(&pair);
         let mut inner = pair.into_inner();
         let number = inner.next().expect("a quantity starts with a number");
-        Quantity {
-            value: self.number(&number),
-            unit: inner.next().map(|unit| self.unit(unit)),
-            span,
+        let value = self.number(&number);
+        let mut span = self.span(&number);
+        let unit = inner.next().map(|unit| self.unit(unit));
+        // pest includes the whitespace skipped while looking for a unit; end at the last token.
+        if let Some((_, unit_span)) = unit {
+            span.end = unit_span.end;
         }
+        Quantity { value, unit, span }
     }
 
     fn vector(&self, pair: Pair<'_, Rule>) -> Vector {
-        let span = self.span(&pair);
+        let mut span = self.span(&pair);
+        // End at the closing parenthesis or the unit, not at whitespace pest skipped after it.
+        span.end = span.start + pair.as_str().rfind(')').map_or(0, |index| index + 1);
         let mut values = [0.0; 3];
         let mut number_spans = [span; 3];
         let mut unit = None;
@@ -203,14 +207,19 @@ impl Lower {
                 unit = Some(self.unit(part));
             }
         }
+        if let Some((_, unit_span)) = unit {
+            span.end = unit_span.end;
+        }
         Vector { values, number_spans, unit, span }
     }
 
     fn pose(&self, pair: Pair<'_, Rule>) -> Pose {
-        let span = self.span(&pair);
+        let mut span = self.span(&pair);
         let mut inner = pair.into_inner();
         let position = self.vector(inner.next().expect("a pose starts with a vector"));
-        Pose { position, rotation: inner.next().map(|v| self.vector(v)), span }
+        let rotation = inner.next().map(|v| self.vector(v));
+        span.end = rotation.as_ref().unwrap_or(&position).span.end;
+        Pose { position, rotation, span }
     }
 
     fn at(&self, pair: Option<Pair<'_, Rule>>) -> Option<Pose> {

@@ -32,6 +32,8 @@ pub(crate) struct Declared {
     /// Object types (including the static world) → (span, movable).
     pub(crate) object_types: BTreeMap<String, (Span, bool)>,
     pub(crate) robots: BTreeMap<String, lamp_spec::Robot>,
+    /// Robots declared with errors: already reported, so references to them stay silent.
+    pub(crate) invalid_robots: std::collections::BTreeSet<String>,
     pub(crate) structures: BTreeMap<String, Span>,
     pub(crate) aliases: BTreeMap<String, lamp_spec::RelationAlias>,
 }

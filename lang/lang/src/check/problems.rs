@@ -8,8 +8,9 @@ use crate::diagnostics::{SpecError, at, did_you_mean};
 use crate::parse::parse_scene_file;
 use crate::source::Span;
 
-/// Objects a goal may mention: name → type.
-type Objects = BTreeMap<String, String>;
+/// Objects a goal may mention: name → type; `None` for an object whose type was already
+/// reported as unknown, so that goals mentioning it stay silent.
+type Objects = BTreeMap<String, Option<String>>;
 
 impl Checker<'_> {
     pub(crate) fn problems(
@@ -42,6 +43,7 @@ impl Checker<'_> {
         let mut scene = lamp_spec::Scene::default();
         let mut objects = Objects::new();
         let mut goal_items: &[GoalItem] = &[];
+        let mut scene_ok = true;
         for item in &problem.items {
             match item {
                 ProblemItem::Scene { items, span } => {
@@ -50,12 +52,16 @@ impl Checker<'_> {
                     }
                 }
                 ProblemItem::SceneFile(path) => {
-                    if self.once(&mut scene_span, "the scene", path.span)
-                        && let Some((file, text)) = self.load(path)
-                    {
-                        match parse_scene_file(file, &text) {
-                            Ok(items) => scene = self.scene(&items, declared, &mut objects),
-                            Err(diagnostic) => self.report(diagnostic),
+                    if self.once(&mut scene_span, "the scene", path.span) {
+                        let parsed =
+                            self.load(path).map(|(file, text)| parse_scene_file(file, &text));
+                        match parsed {
+                            Some(Ok(items)) => scene = self.scene(&items, declared, &mut objects),
+                            Some(Err(diagnostic)) => {
+                                self.report(diagnostic);
+                                scene_ok = false;
+                            }
+                            None => scene_ok = false,
                         }
                     }
                 }
@@ -90,6 +96,7 @@ impl Checker<'_> {
                 );
                 None
             }
+            Some(_) if !scene_ok => None,
             Some(_) => self.goal(goal_items, declared, &scene, &objects),
         };
         (self.diagnostics.len() == errors_before).then(|| lamp_spec::Problem {
@@ -114,10 +121,13 @@ impl Checker<'_> {
                     let known = self.object_type(declared, &placement.type_name);
                     let new = self.declare(&mut names, "object", &placement.object);
                     let pose = self.pose(&placement.pose);
+                    if !known {
+                        objects.insert(placement.object.text.clone(), None);
+                    }
                     if let (true, true, Some(pose)) = (known, new, pose) {
                         objects.insert(
                             placement.object.text.clone(),
-                            placement.type_name.text.clone(),
+                            Some(placement.type_name.text.clone()),
                         );
                         scene.objects.push(lamp_spec::ObjectInstance {
                             name: placement.object.text.clone(),
@@ -127,6 +137,9 @@ impl Checker<'_> {
                     }
                 }
                 SceneItem::Robot { name, at: base, config } => {
+                    if declared.invalid_robots.contains(&name.text) {
+                        continue;
+                    }
                     let Some(robot) = declared.robots.get(&name.text) else {
                         let help =
                             did_you_mean(&name.text, declared.robots.keys().map(String::as_str));
@@ -168,7 +181,7 @@ impl Checker<'_> {
                     }
                     for part in &robot.parts {
                         let instance = part_instance(&robot.name, &part.type_name);
-                        objects.insert(instance, part.type_name.clone());
+                        objects.insert(instance, Some(part.type_name.clone()));
                     }
                     scene.robots.push(lamp_spec::RobotPlacement {
                         robot: name.text.clone(),
@@ -199,11 +212,11 @@ impl Checker<'_> {
                     }
                 }
                 GoalItem::At { object, pose, distance, angle } => {
-                    let movable = self.scene_object(object, objects).map(|ty| {
-                        declared.object_types.get(ty).is_some_and(|(_, movable)| *movable)
+                    let object_type = self.scene_object(object, objects).flatten();
+                    let movable = object_type.map(|ty| {
+                        declared.object_types.get(ty).is_none_or(|(_, movable)| *movable)
                     });
-                    if movable == Some(false) {
-                        let type_name = objects[&object.text].clone();
+                    if let (Some(false), Some(type_name)) = (movable, object_type.cloned()) {
                         self.report(at(object.span, |at| SpecError::NotMovable {
                             object: object.text.clone(),
                             type_name,
@@ -265,9 +278,13 @@ impl Checker<'_> {
         (self.diagnostics.len() == errors_before).then_some(goal)
     }
 
-    /// The type of a scene object, reporting an unknown one.
-    fn scene_object<'o>(&mut self, name: &Name, objects: &'o Objects) -> Option<&'o String> {
-        let found = objects.get(&name.text);
+    /// The type of a scene object (`Some(None)` if already reported), reporting a missing one.
+    fn scene_object<'o>(
+        &mut self,
+        name: &Name,
+        objects: &'o Objects,
+    ) -> Option<Option<&'o String>> {
+        let found = objects.get(&name.text).map(Option::as_ref);
         if found.is_none() {
             let help = did_you_mean(&name.text, objects.keys().map(String::as_str));
             self.report(at(name.span, |at| SpecError::UnknownObject {
@@ -315,7 +332,7 @@ impl Checker<'_> {
         }
         let errors_before = self.diagnostics.len();
         for (argument, expected) in arguments.iter().zip(&signature) {
-            let Some(found) = self.scene_object(argument, objects) else { continue };
+            let Some(Some(found)) = self.scene_object(argument, objects) else { continue };
             if found != expected {
                 self.report(at(argument.span, |at| SpecError::ArgumentType {
                     argument: argument.text.clone(),

@@ -20,11 +20,15 @@ impl Checker<'_> {
         for item in items {
             let Item::Robot(robot) = item else { continue };
             let new = self.declare(&mut seen, "robot", &robot.name);
-            if let Some(checked) = self.robot(robot, declared)
-                && new
-            {
-                declared.robots.insert(checked.name.clone(), checked.clone());
-                robots.push(checked);
+            match self.robot(robot, declared) {
+                Some(checked) if new => {
+                    declared.robots.insert(checked.name.clone(), checked.clone());
+                    robots.push(checked);
+                }
+                Some(_) => {}
+                None => {
+                    declared.invalid_robots.insert(robot.name.text.clone());
+                }
             }
         }
         robots

@@ -1,0 +1,253 @@
+//! One snapshot per diagnostic code: the source and what `lampc check` prints for it.
+
+mod common;
+
+use std::path::Path;
+
+use common::{VALID, check, codes, render};
+
+/// Checks `VALID` with `from` replaced by `to`, asserts the codes, and snapshots the rendering.
+fn case(name: &str, from: &str, to: &str, expected: &[&str]) {
+    assert!(VALID.contains(from), "case {name}: `{from}` is not in the valid spec");
+    let source = VALID.replacen(from, to, 1);
+    let outcome = check(&source);
+    assert_eq!(codes(&outcome), expected, "case {name}:\n{}", render(&outcome));
+    assert!(outcome.spec.is_none(), "case {name}: a spec with errors must not produce a Spec");
+    let excerpt = to.trim();
+    insta::assert_snapshot!(
+        name,
+        format!("----- SOURCE (excerpt)\n{excerpt}\n----- DIAGNOSTICS\n{}", render(&outcome))
+    );
+}
+
+#[test]
+fn the_valid_spec_is_clean() {
+    let outcome = check(VALID);
+    assert!(outcome.diagnostics.is_empty(), "{}", render(&outcome));
+    assert!(outcome.spec.is_some());
+}
+
+#[test]
+fn parse_syntax() {
+    case("parse_syntax", "type can {", "type can movable {", &["lamp::parse::syntax"]);
+}
+
+#[test]
+fn parse_syntax_in_a_scene_file() {
+    let from = "  scene {\n    table t1 at (0, 0, 0) m\n    surface box1 at (0.2, 0, 0) m rpy (0, 0, 30) deg\n    can c1 at (-0.2, 0, 0) m\n    robot gripper at (0, 0, 0.5) m rpy (180, 0, 0) deg\n  }";
+    case(
+        "parse_syntax_in_a_scene_file",
+        from,
+        "  scene \"scenes/broken.lamp\"",
+        &["lamp::parse::syntax"],
+    );
+}
+
+#[test]
+fn resolve_duplicate_name() {
+    case(
+        "resolve_duplicate_name",
+        "type surface {",
+        "type can { movable sphere radius 1 m }\ntype surface {",
+        &["lamp::resolve::duplicate_name"],
+    );
+}
+
+#[test]
+fn resolve_unknown_type() {
+    case(
+        "resolve_unknown_type",
+        "    can c1 at",
+        "    cann c1 at",
+        &["lamp::resolve::unknown_type"],
+    );
+}
+
+#[test]
+fn resolve_unknown_robot() {
+    case(
+        "resolve_unknown_robot",
+        "    robot gripper at",
+        "    robot griper at",
+        &["lamp::resolve::unknown_robot"],
+    );
+}
+
+#[test]
+fn resolve_unknown_object() {
+    case(
+        "resolve_unknown_object",
+        "    in_box(c1, box1)",
+        "    in_box(c2, box1)",
+        &["lamp::resolve::unknown_object"],
+    );
+}
+
+#[test]
+fn resolve_unknown_structure() {
+    case(
+        "resolve_unknown_structure",
+        "    in_box(c1, box1)",
+        "    structure pi_tower at t1",
+        &["lamp::resolve::unknown_structure"],
+    );
+}
+
+#[test]
+fn resolve_unknown_configuration() {
+    case(
+        "resolve_unknown_configuration",
+        "rpy (180, 0, 0) deg\n",
+        "rpy (180, 0, 0) deg config tuck\n",
+        &["lamp::resolve::unknown_configuration"],
+    );
+}
+
+#[test]
+fn check_unknown_word() {
+    case(
+        "check_unknown_word",
+        "kind free_flying",
+        "kind free_flyer",
+        &["lamp::check::unknown_word"],
+    );
+}
+
+#[test]
+fn check_missing_declaration() {
+    case("check_missing_declaration", "seed 7\n", "", &["lamp::check::missing_declaration"]);
+}
+
+#[test]
+fn check_duplicate_setting() {
+    case(
+        "check_duplicate_setting",
+        "  threshold 0.5\n",
+        "  threshold 0.5\n  threshold 0.6\n",
+        &["lamp::check::duplicate_setting"],
+    );
+}
+
+#[test]
+fn check_out_of_range() {
+    case(
+        "check_out_of_range",
+        "  threshold 0.5\n",
+        "  threshold 1.5\n",
+        &["lamp::check::out_of_range"],
+    );
+}
+
+#[test]
+fn check_unit_required() {
+    case(
+        "check_unit_required",
+        "radius 0.0325 m",
+        "radius 0.0325",
+        &["lamp::check::unit_required"],
+    );
+}
+
+#[test]
+fn check_wrong_unit() {
+    case("check_wrong_unit", "radius 0.0325 m", "radius 0.0325 deg", &["lamp::check::wrong_unit"]);
+}
+
+#[test]
+fn check_unexpected_unit() {
+    case(
+        "check_unexpected_unit",
+        "  threshold 0.5\n",
+        "  threshold 0.5 m\n",
+        &["lamp::check::unexpected_unit"],
+    );
+}
+
+#[test]
+fn check_not_integer() {
+    case("check_not_integer", "count 20 ", "count 20.5 ", &["lamp::check::not_integer"]);
+}
+
+#[test]
+fn check_missing_file() {
+    case(
+        "check_missing_file",
+        "\"robots/gripper.urdf\"",
+        "\"robots/griper.urdf\"",
+        &["lamp::check::missing_file"],
+    );
+}
+
+#[test]
+fn check_conflict() {
+    case(
+        "check_conflict",
+        "  kind free_flying\n",
+        "  kind free_flying\n  mount (0, 0, 0) m\n",
+        &["lamp::check::conflict"],
+    );
+}
+
+#[test]
+fn goal_unknown_relation() {
+    case(
+        "goal_unknown_relation",
+        "    in_box(c1, box1)",
+        "    inside(c1, box1)",
+        &["lamp::goal::unknown_relation"],
+    );
+}
+
+#[test]
+fn goal_arity() {
+    case("goal_arity", "    in_box(c1, box1)", "    in_box(c1)", &["lamp::goal::arity"]);
+}
+
+#[test]
+fn goal_argument_type() {
+    case(
+        "goal_argument_type",
+        "    in_box(c1, box1)",
+        "    in_box(box1, c1)",
+        &["lamp::goal::argument_type", "lamp::goal::argument_type"],
+    );
+}
+
+#[test]
+fn goal_not_movable() {
+    case(
+        "goal_not_movable",
+        "    in_box(c1, box1)",
+        "    at box1 (0, 0, 0) m within 0.01 m 5 deg",
+        &["lamp::goal::not_movable"],
+    );
+}
+
+/// A loader whose one file exists but cannot be read.
+struct LockedLoader;
+
+impl lamp_lang::Loader for LockedLoader {
+    fn read_to_string(&self, path: &Path) -> Result<String, String> {
+        match path.to_str() {
+            Some("scenes/locked.lamp") => Err("permission denied".to_string()),
+            _ => common::loader().read_to_string(path),
+        }
+    }
+    fn exists(&self, path: &Path) -> bool {
+        path == Path::new("scenes/locked.lamp") || common::loader().exists(path)
+    }
+    fn glob(&self, pattern: &Path) -> Vec<std::path::PathBuf> {
+        common::loader().glob(pattern)
+    }
+}
+
+#[test]
+fn check_unreadable_file() {
+    let start = VALID.find("  scene {").expect("the valid spec has a scene");
+    let end = start + VALID[start..].find("  }\n").expect("the scene block ends") + 4;
+    let source = format!("{}  scene \"scenes/locked.lamp\"\n{}", &VALID[..start], &VALID[end..]);
+    let outcome = lamp_lang::check_source("spec.lamp", &source, Path::new(""), &LockedLoader);
+    let found = codes(&outcome);
+    assert_eq!(found[0], "lamp::check::unreadable_file", "{}", render(&outcome));
+    insta::assert_snapshot!("check_unreadable_file", render(&outcome));
+}
