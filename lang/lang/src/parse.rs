@@ -14,6 +14,9 @@ struct LampParser;
 
 /// Parses a whole spec file.
 pub(crate) fn parse_spec(file: FileId, text: &str) -> Result<Vec<Item>, Diagnostic> {
+    // Track the furthest position reached and the tokens expected there, so that a syntax error
+    // points at the offending word rather than at the start of the declaration around it.
+    pest::set_error_detail(true);
     let mut pairs = LampParser::parse(Rule::spec, text).map_err(|e| syntax_error(file, text, e))?;
     let spec = pairs.next().expect("the spec rule always yields one pair");
     let lower = Lower { file };
@@ -34,16 +37,39 @@ pub(crate) fn parse_scene_file(file: FileId, text: &str) -> Result<Vec<SceneItem
 }
 
 fn syntax_error(file: FileId, text: &str, error: pest::error::Error<Rule>) -> Diagnostic {
-    let (start, end) = match error.location {
+    let (mut start, mut end) = match error.location {
         InputLocation::Pos(position) => (position, position),
         InputLocation::Span((start, end)) => (start, end),
     };
+    let mut expected_words: Vec<String> = Vec::new();
+    if let Some(attempts) = error.parse_attempts()
+        && attempts.max_position > start
+        && attempts.max_position <= text.len()
+    {
+        start = attempts.max_position;
+        end = start;
+        expected_words.extend(
+            attempts
+                .expected_tokens()
+                .iter()
+                .map(ToString::to_string)
+                // Whitespace and comments may always come next; naming them helps nobody.
+                .filter(|token| !token.trim().is_empty() && token != "//")
+                .map(|token| format!("`{token}`")),
+        );
+        expected_words.extend(
+            attempts.call_stacks().iter().filter_map(|stack| {
+                stack.deepest.get_rule().map(|rule| describe(*rule).to_string())
+            }),
+        );
+    }
     // Point at the whole offending token, so the label is readable.
     let token_end = text[start..]
         .find(|c: char| c.is_whitespace() || "(){},:".contains(c))
         .map_or(text.len(), |offset| start + offset.max(1).min(text.len() - start));
     let end = end.max(token_end).min(text.len());
     let expected = match &error.variant {
+        _ if !expected_words.is_empty() => join_alternatives(expected_words),
         ErrorVariant::ParsingError { positives, .. } => {
             let mut words: Vec<&str> = positives.iter().map(|rule| describe(*rule)).collect();
             words.sort_unstable();
@@ -57,6 +83,17 @@ fn syntax_error(file: FileId, text: &str, error: pest::error::Error<Rule>) -> Di
         ErrorVariant::CustomError { message } => message.clone(),
     };
     at(Span { file, start, end }, |at| SpecError::Syntax { expected, at })
+}
+
+/// `a`, `a or b`, `a, b or c`, sorted and without repeats.
+fn join_alternatives(mut words: Vec<String>) -> String {
+    words.sort_unstable();
+    words.dedup();
+    match words.as_slice() {
+        [] => "something else".to_string(),
+        [one] => one.clone(),
+        [init @ .., last] => format!("{} or {last}", init.join(", ")),
+    }
 }
 
 /// Human words for grammar rules, used in "expected …".
