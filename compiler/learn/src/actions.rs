@@ -1,0 +1,623 @@
+//! Action induction (paper App. C): transitions between consecutive distinct abstract states, lifted and clustered
+//! by their changes, become actions with learned preconditions and effects.
+//!
+//! Lifting is canonical: the changed objects are renamed `?<type>_p<k>` by the bijection (per type) that makes the
+//! sorted lifted (added, deleted) lists smallest, so isomorphic transitions always share a key.
+//! Objects linked to the changed ones become extra parameters `?<type>_extra_p<k>`, named in order of
+//! (type, the sorted lifted atoms linking them to changed objects, object name).
+//! Actions are numbered `a1`, `a2`, … in order of their (lifted added, lifted deleted) lists.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use crate::abstraction::Fact;
+use crate::demo::{Participant, Role};
+use crate::relations::{PairVocabulary, Symbol, symbol_name};
+
+/// Above this many candidate renamings, the changed objects are renamed in name order instead.
+const MAX_CANONICAL_RENAMINGS: usize = 5040;
+
+/// An atom over action parameters.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct LiftedAtom {
+    /// The predicate name.
+    pub predicate: String,
+    /// Parameter names, each starting with `?`.
+    pub arguments: Vec<String>,
+}
+
+impl std::fmt::Display for LiftedAtom {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "({}", self.predicate)?;
+        for argument in &self.arguments {
+            write!(f, " {argument}")?;
+        }
+        write!(f, ")")
+    }
+}
+
+/// A typed action parameter.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Parameter {
+    /// The name, starting with `?`.
+    pub name: String,
+    /// The type name.
+    pub type_name: String,
+}
+
+/// Where a transition was observed: the demonstration and the index of its pre-state.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+pub struct TransitionRef {
+    /// The demonstration's id.
+    pub demonstration: String,
+    /// The step of the state before the change.
+    pub step: usize,
+}
+
+/// An induced action.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Action {
+    /// `a<n>`.
+    pub name: String,
+    /// Parameters sorted by name.
+    pub parameters: Vec<Parameter>,
+    /// Positive preconditions, sorted.
+    pub preconditions: Vec<LiftedAtom>,
+    /// Add effects, sorted.
+    pub add: Vec<LiftedAtom>,
+    /// Delete effects (the change plus the pair's other relations on the same objects), sorted.
+    pub delete: Vec<LiftedAtom>,
+    /// Every observed transition it was induced from, in (demonstration, step) order of the input.
+    pub transitions: Vec<TransitionRef>,
+    /// How many distinct grounded transitions those are (identical repeats count once).
+    pub distinct_transitions: usize,
+}
+
+impl Action {
+    /// Pairs of same-typed parameters, which the domain requires to differ: `(not (= ?a ?b))`.
+    pub fn distinct_parameter_pairs(&self) -> Vec<(String, String)> {
+        let mut pairs = Vec::new();
+        for (index, first) in self.parameters.iter().enumerate() {
+            for second in &self.parameters[index + 1..] {
+                if first.type_name == second.type_name {
+                    pairs.push((first.name.clone(), second.name.clone()));
+                }
+            }
+        }
+        pairs
+    }
+}
+
+/// One demonstration, abstracted.
+pub(crate) struct AbstractDemonstration<'a> {
+    pub id: &'a str,
+    pub participants: &'a [Participant],
+    pub states: Vec<BTreeSet<Fact>>,
+}
+
+type ClusterKey = (Vec<LiftedAtom>, Vec<LiftedAtom>);
+
+struct Cluster {
+    add: Vec<LiftedAtom>,
+    delete: BTreeSet<LiftedAtom>,
+    preconditions: Option<BTreeSet<LiftedAtom>>,
+    types: BTreeMap<String, String>,
+    transitions: Vec<TransitionRef>,
+    grounded: BTreeSet<(Vec<String>, Vec<String>)>,
+}
+
+/// Induces the actions of a set of abstracted demonstrations.
+pub(crate) fn induce(
+    vocabulary: &[PairVocabulary],
+    demonstrations: &[AbstractDemonstration<'_>],
+) -> Vec<Action> {
+    let changing = changing_symbols(demonstrations);
+    let mut clusters: BTreeMap<ClusterKey, Cluster> = BTreeMap::new();
+    for demonstration in demonstrations {
+        let mut became_true: BTreeSet<Fact> = BTreeSet::new();
+        for (step, window) in demonstration.states.windows(2).enumerate() {
+            let (pre, post) = (&window[0], &window[1]);
+            if pre == post {
+                continue;
+            }
+            let added: BTreeSet<Fact> = post.difference(pre).copied().collect();
+            let deleted: BTreeSet<Fact> = pre.difference(post).copied().collect();
+            let transition = Transition {
+                participants: demonstration.participants,
+                pre,
+                added: &added,
+                deleted: &deleted,
+            };
+            let (key, mapping) = canonical_lifting(vocabulary, &transition);
+            let (preconditions, extras) =
+                preconditions(vocabulary, &transition, &mapping, &became_true, &changing);
+            let cluster = clusters.entry(key.clone()).or_insert_with(|| Cluster {
+                add: key.0.clone(),
+                delete: exclusive_deletes(vocabulary, &transition, &mapping)
+                    .into_iter()
+                    .chain(key.1.clone())
+                    .collect(),
+                preconditions: None,
+                types: BTreeMap::new(),
+                transitions: Vec::new(),
+                grounded: BTreeSet::new(),
+            });
+            for (object, name) in mapping.iter().chain(&extras) {
+                cluster
+                    .types
+                    .insert(name.clone(), demonstration.participants[*object].type_name.clone());
+            }
+            cluster.preconditions = Some(match cluster.preconditions.take() {
+                None => preconditions,
+                Some(previous) => previous.intersection(&preconditions).cloned().collect(),
+            });
+            cluster
+                .transitions
+                .push(TransitionRef { demonstration: demonstration.id.to_string(), step });
+            let names = |facts: &BTreeSet<Fact>| -> Vec<String> {
+                facts
+                    .iter()
+                    .map(|fact| grounded_text(vocabulary, demonstration.participants, *fact))
+                    .collect()
+            };
+            cluster.grounded.insert((names(pre), names(post)));
+            became_true.extend(added.iter().copied());
+        }
+    }
+    clusters.into_values().enumerate().map(|(index, cluster)| finish(index, cluster)).collect()
+}
+
+fn finish(index: usize, cluster: Cluster) -> Action {
+    let preconditions: Vec<LiftedAtom> =
+        cluster.preconditions.unwrap_or_default().into_iter().collect();
+    let delete: Vec<LiftedAtom> = cluster.delete.into_iter().collect();
+    let used: BTreeSet<&String> = preconditions
+        .iter()
+        .chain(&cluster.add)
+        .chain(&delete)
+        .flat_map(|atom| &atom.arguments)
+        .collect();
+    let parameters = used
+        .into_iter()
+        .map(|name| Parameter {
+            name: name.clone(),
+            type_name: cluster
+                .types
+                .get(name)
+                .cloned()
+                .expect("every lifted name was given a type when its object was named"),
+        })
+        .collect();
+    Action {
+        name: format!("a{}", index + 1),
+        parameters,
+        preconditions,
+        add: cluster.add,
+        delete,
+        transitions: cluster.transitions,
+        distinct_transitions: cluster.grounded.len(),
+    }
+}
+
+struct Transition<'a> {
+    participants: &'a [Participant],
+    pre: &'a BTreeSet<Fact>,
+    added: &'a BTreeSet<Fact>,
+    deleted: &'a BTreeSet<Fact>,
+}
+
+/// Symbols that change somewhere in some demonstration.
+fn changing_symbols(demonstrations: &[AbstractDemonstration<'_>]) -> BTreeSet<Symbol> {
+    let mut changing = BTreeSet::new();
+    for demonstration in demonstrations {
+        for window in demonstration.states.windows(2) {
+            changing.extend(window[0].symmetric_difference(&window[1]).map(|fact| fact.symbol()));
+        }
+    }
+    changing
+}
+
+fn grounded_text(
+    vocabulary: &[PairVocabulary],
+    participants: &[Participant],
+    fact: Fact,
+) -> String {
+    let mut text = symbol_name(vocabulary, fact.symbol());
+    for argument in fact.arguments() {
+        text.push(' ');
+        text.push_str(&participants[argument].name);
+    }
+    text
+}
+
+fn lift(
+    vocabulary: &[PairVocabulary],
+    fact: Fact,
+    mapping: &BTreeMap<usize, String>,
+) -> Option<LiftedAtom> {
+    let arguments = fact
+        .arguments()
+        .iter()
+        .map(|object| mapping.get(object).cloned())
+        .collect::<Option<_>>()?;
+    Some(LiftedAtom { predicate: symbol_name(vocabulary, fact.symbol()), arguments })
+}
+
+fn lift_all(
+    vocabulary: &[PairVocabulary],
+    facts: &BTreeSet<Fact>,
+    mapping: &BTreeMap<usize, String>,
+) -> Vec<LiftedAtom> {
+    let mut lifted: Vec<LiftedAtom> =
+        facts.iter().filter_map(|fact| lift(vocabulary, *fact, mapping)).collect();
+    lifted.sort();
+    lifted
+}
+
+/// The cluster key and the renaming of the changed objects that gives the smallest key.
+fn canonical_lifting(
+    vocabulary: &[PairVocabulary],
+    transition: &Transition<'_>,
+) -> (ClusterKey, BTreeMap<usize, String>) {
+    let participants = transition.participants;
+    let mut by_type: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
+    let changed: BTreeSet<usize> = transition
+        .added
+        .iter()
+        .chain(transition.deleted)
+        .flat_map(|fact| fact.arguments())
+        .collect();
+    for object in changed {
+        by_type.entry(participants[object].type_name.as_str()).or_default().push(object);
+    }
+    for objects in by_type.values_mut() {
+        objects.sort_by(|a, b| participants[*a].name.cmp(&participants[*b].name));
+    }
+    let renamings: usize = by_type.values().map(|objects| factorial(objects.len())).product();
+    let groups: Vec<(&str, Vec<usize>)> = by_type.into_iter().collect();
+    let mut orders: Vec<Vec<usize>> = groups.iter().map(|(_, objects)| objects.clone()).collect();
+    let mut best: Option<(ClusterKey, BTreeMap<usize, String>)> = None;
+    loop {
+        let mapping = naming(&groups, &orders);
+        let key = (
+            lift_all(vocabulary, transition.added, &mapping),
+            lift_all(vocabulary, transition.deleted, &mapping),
+        );
+        if best.as_ref().is_none_or(|(best_key, _)| key < *best_key) {
+            best = Some((key, mapping));
+        }
+        if renamings > MAX_CANONICAL_RENAMINGS || !next_orders(&groups, &mut orders, participants) {
+            break;
+        }
+    }
+    best.expect("the loop body runs at least once")
+}
+
+fn naming(groups: &[(&str, Vec<usize>)], orders: &[Vec<usize>]) -> BTreeMap<usize, String> {
+    let mut mapping = BTreeMap::new();
+    for ((type_name, _), order) in groups.iter().zip(orders) {
+        for (position, object) in order.iter().enumerate() {
+            mapping.insert(*object, format!("?{type_name}_p{}", position + 1));
+        }
+    }
+    mapping
+}
+
+/// Advances to the next combination of per-type orders (an odometer of lexicographic permutations).
+fn next_orders(
+    groups: &[(&str, Vec<usize>)],
+    orders: &mut [Vec<usize>],
+    participants: &[Participant],
+) -> bool {
+    for (group, order) in groups.iter().zip(orders.iter_mut()).rev() {
+        let rank = |object: &usize| participants[*object].name.clone();
+        if next_permutation(order, &rank) {
+            return true;
+        }
+        order.clone_from(&group.1);
+    }
+    false
+}
+
+fn next_permutation<K: Ord>(order: &mut [usize], rank: &impl Fn(&usize) -> K) -> bool {
+    let Some(pivot) = (1..order.len()).rev().find(|&i| rank(&order[i - 1]) < rank(&order[i]))
+    else {
+        return false;
+    };
+    let successor = (pivot..order.len())
+        .rev()
+        .find(|&j| rank(&order[j]) > rank(&order[pivot - 1]))
+        .expect("the element after the pivot is larger, so a successor exists");
+    order.swap(pivot - 1, successor);
+    order[pivot..].reverse();
+    true
+}
+
+fn factorial(n: usize) -> usize {
+    (1..=n).fold(1usize, |product, k| product.saturating_mul(k))
+}
+
+/// The pair's other relations on the objects of every added relation (mutual exclusion).
+fn exclusive_deletes(
+    vocabulary: &[PairVocabulary],
+    transition: &Transition<'_>,
+    mapping: &BTreeMap<usize, String>,
+) -> Vec<LiftedAtom> {
+    let mut deletes = Vec::new();
+    for fact in transition.added {
+        if let Fact::Relation { pair, region, primary, secondary } = *fact {
+            for other in 0..=vocabulary[pair].region_count() {
+                if other != region {
+                    let exclusive = Fact::Relation { pair, region: other, primary, secondary };
+                    deletes.extend(lift(vocabulary, exclusive, mapping));
+                }
+            }
+        }
+    }
+    deletes
+}
+
+/// The lifted precondition of one transition (reference §8.4 steps 1–3 and 5, and the paper's pruning),
+/// with the naming of its extra objects.
+fn preconditions(
+    vocabulary: &[PairVocabulary],
+    transition: &Transition<'_>,
+    changed: &BTreeMap<usize, String>,
+    became_true: &BTreeSet<Fact>,
+    changing: &BTreeSet<Symbol>,
+) -> (BTreeSet<LiftedAtom>, BTreeMap<usize, String>) {
+    let participants = transition.participants;
+    let is_changed = |object: usize| changed.contains_key(&object);
+    let is_robot = |object: usize| participants[object].role.is_robot_part();
+    let is_movable = |object: usize| participants[object].role == Role::Object { movable: true };
+    // Step 2: unchanged true relations that link a changed object to a static body or robot part, or that put
+    // something in a region of a changed robot part, bring their other object in as an extra.
+    let mut links: BTreeMap<usize, Vec<LiftedAtom>> = BTreeMap::new();
+    for fact in transition.pre.difference(transition.deleted) {
+        let Fact::Relation { pair, region, primary, secondary } = *fact else { continue };
+        for (inside, other) in [(primary, secondary), (secondary, primary)] {
+            if !is_changed(inside) || is_changed(other) {
+                continue;
+            }
+            let static_or_robot_link = !is_movable(other);
+            let robot_region = region != 0 && is_robot(inside);
+            if static_or_robot_link || robot_region {
+                let mut placeholder = changed.clone();
+                placeholder.insert(other, "?".to_string());
+                let link = LiftedAtom {
+                    predicate: symbol_name(vocabulary, Symbol::Relation { pair, region }),
+                    arguments: [primary, secondary]
+                        .iter()
+                        .map(|o| placeholder[o].clone())
+                        .collect(),
+                };
+                links.entry(other).or_default().push(link);
+            }
+        }
+    }
+    let mut extras_in_order: Vec<(String, Vec<LiftedAtom>, String, usize)> = links
+        .into_iter()
+        .map(|(object, mut signature)| {
+            signature.sort();
+            (
+                participants[object].type_name.clone(),
+                signature,
+                participants[object].name.clone(),
+                object,
+            )
+        })
+        .collect();
+    extras_in_order.sort();
+    let mut extras = BTreeMap::new();
+    let mut per_type: BTreeMap<String, usize> = BTreeMap::new();
+    for (type_name, _, _, object) in extras_in_order {
+        let count = per_type.entry(type_name.clone()).or_default();
+        *count += 1;
+        extras.insert(object, format!("?{type_name}_extra_p{count}"));
+    }
+    let mut names = changed.clone();
+    names.extend(extras.iter().map(|(object, name)| (*object, name.clone())));
+
+    let changed_relation_of = |pair: usize, object: usize| {
+        transition.added.iter().chain(transition.deleted).any(|fact| {
+            matches!(*fact, Fact::Relation { pair: p, primary, .. } if p == pair && primary == object)
+        })
+    };
+    let mut result = BTreeSet::new();
+    // Step 1: what the action deletes must hold before it.
+    result.extend(transition.deleted.iter().filter_map(|fact| lift(vocabulary, *fact, &names)));
+    // Step 3 with pruning: every other true fact among the parameters.
+    for fact in transition.pre.difference(transition.deleted) {
+        let keep = match *fact {
+            Fact::Relation { region, primary, secondary, .. } => {
+                let (Some(_), Some(_)) = (names.get(&primary), names.get(&secondary)) else {
+                    continue;
+                };
+                let touches_changed = is_changed(primary) || is_changed(secondary);
+                let non_robot_extra =
+                    [primary, secondary].iter().any(|o| extras.contains_key(o) && !is_robot(*o));
+                let spurious_static = !touches_changed && !changing.contains(&fact.symbol());
+                let unexplained_none =
+                    region == 0 && non_robot_extra && !became_true.contains(fact);
+                !spurious_static && !unexplained_none
+            }
+            Fact::Clear { pair, object, .. } => {
+                is_changed(object) && changed_relation_of(pair, object)
+            }
+        };
+        if keep {
+            result.extend(lift(vocabulary, *fact, &names));
+        }
+    }
+    (result, extras)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::abstraction::tests::participants;
+    use crate::config::TypePair;
+
+    fn vocabulary() -> Vec<PairVocabulary> {
+        vec![
+            PairVocabulary {
+                pair: TypePair::new("gripper", "can"),
+                region_flags: vec![0, 1],
+                clear: true,
+            },
+            PairVocabulary {
+                pair: TypePair::new("surface", "can"),
+                region_flags: vec![0],
+                clear: false,
+            },
+        ]
+    }
+
+    fn with_surface() -> Vec<Participant> {
+        let mut all = participants();
+        all.push(Participant {
+            name: "box".into(),
+            type_name: "surface".into(),
+            role: Role::Object { movable: false },
+        });
+        all
+    }
+
+    fn gripper_can(region: usize, can: usize) -> Fact {
+        Fact::Relation { pair: 0, region, primary: 0, secondary: can }
+    }
+
+    fn surface_can(region: usize, can: usize) -> Fact {
+        Fact::Relation { pair: 1, region, primary: 3, secondary: can }
+    }
+
+    fn clear(region: usize) -> Fact {
+        Fact::Clear { pair: 0, region, object: 0 }
+    }
+
+    fn strings(atoms: &[LiftedAtom]) -> Vec<String> {
+        atoms.iter().map(ToString::to_string).collect()
+    }
+
+    /// Gripper approaches c1 (g = 0 region 1), grasps it (region 2), carries it into the box; c2 stays away.
+    fn pick_demo(first_can: usize, other_can: usize) -> Vec<BTreeSet<Fact>> {
+        let state = |g_c: usize, in_box: usize| -> BTreeSet<Fact> {
+            let mut facts = BTreeSet::from([
+                gripper_can(g_c, first_can),
+                gripper_can(0, other_can),
+                surface_can(in_box, first_can),
+                surface_can(0, other_can),
+            ]);
+            for region in 1..=2 {
+                if g_c != region {
+                    facts.insert(clear(region));
+                }
+            }
+            facts
+        };
+        vec![state(0, 0), state(0, 0), state(1, 0), state(2, 0), state(2, 1), state(0, 1)]
+    }
+
+    #[test]
+    fn transitions_cluster_by_lifted_change_and_effects_exclude_the_pair() {
+        let participants = with_surface();
+        let demos = [
+            AbstractDemonstration {
+                id: "one",
+                participants: &participants,
+                states: pick_demo(1, 2),
+            },
+            AbstractDemonstration {
+                id: "two",
+                participants: &participants,
+                states: pick_demo(2, 1),
+            },
+        ];
+        let actions = induce(&vocabulary(), &demos);
+        // approach, grasp, place, release-and-retreat: the two demos (different cans) share every action.
+        assert_eq!(actions.len(), 4);
+        assert!(actions.iter().all(|a| a.transitions.len() == 2 && a.distinct_transitions == 2));
+        let grasp = actions
+            .iter()
+            .find(|a| strings(&a.add).contains(&"(gripper_can_2 ?gripper_p1 ?can_p1)".to_string()))
+            .expect("a grasp action");
+        assert_eq!(
+            strings(&grasp.delete),
+            [
+                "(clear_gripper_can_2 ?gripper_p1)",
+                "(gripper_can_0 ?gripper_p1 ?can_p1)",
+                "(gripper_can_1 ?gripper_p1 ?can_p1)"
+            ]
+        );
+        assert_eq!(
+            strings(&grasp.preconditions),
+            ["(clear_gripper_can_2 ?gripper_p1)", "(gripper_can_1 ?gripper_p1 ?can_p1)"]
+        );
+        let place = actions
+            .iter()
+            .find(|a| strings(&a.add) == ["(surface_can_1 ?surface_p1 ?can_p1)"])
+            .expect("a place action");
+        // The gripper holding the can is an extra (a robot part linked to the changed can).
+        assert!(
+            strings(&place.preconditions)
+                .contains(&"(gripper_can_2 ?gripper_extra_p1 ?can_p1)".to_string())
+        );
+        assert_eq!(
+            place.parameters.iter().map(|p| p.name.as_str()).collect::<Vec<_>>(),
+            ["?can_p1", "?gripper_extra_p1", "?surface_p1"]
+        );
+    }
+
+    #[test]
+    fn none_relation_to_a_static_extra_needs_an_earlier_change() {
+        let participants = with_surface();
+        let demos = [AbstractDemonstration {
+            id: "one",
+            participants: &participants,
+            states: pick_demo(1, 2),
+        }];
+        let actions = induce(&vocabulary(), &demos);
+        let approach = actions
+            .iter()
+            .find(|a| strings(&a.add).contains(&"(gripper_can_1 ?gripper_p1 ?can_p1)".to_string()))
+            .expect("an approach action");
+        // surface_can_0(box, can) held from the start and never became true, so it is not required.
+        assert!(!strings(&approach.preconditions).iter().any(|p| p.starts_with("(surface_can_0")));
+        let retreat = actions
+            .iter()
+            .find(|a| a.add.iter().any(|x| x.predicate == "gripper_can_0"))
+            .expect("retreat");
+        // surface_can_1 on the box extra is kept: it is a non-none relation.
+        assert!(
+            strings(&retreat.preconditions)
+                .contains(&"(surface_can_1 ?surface_extra_p1 ?can_p1)".to_string())
+        );
+    }
+
+    #[test]
+    fn canonical_lifting_ignores_object_names() {
+        // Two cans swap roles; the lifted key must not depend on which name sorts first.
+        let participants = with_surface();
+        let can_can =
+            |a: usize, b: usize| Fact::Relation { pair: 0, region: 1, primary: a, secondary: b };
+        let added_one = BTreeSet::from([can_can(0, 1), gripper_can(2, 2)]);
+        let added_two = BTreeSet::from([can_can(0, 2), gripper_can(2, 1)]);
+        let empty = BTreeSet::new();
+        let key = |added: &BTreeSet<Fact>| {
+            let transition =
+                Transition { participants: &participants, pre: &empty, added, deleted: &empty };
+            canonical_lifting(&vocabulary(), &transition).0
+        };
+        assert_eq!(key(&added_one), key(&added_two));
+    }
+
+    #[test]
+    fn permutations_are_enumerated_in_order() {
+        let mut order = vec![0, 1, 2];
+        let mut seen = vec![order.clone()];
+        while next_permutation(&mut order, &|x: &usize| *x) {
+            seen.push(order.clone());
+        }
+        assert_eq!(seen.len(), 6);
+        assert_eq!(seen[5], vec![2, 1, 0]);
+    }
+}

@@ -1,0 +1,175 @@
+//! End-to-end tests on the synthetic Packing-like task: the learned vocabulary, the emitted PDDL and report
+//! (snapshots), determinism, abstraction of new snapshots and sampling of regions.
+
+use std::collections::BTreeSet;
+use std::f64::consts::PI;
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use crate::abstraction::RegionClassifier;
+use crate::synthetic::{GRASP_HEIGHT, packing_config, packing_demonstrations};
+use crate::{Model, Pose, abstract_state, domain_text, learn, vocabulary_report};
+
+const DEMONSTRATIONS: usize = 40;
+const DEMONSTRATION_SEED: u64 = 11;
+
+fn learned() -> Model {
+    learn(&packing_demonstrations(DEMONSTRATIONS, DEMONSTRATION_SEED), &packing_config())
+        .expect("learns")
+}
+
+fn strings<T: ToString>(items: &[T]) -> Vec<String> {
+    items.iter().map(ToString::to_string).collect()
+}
+
+#[test]
+fn packing_vocabulary_reads_as_expected() {
+    let model = learned();
+    let predicates: Vec<String> = model.predicates().iter().map(ToString::to_string).collect();
+    assert_eq!(
+        predicates,
+        [
+            "gripper_can_0(gripper, can)",
+            "gripper_can_1(gripper, can)",
+            "gripper_can_2(gripper, can)",
+            "clear_gripper_can_1(gripper)",
+            "clear_gripper_can_2(gripper)",
+            "surface_can_0(surface, can)",
+            "surface_can_1(surface, can)",
+        ]
+    );
+    let at_grasp = model.region("gripper_can_1").expect("region 1");
+    let holding = model.region("gripper_can_2").expect("region 2");
+    assert_eq!((at_grasp.summary.g, holding.summary.g), (0, 1));
+    for region in [at_grasp, holding] {
+        let position = region.summary.representative.translation.vector;
+        assert!(
+            (position - nalgebra::Vector3::new(0.0, 0.0, -GRASP_HEIGHT)).norm() < 0.01,
+            "{position}"
+        );
+    }
+    let in_box = model.region("surface_can_1").expect("the can-in-box region");
+    assert!(in_box.summary.representative.translation.vector.norm() < 0.02);
+}
+
+#[test]
+fn packing_actions_resemble_the_paper_domain() {
+    let model = learned();
+    let find = |adds: &[&str]| {
+        model
+            .actions
+            .iter()
+            .find(|action| strings(&action.add) == adds)
+            .unwrap_or_else(|| panic!("no action adds {adds:?}"))
+    };
+    let approach = find(&["(gripper_can_1 ?gripper_p1 ?can_p1)"]);
+    let grasp = find(&["(clear_gripper_can_1 ?gripper_p1)", "(gripper_can_2 ?gripper_p1 ?can_p1)"]);
+    let place = find(&["(surface_can_1 ?surface_p1 ?can_p1)"]);
+    let release =
+        find(&["(clear_gripper_can_2 ?gripper_p1)", "(gripper_can_1 ?gripper_p1 ?can_p1)"]);
+    let retreat =
+        find(&["(clear_gripper_can_1 ?gripper_p1)", "(gripper_can_0 ?gripper_p1 ?can_p1)"]);
+    assert_eq!(model.actions.len(), 5);
+    assert!(
+        strings(&approach.preconditions)
+            .contains(&"(gripper_can_0 ?gripper_p1 ?can_p1)".to_string())
+    );
+    assert!(
+        strings(&grasp.preconditions).contains(&"(gripper_can_1 ?gripper_p1 ?can_p1)".to_string())
+    );
+    // Placing needs the can held by some gripper, which becomes an extra parameter.
+    assert!(
+        strings(&place.preconditions)
+            .contains(&"(gripper_can_2 ?gripper_extra_p1 ?can_p1)".to_string())
+    );
+    assert!(
+        strings(&release.preconditions)
+            .contains(&"(surface_can_1 ?surface_extra_p1 ?can_p1)".to_string())
+    );
+    assert!(strings(&retreat.delete).contains(&"(gripper_can_2 ?gripper_p1 ?can_p1)".to_string()));
+    // Every action knows where it came from.
+    assert!(model.actions.iter().all(|action| !action.transitions.is_empty()));
+}
+
+#[test]
+fn emitted_domain_and_report_are_pinned_and_reproducible() {
+    let model = learned();
+    let pddl = domain_text(&model, "packing").expect("valid domain");
+    let report = vocabulary_report(&model);
+    insta::assert_snapshot!("packing_domain", pddl);
+    insta::assert_snapshot!("packing_report", report);
+    let again = learned();
+    assert_eq!(domain_text(&again, "packing").expect("valid domain"), pddl);
+    assert_eq!(vocabulary_report(&again), report);
+}
+
+#[test]
+fn new_snapshots_are_abstracted_with_the_learned_regions() {
+    let model = learned();
+    let demonstrations = packing_demonstrations(2, 99);
+    let demonstration = &demonstrations[0];
+    let held_step = demonstration.steps.iter().position(|s| !s.held.is_empty()).expect("a grasp");
+    let atoms =
+        abstract_state(&model, &demonstration.participants, &demonstration.steps[held_step])
+            .expect("fits");
+    let texts: BTreeSet<String> = atoms.iter().map(ToString::to_string).collect();
+    assert!(texts.contains("(gripper_can_2 gripper1 can1)"), "{texts:?}");
+    assert!(texts.contains("(clear_gripper_can_1 gripper1)"), "{texts:?}");
+    assert!(texts.contains("(surface_can_0 box1 can1)"), "{texts:?}");
+    let last = demonstration.steps.last().expect("steps");
+    let final_atoms = abstract_state(&model, &demonstration.participants, last).expect("fits");
+    assert!(final_atoms.iter().any(|a| a.to_string() == "(surface_can_1 box1 can1)"));
+    let mut wrong = demonstration.steps[0].clone();
+    wrong.poses.pop();
+    assert!(abstract_state(&model, &demonstration.participants, &wrong).is_err());
+}
+
+#[test]
+fn the_box_region_is_one_region_across_the_half_turn() {
+    let model = learned();
+    let in_box = model.region("surface_can_1").expect("the can-in-box region");
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let yaws: Vec<f64> = (0..200)
+        .map(|_| {
+            let pose = model.sample_region("surface_can_1", &mut rng).expect("region exists");
+            pose.rotation.euler_angles().2
+        })
+        .collect();
+    assert!(yaws.iter().all(|yaw| yaw.abs() > PI - 0.4), "samples stay near the half turn");
+    assert!(
+        yaws.iter().any(|yaw| *yaw > 0.0) && yaws.iter().any(|yaw| *yaw < 0.0),
+        "samples straddle ±π"
+    );
+    for yaw in [PI - 0.05, -PI + 0.05] {
+        let pose = Pose::from_parts(
+            nalgebra::Translation3::new(0.0, 0.0, 0.001),
+            nalgebra::UnitQuaternion::from_euler_angles(0.0, 0.0, yaw),
+        );
+        assert!(in_box.model.margin(&pose) >= 0.0, "yaw {yaw} is in the region");
+    }
+}
+
+#[test]
+fn the_sampler_artifact_round_trips_and_abstracts_like_the_model() {
+    let model = learned();
+    let artifact = crate::SamplerArtifact::from_model(&model);
+    let text = serde_json::to_string(&artifact).expect("serialises");
+    let back: crate::SamplerArtifact = serde_json::from_str(&text).expect("deserialises");
+    assert_eq!(back, artifact);
+    assert_eq!(back.validate(), Ok(()));
+    let demonstrations = packing_demonstrations(1, 3);
+    let demonstration = &demonstrations[0];
+    for snapshot in &demonstration.steps {
+        assert_eq!(
+            back.abstract_state(&demonstration.participants, snapshot).expect("fits"),
+            abstract_state(&model, &demonstration.participants, snapshot).expect("fits")
+        );
+    }
+    let mut old = back.clone();
+    old.version += 1;
+    assert!(matches!(old.validate(), Err(crate::LearnError::ArtifactVersion { .. })));
+    let mut rng = ChaCha8Rng::seed_from_u64(2);
+    let pose = back.sample_region("gripper_can_2", &mut rng).expect("region exists");
+    assert!(back.region("gripper_can_2").expect("region").model.margin(&pose) >= 0.0);
+}

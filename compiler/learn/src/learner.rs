@@ -1,0 +1,299 @@
+//! The pipeline up to induced actions, generic over how a region becomes a membership test.
+//!
+//! Stages: validate → type pairs → per pair: occupancy over all demonstrations → critical cells → regions with
+//! provenance → one classifier per region (fitted in region order from one seeded generator) → vocabulary →
+//! abstraction of every snapshot → actions.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use crate::abstraction::{self, RegionClassifier};
+use crate::actions::{self, AbstractDemonstration, Action};
+use crate::config::{LearnConfig, PairSettings, TypePair};
+use crate::demo::{self, Demonstration, Pose, Role};
+use crate::discretise::{Grid, RotationCell, Voxel};
+use crate::error::LearnError;
+use crate::features::{FEATURE_DIMENSION, pose_features};
+use crate::occupancy::Occupancy;
+use crate::pairs;
+use crate::regions::{self, RegionCells};
+use crate::relations::PairVocabulary;
+
+/// Where a region came from and what it looks like.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RegionSummary {
+    /// The held flag of its slice.
+    pub g: u8,
+    /// Its cells.
+    pub cells: RegionCells,
+    /// Demonstrations that visited it.
+    pub demonstrations: usize,
+    /// Time steps (over all demonstrations and participant pairs) observed in it.
+    pub time_steps: usize,
+    /// The observed relative pose closest (in feature space) to the mean of the observations in it.
+    pub representative: Pose,
+    /// Mean observed position in the primary's frame (m).
+    pub centre: [f64; 3],
+    /// Standard deviation of the observed positions per axis (m).
+    pub spread: [f64; 3],
+    /// The extent of its voxels per axis, `(low, high)` (m).
+    pub bounds: [(f64, f64); 3],
+}
+
+/// A type pair with its regions, in relation order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PairRegions {
+    /// The ordered type pair.
+    pub pair: TypePair,
+    /// Its settings.
+    pub settings: PairSettings,
+    /// Its discretisation.
+    pub grid: Grid,
+    /// The number of demonstrations in which the pair occurs (the denominator of criticality).
+    pub demonstrations: usize,
+    /// Its regions; region k is at index k − 1.
+    pub regions: Vec<RegionSummary>,
+}
+
+/// Everything learned, with classifiers of type `C`.
+pub(crate) struct Induced<C> {
+    pub roles: BTreeMap<String, Role>,
+    /// Pairs with at least one region.
+    pub pairs: Vec<PairRegions>,
+    /// Pairs that occur in some demonstration but yielded no region.
+    pub empty_pairs: Vec<TypePair>,
+    pub classifiers: Vec<Vec<C>>,
+    pub actions: Vec<Action>,
+}
+
+struct Observation {
+    demonstration: usize,
+    g: u8,
+    voxel: Voxel,
+    rotation: RotationCell,
+    pose: Pose,
+}
+
+/// Runs the pipeline; `fit` turns a region into a classifier, drawing randomness only from the generator it gets.
+pub(crate) fn induce<C: RegionClassifier>(
+    demonstrations: &[Demonstration],
+    config: &LearnConfig,
+    mut fit: impl FnMut(&PairRegions, usize, &mut ChaCha8Rng) -> Result<C, LearnError>,
+) -> Result<Induced<C>, LearnError> {
+    config.validate()?;
+    let roles = demo::validate(demonstrations)?;
+    let mut learned = Vec::new();
+    let mut empty_pairs = Vec::new();
+    for pair in pairs::type_pairs(&roles, config) {
+        let pair_regions = find_regions(demonstrations, config, &pair);
+        if pair_regions.demonstrations == 0 {
+            continue;
+        }
+        if pair_regions.regions.is_empty() {
+            empty_pairs.push(pair);
+        } else {
+            learned.push(pair_regions);
+        }
+    }
+    if learned.is_empty() {
+        return Err(LearnError::NoRegions { demonstrations: demonstrations.len() });
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
+    let mut classifiers = Vec::with_capacity(learned.len());
+    for pair_regions in &learned {
+        let mut fitted = Vec::with_capacity(pair_regions.regions.len());
+        for index in 0..pair_regions.regions.len() {
+            fitted.push(fit(pair_regions, index, &mut rng)?);
+        }
+        classifiers.push(fitted);
+    }
+    let vocabulary: Vec<PairVocabulary> = learned
+        .iter()
+        .map(|p| PairVocabulary {
+            pair: p.pair.clone(),
+            region_flags: p.regions.iter().map(|r| r.g).collect(),
+            clear: p.settings.clear,
+        })
+        .collect();
+    let abstracted: Vec<AbstractDemonstration<'_>> = demonstrations
+        .iter()
+        .map(|demonstration| AbstractDemonstration {
+            id: &demonstration.id,
+            participants: &demonstration.participants,
+            states: demonstration
+                .steps
+                .iter()
+                .map(|snapshot| {
+                    abstraction::abstract_facts(
+                        &vocabulary,
+                        &classifiers,
+                        &demonstration.participants,
+                        snapshot,
+                    )
+                })
+                .collect(),
+        })
+        .collect();
+    let actions = actions::induce(&vocabulary, &abstracted);
+    Ok(Induced { roles, pairs: learned, empty_pairs, classifiers, actions })
+}
+
+/// Occupancy, critical cells and regions with provenance of one type pair.
+fn find_regions(
+    demonstrations: &[Demonstration],
+    config: &LearnConfig,
+    pair: &TypePair,
+) -> PairRegions {
+    let settings = config.settings(pair).clone();
+    let grid = Grid::new(&settings);
+    let type_pairs = [pair.clone()];
+    let mut occupancy = Occupancy::default();
+    let mut observations = Vec::new();
+    for (index, demonstration) in demonstrations.iter().enumerate() {
+        let instances = pairs::instances(&type_pairs, &demonstration.participants);
+        if instances.is_empty() {
+            continue;
+        }
+        let mut visited = Vec::new();
+        for snapshot in &demonstration.steps {
+            for instance in &instances {
+                let pose = pairs::relative_pose(snapshot, *instance);
+                let Some(voxel) = grid.voxel(&pose) else { continue };
+                let g = pairs::held_flag(snapshot, *instance);
+                let rotation = grid.rotation_cell(&pose);
+                visited.push((g, voxel, rotation));
+                observations.push(Observation { demonstration: index, g, voxel, rotation, pose });
+            }
+        }
+        occupancy.add_demonstration(visited);
+    }
+    let critical =
+        occupancy.critical(settings.threshold, config.min_support, config.rotation_share);
+    let regions = regions::components(&critical)
+        .into_iter()
+        .map(|cells| summarise(&grid, cells, &observations))
+        .collect();
+    PairRegions {
+        pair: pair.clone(),
+        settings,
+        grid,
+        demonstrations: occupancy.demonstrations(),
+        regions,
+    }
+}
+
+fn summarise(grid: &Grid, cells: RegionCells, observations: &[Observation]) -> RegionSummary {
+    let inside: Vec<&Observation> =
+        observations.iter().filter(|o| cells.contains(o.g, o.voxel, o.rotation)).collect();
+    let demonstrations = inside.iter().map(|o| o.demonstration).collect::<BTreeSet<_>>().len();
+    let count = inside.len().max(1) as f64;
+    let mut centre = [0.0; 3];
+    let mut mean_features = [0.0; FEATURE_DIMENSION];
+    for observation in &inside {
+        let features = pose_features(&observation.pose);
+        for (mean, value) in mean_features.iter_mut().zip(features) {
+            *mean += value / count;
+        }
+    }
+    centre.copy_from_slice(&mean_features[..3]);
+    let mut spread = [0.0; 3];
+    for observation in &inside {
+        for (axis, deviation) in spread.iter_mut().enumerate() {
+            *deviation +=
+                (observation.pose.translation.vector[axis] - centre[axis]).powi(2) / count;
+        }
+    }
+    let spread = spread.map(f64::sqrt);
+    let distance = |pose: &Pose| -> f64 {
+        pose_features(pose).iter().zip(&mean_features).map(|(a, b)| (a - b).powi(2)).sum()
+    };
+    // The first observation (in demonstration and time order) wins ties.
+    let representative = inside
+        .iter()
+        .map(|o| (distance(&o.pose), o.pose))
+        .fold(None, |best: Option<(f64, Pose)>, candidate| match best {
+            Some(kept) if kept.0 <= candidate.0 => Some(kept),
+            _ => Some(candidate),
+        })
+        .map_or_else(|| first_cell_centre(grid, &cells), |(_, pose)| pose);
+    let mut bounds = [(f64::INFINITY, f64::NEG_INFINITY); 3];
+    for voxel in cells.voxels.keys() {
+        for (axis, (low, high)) in grid.voxel_bounds(*voxel).into_iter().enumerate() {
+            bounds[axis].0 = bounds[axis].0.min(low);
+            bounds[axis].1 = bounds[axis].1.max(high);
+        }
+    }
+    RegionSummary {
+        g: cells.g,
+        time_steps: inside.len(),
+        demonstrations,
+        representative,
+        centre,
+        spread,
+        bounds,
+        cells,
+    }
+}
+
+fn first_cell_centre(grid: &Grid, cells: &RegionCells) -> Pose {
+    let voxel = cells.voxels.keys().next().copied().unwrap_or_default();
+    let centre = grid.voxel_centre(voxel);
+    Pose::translation(centre[0], centre[1], centre[2])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::abstraction::CellClassifier;
+    use crate::synthetic::{packing_config, packing_demonstrations};
+
+    fn cells(
+        pair: &PairRegions,
+        index: usize,
+        _: &mut ChaCha8Rng,
+    ) -> Result<CellClassifier, LearnError> {
+        Ok(CellClassifier { grid: pair.grid.clone(), cells: pair.regions[index].cells.clone() })
+    }
+
+    #[test]
+    fn packing_with_exact_cells_finds_the_paper_vocabulary() {
+        let demonstrations = packing_demonstrations(40, 11);
+        let induced = induce(&demonstrations, &packing_config(), cells).expect("learns");
+        let stems: Vec<String> = induced.pairs.iter().map(|p| p.pair.stem()).collect();
+        assert_eq!(stems, ["gripper_can", "surface_can"]);
+        let flags: Vec<u8> = induced.pairs[0].regions.iter().map(|r| r.g).collect();
+        assert_eq!(flags, [0, 1]);
+        // Both gripper–can regions sit where the can is at the grasp: 0.21 m below the gripper frame.
+        for region in &induced.pairs[0].regions {
+            assert!((region.centre[2] + 0.21).abs() < 0.01, "{:?}", region.centre);
+            assert!(region.demonstrations >= 16 && region.demonstrations <= 40);
+        }
+        let in_box = &induced.pairs[1].regions[0];
+        // The can sits in the box turned by π ± 0.15: one voxel, with rotation cells on both sides of the jump.
+        assert_eq!(in_box.cells.voxels.len(), 1);
+        let rotations = in_box.cells.voxels.values().next().expect("one voxel");
+        assert!(
+            rotations.iter().any(|cell| cell[2] == 0) && rotations.iter().any(|cell| cell[2] == 23)
+        );
+        assert!(in_box.centre.iter().all(|c| c.abs() < 0.01));
+        assert_eq!(induced.actions.len(), 5);
+        assert_eq!(induced.empty_pairs, vec![]);
+    }
+
+    #[test]
+    fn a_pair_seen_in_no_demonstration_window_has_no_regions() {
+        let mut config = packing_config();
+        config.pairs.get_mut(&TypePair::new("surface", "can")).expect("configured").half_range =
+            [0.001; 3];
+        let induced = induce(&packing_demonstrations(20, 5), &config, cells).expect("learns");
+        assert_eq!(induced.empty_pairs, vec![TypePair::new("surface", "can")]);
+    }
+
+    #[test]
+    fn too_few_demonstrations_is_an_error_not_an_empty_domain() {
+        let result = induce(&packing_demonstrations(2, 3), &packing_config(), cells);
+        assert!(matches!(result, Err(LearnError::NoRegions { demonstrations: 2 })));
+    }
+}

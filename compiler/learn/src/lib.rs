@@ -1,0 +1,40 @@
+//! lamp-learn: demonstrations in memory become a learned planning model.
+//!
+//! The pipeline, one module per stage: [`pairs`] (which type pairs, relative poses, held flag) →
+//! [`discretise`] (voxels and rotation cells) → [`occupancy`] (criticality) → [`regions`] (connected components) →
+//! [`region_model`] (a membership test and generator per region) → [`relations`] (the vocabulary) → [`abstraction`] (states to facts)
+//! → [`actions`] (induced operators) → [`emit`] (PDDL) and [`report`] (Markdown).
+//! [`learn`] runs it all and returns a [`Model`]; [`abstract_state`] abstracts new snapshots with a model.
+//! The method and every sort key are documented in `docs/learning.md`.
+
+pub mod abstraction;
+pub mod actions;
+pub mod artifact;
+pub mod config;
+pub mod demo;
+pub mod discretise;
+pub mod emit;
+pub mod error;
+pub mod features;
+mod learner;
+pub mod model;
+pub mod occupancy;
+pub mod pairs;
+pub mod region_model;
+pub mod regions;
+pub mod relations;
+pub mod report;
+pub mod synthetic;
+
+pub use abstraction::{CellClassifier, GroundAtom, RegionClassifier};
+pub use actions::{Action, LiftedAtom, Parameter, TransitionRef};
+pub use artifact::{SAMPLER_ARTIFACT_VERSION, SamplerArtifact};
+pub use config::{LearnConfig, PairSettings, TypePair};
+pub use demo::{Demonstration, Participant, Pose, Role, Snapshot};
+pub use emit::{domain, domain_text, ground_atoms};
+pub use error::LearnError;
+pub use learner::{PairRegions, RegionSummary};
+pub use model::{LearnedPair, Model, Region, abstract_state, learn};
+pub use report::vocabulary_report;
+#[cfg(test)]
+mod end_to_end;

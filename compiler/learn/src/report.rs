@@ -1,0 +1,156 @@
+//! The human-readable vocabulary report (Markdown): what each invented relation and action means and where it came from.
+
+use std::fmt::Write as _;
+
+use crate::actions::Action;
+use crate::learner::RegionSummary;
+use crate::model::{LearnedPair, Model, Region};
+
+/// Transitions listed per action before the rest are summarised as a count.
+const LISTED_TRANSITIONS: usize = 12;
+
+/// The vocabulary report of a model.
+pub fn vocabulary_report(model: &Model) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "# Learned vocabulary\n");
+    let _ = writeln!(
+        out,
+        "Learned from {} demonstrations with seed {}: {} relations over {} type pairs, {} actions.\n",
+        model.demonstrations,
+        model.seed,
+        model.predicates().len(),
+        model.pairs.len(),
+        model.actions.len()
+    );
+    let _ = writeln!(
+        out,
+        "Relative poses are of the second type in the first type's frame; positions in metres, angles in degrees.\n"
+    );
+    let _ = writeln!(out, "## Relations\n");
+    for pair in &model.pairs {
+        pair_section(&mut out, pair);
+    }
+    if !model.pairs_without_regions.is_empty() {
+        let names: Vec<String> =
+            model.pairs_without_regions.iter().map(|p| format!("`{}`", p.stem())).collect();
+        let _ = writeln!(
+            out,
+            "Type pairs without any critical region (no relations): {}.\n",
+            names.join(", ")
+        );
+    }
+    let _ = writeln!(out, "## Actions\n");
+    for action in &model.actions {
+        action_section(&mut out, action);
+    }
+    out
+}
+
+fn pair_section(out: &mut String, learned: &LearnedPair) {
+    let pair = &learned.pair;
+    let settings = &pair.settings;
+    let _ = writeln!(
+        out,
+        "### `{}`: {} relative to {}\n",
+        pair.pair.stem(),
+        pair.pair.secondary,
+        pair.pair.primary
+    );
+    let _ = writeln!(
+        out,
+        "Bins {:?} over ±{:?} m, {} rotation bins, θ = {}, seen in {} demonstrations.\n",
+        settings.position_bins,
+        settings.half_range,
+        settings.rotation_bins,
+        settings.threshold,
+        pair.demonstrations
+    );
+    let _ = writeln!(
+        out,
+        "| relation | g | centre | spread | representative pose (xyz; roll pitch yaw) | cells | demonstrations | time steps |"
+    );
+    let _ = writeln!(out, "| --- | --- | --- | --- | --- | --- | --- | --- |");
+    for region in &learned.regions {
+        region_row(out, region);
+    }
+    let (primary, secondary) = (&pair.pair.primary, &pair.pair.secondary);
+    let _ = writeln!(
+        out,
+        "\n- `{}_0({primary}, {secondary})`: the {secondary} is in none of these regions.",
+        pair.pair.stem()
+    );
+    if settings.clear {
+        for region in &learned.regions {
+            let _ = writeln!(
+                out,
+                "- `clear_{}({primary})`: no {secondary} is in region {} of the {primary}.",
+                region.relation, region.index
+            );
+        }
+    }
+    let _ = writeln!(out);
+}
+
+fn region_row(out: &mut String, region: &Region) {
+    let summary: &RegionSummary = &region.summary;
+    let position = summary.representative.translation.vector;
+    let (roll, pitch, yaw) = summary.representative.rotation.euler_angles();
+    let _ = writeln!(
+        out,
+        "| `{}` | {} | {} | {} | {}; {} {} {} | {} | {} | {} |",
+        region.relation,
+        summary.g,
+        triple(summary.centre),
+        triple(summary.spread),
+        triple([position.x, position.y, position.z]),
+        rounded(roll.to_degrees(), 0),
+        rounded(pitch.to_degrees(), 0),
+        rounded(yaw.to_degrees(), 0),
+        region.model.cell_count(),
+        summary.demonstrations,
+        summary.time_steps
+    );
+}
+
+fn triple(values: [f64; 3]) -> String {
+    format!("({}, {}, {})", rounded(values[0], 3), rounded(values[1], 3), rounded(values[2], 3))
+}
+
+/// Rounds first, so values that round to zero print as `0` and not `-0`.
+fn rounded(value: f64, decimals: i32) -> String {
+    let scale = 10f64.powi(decimals);
+    let value = (value * scale).round() / scale + 0.0;
+    format!("{value:.prec$}", prec = decimals as usize)
+}
+
+fn action_section(out: &mut String, action: &Action) {
+    let _ = writeln!(out, "### `{}`\n", action.name);
+    let parameters: Vec<String> =
+        action.parameters.iter().map(|p| format!("`{} - {}`", p.name, p.type_name)).collect();
+    let _ = writeln!(out, "- parameters: {}", parameters.join(", "));
+    let list = |atoms: &[crate::actions::LiftedAtom]| -> String {
+        if atoms.is_empty() {
+            "none".to_string()
+        } else {
+            atoms.iter().map(|atom| format!("`{atom}`")).collect::<Vec<_>>().join(", ")
+        }
+    };
+    let _ = writeln!(out, "- preconditions: {}", list(&action.preconditions));
+    let _ = writeln!(out, "- adds: {}", list(&action.add));
+    let _ = writeln!(out, "- deletes: {}", list(&action.delete));
+    let listed: Vec<String> = action
+        .transitions
+        .iter()
+        .take(LISTED_TRANSITIONS)
+        .map(|t| format!("{}@{}", t.demonstration, t.step))
+        .collect();
+    let more = action.transitions.len().saturating_sub(LISTED_TRANSITIONS);
+    let tail = if more > 0 { format!(" and {more} more") } else { String::new() };
+    let _ = writeln!(
+        out,
+        "- induced from {} transitions ({} distinct): {}{tail}\n",
+        action.transitions.len(),
+        action.distinct_transitions,
+        listed.join(", ")
+    );
+}

@@ -1,0 +1,169 @@
+//! A scripted Packing-like demonstrator, in memory, for the learner's tests and benchmarks: a free-flying gripper
+//! grasps a can on a table, carries it into a box and retreats; half of the demonstrations stop at a random time step.
+//!
+//! Poses are scripted (straight-line interpolation, no collision checking); the domains' real demonstrators live
+//! with their domains and write files.
+
+use std::f64::consts::PI;
+
+use nalgebra::{Translation3, UnitQuaternion, Vector3};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::config::{LearnConfig, PairSettings, TypePair};
+use crate::demo::{Demonstration, Participant, Pose, Role, Snapshot};
+
+/// Height of the gripper frame above the can's base frame at the grasp.
+pub const GRASP_HEIGHT: f64 = 0.21;
+
+/// `count` demonstrations from one seed; odd-numbered ones are cut short.
+pub fn packing_demonstrations(count: usize, seed: u64) -> Vec<Demonstration> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..count).map(|index| packing_demonstration(index, index % 2 == 1, &mut rng)).collect()
+}
+
+fn participants() -> Vec<Participant> {
+    vec![
+        Participant {
+            name: "gripper1".into(),
+            type_name: "gripper".into(),
+            role: Role::RobotPart { gripper: true },
+        },
+        Participant {
+            name: "can1".into(),
+            type_name: "can".into(),
+            role: Role::Object { movable: true },
+        },
+        Participant {
+            name: "box1".into(),
+            type_name: "surface".into(),
+            role: Role::Object { movable: false },
+        },
+    ]
+}
+
+fn yaw(angle: f64) -> UnitQuaternion<f64> {
+    UnitQuaternion::from_axis_angle(&Vector3::z_axis(), angle)
+}
+
+fn grasp_offset(rng: &mut ChaCha8Rng) -> Pose {
+    let noise = Vector3::from_fn(|_, _| rng.random_range(-0.003..0.003));
+    Pose::from_parts(
+        Translation3::from(Vector3::new(0.0, 0.0, GRASP_HEIGHT) + noise),
+        yaw(-PI / 4.0),
+    )
+}
+
+fn interpolate(from: &Pose, to: &Pose, steps: usize) -> Vec<Pose> {
+    (1..=steps)
+        .map(|step| {
+            let t = step as f64 / steps as f64;
+            let position = from.translation.vector.lerp(&to.translation.vector, t);
+            let rotation = from.rotation.try_slerp(&to.rotation, t, 1e-9).unwrap_or(to.rotation);
+            Pose::from_parts(position.into(), rotation)
+        })
+        .collect()
+}
+
+fn packing_demonstration(index: usize, truncated: bool, rng: &mut ChaCha8Rng) -> Demonstration {
+    let box_pose = Pose::from_parts(
+        Translation3::new(rng.random_range(-0.3..0.3), rng.random_range(-0.3..0.3), 0.0),
+        yaw(rng.random_range(-PI..PI)),
+    );
+    let can_start = loop {
+        let candidate = Pose::from_parts(
+            Translation3::new(rng.random_range(-0.4..0.4), rng.random_range(-0.4..0.4), 0.001),
+            yaw(rng.random_range(-PI..PI)),
+        );
+        if (candidate.translation.vector - box_pose.translation.vector).norm() > 0.3 {
+            break candidate;
+        }
+    };
+    let gripper_start = Pose::from_parts(
+        Translation3::new(
+            rng.random_range(-0.4..0.4),
+            rng.random_range(-0.4..0.4),
+            rng.random_range(0.3..0.8),
+        ),
+        UnitQuaternion::from_euler_angles(
+            rng.random_range(-0.4..0.4),
+            rng.random_range(-0.4..0.4),
+            rng.random_range(-PI..PI),
+        ),
+    );
+    // The can goes in the box turned half a turn (± a little), so its relative yaw straddles ±π.
+    let placement = box_pose
+        * Pose::from_parts(
+            Translation3::new(rng.random_range(-0.01..0.01), rng.random_range(-0.01..0.01), 0.001),
+            yaw(PI + rng.random_range(-0.15..0.15)),
+        );
+    let grasp = grasp_offset(rng);
+    let mut steps: Vec<Snapshot> = Vec::new();
+    let snapshot = |gripper: Pose, can: Pose, held: bool| Snapshot {
+        poses: vec![gripper, can, box_pose],
+        held: if held { vec![(0, 1)] } else { vec![] },
+    };
+    steps.push(snapshot(gripper_start, can_start, false));
+    // Approach.
+    let grasp_pose = can_start * grasp;
+    for gripper in interpolate(&gripper_start, &grasp_pose, rng.random_range(6..10)) {
+        steps.push(snapshot(gripper, can_start, false));
+    }
+    // Grasp.
+    steps.push(snapshot(grasp_pose, can_start, true));
+    // Lift, carry above the box, lower into it.
+    let lifted = Pose::translation(0.0, 0.0, 0.3) * can_start;
+    let above = Pose::translation(0.0, 0.0, 0.3) * placement;
+    let mut can_path = interpolate(&can_start, &lifted, 3);
+    can_path.extend(interpolate(&lifted, &above, rng.random_range(6..10)));
+    can_path.extend(interpolate(&above, &placement, 2));
+    for can in can_path {
+        steps.push(snapshot(can * grasp, can, true));
+    }
+    // Release, then retreat to a random pose well above the table.
+    let release_pose = placement * grasp;
+    steps.push(snapshot(release_pose, placement, false));
+    let retreat = Pose::from_parts(
+        Translation3::new(
+            rng.random_range(-0.4..0.4),
+            rng.random_range(-0.4..0.4),
+            rng.random_range(0.45..0.8),
+        ),
+        UnitQuaternion::from_euler_angles(0.0, 0.0, rng.random_range(-PI..PI)),
+    );
+    for gripper in interpolate(&release_pose, &retreat, rng.random_range(6..10)) {
+        steps.push(snapshot(gripper, placement, false));
+    }
+    if truncated {
+        let keep = rng.random_range(2..steps.len());
+        steps.truncate(keep);
+    }
+    Demonstration { id: format!("packing-{index:03}"), participants: participants(), steps }
+}
+
+/// Settings for the synthetic task: a fine gripper–can grid, a coarse box grid, no clear relations for the box
+/// (it holds several cans), and gripper–box relations left out as the reference code does.
+pub fn packing_config() -> LearnConfig {
+    let mut config = LearnConfig { seed: 7, ..LearnConfig::default() };
+    config.pairs.insert(
+        TypePair::new("gripper", "can"),
+        PairSettings {
+            position_bins: [15; 3],
+            half_range: [0.3; 3],
+            threshold: 0.4,
+            ..PairSettings::default()
+        },
+    );
+    config.pairs.insert(
+        TypePair::new("surface", "can"),
+        PairSettings {
+            position_bins: [5; 3],
+            half_range: [0.1; 3],
+            threshold: 0.4,
+            clear: false,
+            ..PairSettings::default()
+        },
+    );
+    config.ignored.insert(TypePair::new("gripper", "surface"));
+    config
+}
