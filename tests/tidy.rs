@@ -31,7 +31,8 @@ fn read_toml(path: &Path) -> toml::Table {
 fn workspace_manifests() -> Vec<Manifest> {
     let root = workspace_root();
     let workspace = read_toml(&root.join("Cargo.toml"));
-    let members = workspace["workspace"]["members"].as_array().expect("workspace.members is a list");
+    let members =
+        workspace["workspace"]["members"].as_array().expect("workspace.members is a list");
     members
         .iter()
         .map(|member| {
@@ -56,7 +57,8 @@ fn dependency_names(manifest: &Manifest, section: &str) -> BTreeSet<String> {
 fn documented_dependency_rules() -> BTreeMap<String, BTreeSet<String>> {
     let text = fs::read_to_string(workspace_root().join("docs/ARCHITECTURE.md"))
         .expect("docs/ARCHITECTURE.md exists");
-    let section = text.split("## Dependency rules").nth(1).expect("a `## Dependency rules` section");
+    let section =
+        text.split("## Dependency rules").nth(1).expect("a `## Dependency rules` section");
     let mut rules = BTreeMap::new();
     for line in section.lines().take_while(|line| !line.starts_with("## ")) {
         let cells: Vec<&str> = line.trim().trim_matches('|').split('|').map(str::trim).collect();
@@ -85,7 +87,10 @@ fn internal_dependencies_follow_the_code_map() {
             continue; // the binary and the workspace tests may use everything
         }
         let Some(allowed) = rules.get(&manifest.name) else {
-            violations.push(format!("{} is missing from the table in docs/ARCHITECTURE.md", manifest.name));
+            violations.push(format!(
+                "{} is missing from the table in docs/ARCHITECTURE.md",
+                manifest.name
+            ));
             continue;
         };
         for dependency in dependency_names(manifest, "dependencies") {
@@ -110,7 +115,8 @@ fn sensitive_dependencies_stay_in_their_crate() {
             .collect();
         for (dependency, owners) in CONFINED_DEPENDENCIES {
             if used.contains(*dependency) && !owners.contains(&manifest.name.as_str()) {
-                violations.push(format!("{} uses {dependency}, confined to {owners:?}", manifest.name));
+                violations
+                    .push(format!("{} uses {dependency}, confined to {owners:?}", manifest.name));
             }
         }
     }
@@ -135,7 +141,11 @@ fn every_workspace_dependency_says_why_it_is_there() {
         }
         previous = line;
     }
-    assert!(unexplained.is_empty(), "dependencies without a comment line above:\n{}", unexplained.join("\n"));
+    assert!(
+        unexplained.is_empty(),
+        "dependencies without a comment line above:\n{}",
+        unexplained.join("\n")
+    );
 }
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {

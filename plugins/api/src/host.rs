@@ -1,0 +1,127 @@
+//! The services the host offers to every plugin call: progress, cancellation and geometric oracles.
+
+use crate::error::HostError;
+
+/// A pose as `[x, y, z, qx, qy, qz, qw]`: a position in metres and a unit quaternion.
+pub type Pose = [f64; 7];
+
+/// The identity pose.
+pub const IDENTITY_POSE: Pose = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+
+/// What the host offers a plugin during one call.
+///
+/// The host owns the layout of a configuration vector: plugins treat configurations as opaque
+/// `f64` slices and use [`distance`](Self::distance) and [`interpolate`](Self::interpolate)
+/// rather than their own arithmetic (angles wrap, quaternion coordinates slerp).
+/// Robots and links are named as in the world state the host sends.
+///
+/// Every method has a default: no progress display, never cancelled, and
+/// [`HostError::Unsupported`] for the geometric oracles, so a host for task planning implements
+/// only what it offers.
+///
+/// # Example
+/// A host for a one-dimensional robot whose configuration is a position on a rail from 0 to 10.
+/// ```
+/// use lamp_plugin_api::{HostError, HostServices};
+///
+/// struct Rail;
+///
+/// impl HostServices for Rail {
+///     fn configuration_is_valid(&self, _robot: &str, q: &[f64]) -> Result<bool, HostError> {
+///         Ok(q.len() == 1 && (0.0..=10.0).contains(&q[0]))
+///     }
+///     fn distance(&self, _robot: &str, a: &[f64], b: &[f64]) -> Result<f64, HostError> {
+///         Ok((a[0] - b[0]).abs())
+///     }
+/// }
+///
+/// assert_eq!(Rail.configuration_is_valid("cart", &[4.0]), Ok(true));
+/// assert_eq!(Rail.distance("cart", &[1.0], &[4.0]), Ok(3.0));
+/// assert!(Rail.solve_ik("cart", "tool", &[0.0; 7], &[0.0]).is_err());
+/// ```
+pub trait HostServices {
+    /// Reports progress: `fraction` in [0, 1] and a short message.
+    fn report_progress(&self, fraction: f64, message: &str) {
+        let _ = (fraction, message);
+    }
+
+    /// Whether the host asks the plugin to stop; long loops poll it and return
+    /// [`crate::PluginError::Cancelled`].
+    fn is_cancelled(&self) -> bool {
+        false
+    }
+
+    /// Whether configuration `q` of `robot` is within joint limits and collision-free.
+    ///
+    /// # Errors
+    /// [`HostError`] when the service is unavailable or the robot is unknown.
+    fn configuration_is_valid(&self, robot: &str, q: &[f64]) -> Result<bool, HostError> {
+        let _ = (robot, q);
+        Err(HostError::unsupported("configuration_is_valid"))
+    }
+
+    /// Whether every configuration on the host's interpolation from `a` to `b` is valid.
+    ///
+    /// # Errors
+    /// [`HostError`] when the service is unavailable or the robot is unknown.
+    fn edge_is_valid(&self, robot: &str, a: &[f64], b: &[f64]) -> Result<bool, HostError> {
+        let _ = (robot, a, b);
+        Err(HostError::unsupported("edge_is_valid"))
+    }
+
+    /// A collision-free configuration placing `link` at `target`, searched from `seed_q`;
+    /// `None` when the solver finds none.
+    ///
+    /// # Errors
+    /// [`HostError`] when the service is unavailable or the robot or link is unknown.
+    fn solve_ik(
+        &self,
+        robot: &str,
+        link: &str,
+        target: &Pose,
+        seed_q: &[f64],
+    ) -> Result<Option<Vec<f64>>, HostError> {
+        let _ = (robot, link, target, seed_q);
+        Err(HostError::unsupported("solve_ik"))
+    }
+
+    /// The world pose of `link` at configuration `q`.
+    ///
+    /// # Errors
+    /// [`HostError`] when the service is unavailable or the robot or link is unknown.
+    fn forward_kinematics(&self, robot: &str, q: &[f64], link: &str) -> Result<Pose, HostError> {
+        let _ = (robot, q, link);
+        Err(HostError::unsupported("forward_kinematics"))
+    }
+
+    /// The configuration-space distance between `a` and `b`.
+    ///
+    /// # Errors
+    /// [`HostError`] when the service is unavailable or the robot is unknown.
+    fn distance(&self, robot: &str, a: &[f64], b: &[f64]) -> Result<f64, HostError> {
+        let _ = (robot, a, b);
+        Err(HostError::unsupported("distance"))
+    }
+
+    /// The configuration a fraction `t` in [0, 1] of the way from `a` to `b`.
+    ///
+    /// # Errors
+    /// [`HostError`] when the service is unavailable or the robot is unknown.
+    fn interpolate(
+        &self,
+        robot: &str,
+        a: &[f64],
+        b: &[f64],
+        t: f64,
+    ) -> Result<Vec<f64>, HostError> {
+        let _ = (robot, a, b, t);
+        Err(HostError::unsupported("interpolate"))
+    }
+}
+
+/// A host with no geometry, no progress display and no cancellation: enough for task planners
+/// and tests.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct MinimalHost;
+
+impl HostServices for MinimalHost {}

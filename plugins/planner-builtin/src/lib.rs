@@ -1,0 +1,158 @@
+//! The built-in task planners of lamp-planner behind the [`Planner`] plugin trait: `gbfs-ff`
+//! (lazy greedy best-first search with FF and preferred operators; one plan) and `topk` (the
+//! `plan_count` best distinct loop-free plans).
+//!
+//! Linked statically, construct [`BuiltinPlanner`] directly; built as a shared library, the
+//! plugin's configuration bytes name the algorithm (`gbfs-ff`, the default when empty, or `topk`).
+//! Both planners are deterministic, so the request's seed is not used. Cancellation is polled
+//! before the search starts; a running search stops on its budget, not on cancellation.
+
+use lamp_pddl::{PddlErrors, parse_domain, parse_problem};
+use lamp_planner::{Algorithm, Budget, Status, Unsolvable};
+use lamp_plugin_api::{
+    HostServices, Plan, PlanRequest, PlanResponse, PlanStatus, PlanStep, Planner, PluginError,
+};
+use lamp_plugin_sdk::{PluginFactory, export_plugin};
+
+/// Which built-in search to run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BuiltinAlgorithm {
+    /// One plan by lazy GBFS with FF and preferred operators (`gbfs-ff`).
+    GbfsFf,
+    /// The request's `plan_count` distinct plans (`topk`).
+    TopK,
+}
+
+impl BuiltinAlgorithm {
+    /// The configuration name of the algorithm.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            BuiltinAlgorithm::GbfsFf => "gbfs-ff",
+            BuiltinAlgorithm::TopK => "topk",
+        }
+    }
+}
+
+/// A built-in planner.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BuiltinPlanner {
+    algorithm: BuiltinAlgorithm,
+    max_operators: usize,
+}
+
+impl BuiltinPlanner {
+    /// A planner running `algorithm`, with lamp-planner's default grounding limit.
+    #[must_use]
+    pub fn new(algorithm: BuiltinAlgorithm) -> Self {
+        Self { algorithm, max_operators: Budget::DEFAULT.max_operators }
+    }
+
+    /// The same planner with another limit on ground operators.
+    #[must_use]
+    pub fn with_max_operators(self, max_operators: usize) -> Self {
+        Self { max_operators, ..self }
+    }
+
+    /// The algorithm it runs.
+    #[must_use]
+    pub fn algorithm(&self) -> BuiltinAlgorithm {
+        self.algorithm
+    }
+}
+
+impl PluginFactory for BuiltinPlanner {
+    fn create(config: &[u8]) -> Result<Self, PluginError> {
+        let name = std::str::from_utf8(config)
+            .map_err(|_| PluginError::invalid_request("the configuration is not UTF-8"))?
+            .trim();
+        match name {
+            "" | "gbfs-ff" => Ok(Self::new(BuiltinAlgorithm::GbfsFf)),
+            "topk" => Ok(Self::new(BuiltinAlgorithm::TopK)),
+            other => Err(PluginError::invalid_request(format!(
+                "unknown algorithm `{other}`; expected `gbfs-ff` or `topk`"
+            ))),
+        }
+    }
+}
+
+fn pddl_message(what: &str, errors: &PddlErrors) -> String {
+    let details: Vec<String> = errors.errors.iter().map(ToString::to_string).collect();
+    format!("the {what} is not valid PDDL: {}", details.join("; "))
+}
+
+fn failed(message: String) -> PlanResponse {
+    PlanResponse { status: PlanStatus::Failed { message }, plans: Vec::new() }
+}
+
+impl Planner for BuiltinPlanner {
+    fn plan(
+        &mut self,
+        request: &PlanRequest,
+        host: &dyn HostServices,
+    ) -> Result<PlanResponse, PluginError> {
+        if host.is_cancelled() {
+            return Err(PluginError::Cancelled);
+        }
+        let domain = match parse_domain(&request.domain) {
+            Ok(domain) => domain,
+            Err(errors) => return Ok(failed(pddl_message("domain", &errors))),
+        };
+        let problem = match parse_problem(&request.problem, &domain) {
+            Ok(problem) => problem,
+            Err(errors) => return Ok(failed(pddl_message("problem", &errors))),
+        };
+        let algorithm = match self.algorithm {
+            BuiltinAlgorithm::GbfsFf => Algorithm::GbfsFf,
+            BuiltinAlgorithm::TopK => Algorithm::TopK { k: request.plan_count.max(1) },
+        };
+        let budget = Budget {
+            max_expansions: request.budget.max_expansions,
+            time_limit: request.budget.time_limit,
+            max_operators: self.max_operators,
+        };
+        host.report_progress(
+            0.0,
+            &format!("grounding and searching with {}", self.algorithm.name()),
+        );
+        let output = match lamp_planner::plan(&domain, &problem, algorithm, &budget) {
+            Ok(output) => output,
+            Err(error) => {
+                let cause = std::error::Error::source(&error)
+                    .map(|source| format!(": {source}"))
+                    .unwrap_or_default();
+                return Ok(failed(format!("{error}{cause}")));
+            }
+        };
+        host.report_progress(1.0, "done");
+        let status = match output.status {
+            Status::Solved => PlanStatus::Solved,
+            Status::Unsolvable(Unsolvable::GoalUnreachable { literal }) => PlanStatus::Unsolvable {
+                reason: format!("the goal literal {literal} can never hold"),
+            },
+            Status::Unsolvable(Unsolvable::SearchSpaceExhausted) => PlanStatus::Unsolvable {
+                reason: "the search exhausted every reachable state".to_string(),
+            },
+            Status::BudgetExhausted => PlanStatus::BudgetExhausted,
+        };
+        let plans = output
+            .plans
+            .into_iter()
+            .map(|plan| Plan {
+                steps: plan
+                    .steps
+                    .into_iter()
+                    .map(|step| PlanStep { action: step.action, arguments: step.arguments })
+                    .collect(),
+            })
+            .collect();
+        Ok(PlanResponse { status, plans })
+    }
+}
+
+export_plugin! {
+    planner: BuiltinPlanner,
+    name: "lamp-builtin-planner",
+    version: env!("CARGO_PKG_VERSION"),
+    description: "Lazy GBFS with FF (config `gbfs-ff`, the default) or top-k plans (config `topk`).",
+}
