@@ -1,0 +1,45 @@
+//! Demonstration and trajectory files: the MCAP schema, writer and reader.
+//!
+//! Demonstrations (the learner's only input) and solved trajectories (the runtime's output) share
+//! one format: an MCAP file that is a ROS 2 bag, with one CDR `lamp_msgs/msg/WorldStep` message
+//! per time step on `/lamp/world` and the header in a `lamp` metadata record.
+//! `docs/formats.md` specifies it for people who write such files with other tools.
+//!
+//! ```
+//! use lamp_trajectory::{BodyDescription, Step, Trajectory, TrajectoryHeader, TrajectoryReader};
+//! use nalgebra::Isometry3;
+//!
+//! let header = TrajectoryHeader {
+//!     domain: "packing".into(),
+//!     seed: 1,
+//!     provenance: Default::default(),
+//!     bodies: vec![BodyDescription { name: "can_0".into(), type_name: "can".into() }],
+//!     robots: vec![],
+//! };
+//! let step = Step { time_nanoseconds: 0, body_poses: vec![Isometry3::identity()], robots: vec![] };
+//! let bytes = Trajectory { header, steps: vec![step.clone()] }.to_bytes()?;
+//! let mut reader = TrajectoryReader::from_bytes(&bytes, "example")?;
+//! assert_eq!(reader.header().bodies[0].name, "can_0");
+//! assert_eq!(reader.next().transpose()?, Some(step));
+//! # Ok::<(), lamp_trajectory::TrajectoryError>(())
+//! ```
+
+mod cdr;
+mod codec;
+mod error;
+mod model;
+mod reader;
+mod schema;
+mod writer;
+
+pub use codec::{MAXIMUM_TIME_NANOSECONDS, QUATERNION_NORM_TOLERANCE};
+pub use error::TrajectoryError;
+pub use model::{
+    BodyDescription, RobotDescription, RobotState, Step, Trajectory, TrajectoryHeader,
+};
+pub use reader::{MAXIMUM_RECORD_BYTES, TrajectoryReader};
+pub use schema::{
+    FORMAT_VERSION, MESSAGE_ENCODING, METADATA_NAME, PROFILE, SCHEMA_ENCODING, WORLD_STEP_SCHEMA,
+    WORLD_STEP_SCHEMA_NAME, WORLD_TOPIC,
+};
+pub use writer::{CHUNK_SIZE, IN_MEMORY_NAME, LIBRARY, TrajectoryWriter};
