@@ -158,6 +158,8 @@ fn the_sampler_artifact_round_trips_and_abstracts_like_the_model() {
     let back: crate::SamplerArtifact = serde_json::from_str(&text).expect("deserialises");
     assert_eq!(back, artifact);
     assert_eq!(back.validate(), Ok(()));
+    let again = serde_json::to_string(&crate::SamplerArtifact::from_model(&learned()));
+    assert_eq!(again.expect("serialises"), text, "learning twice gives the same artifact bytes");
     let demonstrations = packing_demonstrations(1, 3);
     let demonstration = &demonstrations[0];
     for snapshot in &demonstration.steps {
@@ -170,6 +172,15 @@ fn the_sampler_artifact_round_trips_and_abstracts_like_the_model() {
     old.version += 1;
     assert!(matches!(old.validate(), Err(crate::LearnError::ArtifactVersion { .. })));
     let mut rng = ChaCha8Rng::seed_from_u64(2);
-    let pose = back.sample_region("gripper_can_2", &mut rng).expect("region exists");
-    assert!(back.region("gripper_can_2").expect("region").model.margin(&pose) >= 0.0);
+    // The threshold accepts 99 % of the uniform fitting samples; the mixture's Gaussian tails reach past the
+    // cells, so some 10 % of its own draws fall outside (a caller that needs members rejects by the margin).
+    let holding = &back.region("gripper_can_2").expect("region").model;
+    let draws = 200;
+    let inside = (0..draws)
+        .filter(|_| {
+            let pose = back.sample_region("gripper_can_2", &mut rng).expect("region exists");
+            holding.margin(&pose) >= 0.0
+        })
+        .count();
+    assert!(inside * 100 >= draws * 85, "{inside} of {draws} draws are inside");
 }

@@ -1,60 +1,86 @@
-//! A region's membership test and generator, behind [`RegionClassifier`].
+//! A region's membership test and generator, behind [`RegionClassifier`]: the paper's Gaussian mixture over
+//! continuous pose features with a log-density threshold.
 //!
-//! The paper models each region with a Gaussian mixture over continuous pose features and tests membership by a
-//! likelihood threshold; that model needs lamp-gmm, which this build does not have yet.
-//! Until it is wired in, a region model is the region's exact cells (the reference code's discrete test):
-//! a pose is inside iff its (g, voxel, rotation cell) is one of the region's cells, and sampling draws a cell
-//! uniformly and a pose uniformly inside it.
-//! Everything else in the pipeline only sees [`RegionClassifier`] and [`RegionModel::sample`], so the swap is local.
+//! Fitting draws poses uniformly over the region's cells, maps them to the 9-D feature of
+//! [`crate::features`], fits a full-covariance mixture with lamp-gmm (component count by BIC up to the pair's
+//! cap) and calibrates the threshold ε so that the pair's cover share of those samples is inside.
+//! A pose's margin is its log density minus ε; sampling draws a feature and projects it back to a pose.
+//! Everything else in the pipeline only sees [`RegionClassifier`] and [`RegionModel::sample`].
 
+use lamp_gmm::{FitConfig, GaussianMixture, calibrate_threshold};
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::abstraction::RegionClassifier;
 use crate::demo::Pose;
-use crate::discretise::{Grid, RotationCell, Voxel};
+use crate::discretise::{RotationCell, Voxel};
+use crate::features::{FEATURE_DIMENSION, features_pose, pose_features};
 use crate::learner::PairRegions;
 use crate::regions::RegionCells;
 
-/// The model of one region.
+/// The model of one region: a mixture over pose features and the log-density threshold ε of membership.
+///
+/// Serialised as `{ "g", "mixture", "threshold" }`, the mixture in lamp-gmm's parameter layout; deserialising
+/// the mixture validates it, and [`RegionModel::validate`] checks the rest.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RegionModel {
-    grid: Grid,
     g: u8,
-    /// The region's cells, sorted (searched by bisection).
-    cells: Vec<(Voxel, RotationCell)>,
+    mixture: GaussianMixture,
+    /// ε: a pose is inside iff its log density is at least this.
+    threshold: f64,
 }
 
-/// The margin of a pose inside the region (exact cells have no depth).
-const INSIDE: f64 = 0.0;
-/// The margin of a pose outside the region.
-const OUTSIDE: f64 = -1.0;
-
 impl RegionModel {
-    /// The model of region `index` of a pair; `samples` and `rng` are for fitted models and unused by exact cells.
+    /// The model of region `index` of a pair, fitted to `samples` poses drawn uniformly over its cells with `rng`.
     pub fn fit(
         pair: &PairRegions,
         index: usize,
-        _samples: usize,
-        _rng: &mut ChaCha8Rng,
+        samples: usize,
+        rng: &mut ChaCha8Rng,
     ) -> Result<Self, String> {
         let region = pair.regions.get(index).ok_or_else(|| format!("no region {}", index + 1))?;
-        if region.cells.cell_count() == 0 {
+        let cells = cell_list(&region.cells);
+        if cells.is_empty() {
             return Err("the region has no cells".to_string());
         }
-        Ok(RegionModel { grid: pair.grid.clone(), g: region.g, cells: cell_list(&region.cells) })
+        if samples == 0 {
+            return Err("no samples to fit the mixture to".to_string());
+        }
+        let features: Vec<Vec<f64>> = (0..samples)
+            .map(|_| {
+                let (voxel, rotation) = cells[rng.random_range(0..cells.len())];
+                pose_features(&pair.grid.sample_cell(voxel, rotation, rng)).to_vec()
+            })
+            .collect();
+        let config =
+            FitConfig { max_components: pair.settings.max_components, ..FitConfig::default() };
+        let mixture = lamp_gmm::fit(&features, &config, rng).map_err(|error| error.to_string())?;
+        let threshold = calibrate_threshold(&mixture, &features, pair.settings.cover)
+            .map_err(|error| error.to_string())?;
+        let model = RegionModel { g: region.g, mixture, threshold };
+        model.validate()?;
+        Ok(model)
     }
 
-    /// Draws a relative pose: a cell uniformly, then a pose uniformly inside it.
+    /// Draws a relative pose: a feature from the mixture, its rotation columns projected to a rotation.
     pub fn sample(&self, rng: &mut ChaCha8Rng) -> Pose {
-        let (voxel, rotation) = self.cells[rng.random_range(0..self.cells.len())];
-        self.grid.sample_cell(voxel, rotation, rng)
+        features_pose(&self.mixture.sample(rng))
     }
 
-    /// The number of (voxel, rotation) cells.
-    pub fn cell_count(&self) -> usize {
-        self.cells.len()
+    /// The number of mixture components BIC chose.
+    pub fn component_count(&self) -> usize {
+        self.mixture.component_count()
+    }
+
+    /// The mixture over pose features.
+    pub fn mixture(&self) -> &GaussianMixture {
+        &self.mixture
+    }
+
+    /// The log-density threshold ε of membership.
+    pub fn threshold(&self) -> f64 {
+        self.threshold
     }
 
     /// The held flag of the region.
@@ -62,29 +88,26 @@ impl RegionModel {
         self.g
     }
 
-    /// Checks a deserialised model.
+    /// Checks a deserialised model (the mixture itself was validated when it was built).
     pub fn validate(&self) -> Result<(), String> {
-        if self.cells.is_empty() {
-            return Err("the region has no cells".to_string());
+        if self.mixture.dimension() != FEATURE_DIMENSION {
+            return Err(format!(
+                "the mixture is over {} features, not {FEATURE_DIMENSION}",
+                self.mixture.dimension()
+            ));
         }
-        if !self.cells.is_sorted() {
-            return Err("the region's cells are not sorted".to_string());
+        if !self.threshold.is_finite() {
+            return Err("the likelihood threshold is not finite".to_string());
         }
-        let bins = self.grid.bins();
-        let rotation_bins = self.grid.rotation_bins();
-        let outside = |(voxel, rotation): &(Voxel, RotationCell)| {
-            voxel.iter().zip(bins).any(|(index, count)| *index >= count)
-                || rotation.iter().any(|i| *i >= rotation_bins)
-        };
-        if self.cells.iter().any(outside) {
-            return Err("a cell lies outside the grid".to_string());
+        if self.g > 1 {
+            return Err(format!("the held flag is {}, not 0 or 1", self.g));
         }
         Ok(())
     }
 }
 
 fn cell_list(cells: &RegionCells) -> Vec<(Voxel, RotationCell)> {
-    // BTreeMap and BTreeSet iterate in order, so the list comes out sorted.
+    // BTreeMap and BTreeSet iterate in order, so the list (and so the draws) is deterministic.
     cells
         .voxels
         .iter()
@@ -94,10 +117,7 @@ fn cell_list(cells: &RegionCells) -> Vec<(Voxel, RotationCell)> {
 
 impl RegionClassifier for RegionModel {
     fn margin(&self, relative: &Pose) -> f64 {
-        let inside = self.grid.voxel(relative).is_some_and(|voxel| {
-            self.cells.binary_search(&(voxel, self.grid.rotation_cell(relative))).is_ok()
-        });
-        if inside { INSIDE } else { OUTSIDE }
+        self.mixture.log_density(&pose_features(relative)) - self.threshold
     }
 }
 
@@ -105,9 +125,13 @@ impl RegionClassifier for RegionModel {
 mod tests {
     use super::*;
     use crate::config::{PairSettings, TypePair};
+    use crate::discretise::Grid;
     use crate::learner::RegionSummary;
     use rand::SeedableRng;
     use std::collections::{BTreeMap, BTreeSet};
+    use std::f64::consts::PI;
+
+    const SAMPLES: usize = 400;
 
     fn pair_with(cells: RegionCells) -> PairRegions {
         let settings = PairSettings::default();
@@ -130,26 +154,77 @@ mod tests {
         }
     }
 
-    #[test]
-    fn samples_are_members_and_straddle_the_half_turn() {
-        let cells = RegionCells {
+    /// One voxel just off the origin, with a yaw cell either side of the half turn.
+    fn half_turn_pair() -> PairRegions {
+        pair_with(RegionCells {
             g: 0,
             voxels: BTreeMap::from([([8, 8, 8], BTreeSet::from([[12, 12, 0], [12, 12, 23]]))]),
-        };
-        let pair = pair_with(cells);
+        })
+    }
+
+    fn share(count: usize, total: usize) -> f64 {
+        count as f64 / total as f64
+    }
+
+    #[test]
+    fn samples_are_members_and_straddle_the_half_turn() {
+        let pair = half_turn_pair();
         let mut rng = ChaCha8Rng::seed_from_u64(1);
-        let model = RegionModel::fit(&pair, 0, 100, &mut rng).expect("fits");
-        let mut signs = BTreeSet::new();
-        for _ in 0..100 {
-            let pose = model.sample(&mut rng);
-            assert!(model.margin(&pose) >= 0.0);
-            let yaw = pose.rotation.euler_angles().2;
-            assert!(yaw.abs() > std::f64::consts::PI - 0.3, "yaw {yaw}");
-            signs.insert(yaw > 0.0);
+        let model = RegionModel::fit(&pair, 0, SAMPLES, &mut rng).expect("fits");
+        assert!((1..=4).contains(&model.component_count()));
+        let poses: Vec<Pose> = (0..200).map(|_| model.sample(&mut rng)).collect();
+        let members = poses.iter().filter(|pose| model.margin(pose) >= 0.0).count();
+        // The threshold accepts 99 % of the fitting draws; the mixture's own draws are slightly more spread.
+        assert!(share(members, poses.len()) > 0.9, "{members} of {} are members", poses.len());
+        let yaws: Vec<f64> = poses.iter().map(|pose| pose.rotation.euler_angles().2).collect();
+        let near_half_turn = yaws.iter().filter(|yaw| yaw.abs() > PI - 0.4).count();
+        assert!(share(near_half_turn, yaws.len()) > 0.95, "{near_half_turn} near the half turn");
+        assert!(yaws.iter().any(|yaw| *yaw > 0.0) && yaws.iter().any(|yaw| *yaw < 0.0));
+        // Both sides of the wrap are inside, the identity rotation and a far position are not.
+        // The cells' rotation vectors have x and y in [0, 15°], so the test poses sit mid-cell in those.
+        for z in [PI - 0.05, -PI + 0.05] {
+            let pose = Pose::from_parts(
+                nalgebra::Translation3::new(0.0125, 0.0125, 0.0125),
+                nalgebra::UnitQuaternion::from_scaled_axis(nalgebra::Vector3::new(0.13, 0.13, z)),
+            );
+            assert!(model.margin(&pose) >= 0.0, "rotation vector z {z}");
         }
-        assert_eq!(signs.len(), 2);
+        assert!(model.margin(&Pose::translation(0.0125, 0.0125, 0.0125)) < 0.0);
         assert!(model.margin(&Pose::translation(0.1, 0.0, 0.0)) < 0.0);
-        assert!(RegionModel::fit(&pair, 1, 100, &mut rng).is_err());
+        assert!(RegionModel::fit(&pair, 1, SAMPLES, &mut rng).is_err());
+    }
+
+    #[test]
+    fn the_threshold_accepts_the_cover_share_of_uniform_draws() {
+        let pair = half_turn_pair();
+        let model =
+            RegionModel::fit(&pair, 0, SAMPLES, &mut ChaCha8Rng::seed_from_u64(3)).expect("fits");
+        // Fresh uniform draws over the cells, from another stream than the fit's.
+        let mut rng = ChaCha8Rng::seed_from_u64(4);
+        let cells = cell_list(&pair.regions[0].cells);
+        let draws = 1000;
+        let inside = (0..draws)
+            .filter(|_| {
+                let (voxel, rotation) = cells[rng.random_range(0..cells.len())];
+                model.margin(&pair.grid.sample_cell(voxel, rotation, &mut rng)) >= 0.0
+            })
+            .count();
+        let accepted = share(inside, draws);
+        assert!(accepted > 0.95 && accepted <= 1.0, "accepted {accepted}, cover 0.99");
+        // The margin is the log density above ε.
+        let pose = model.sample(&mut rng);
+        let expected = model.mixture().log_density(&pose_features(&pose)) - model.threshold();
+        assert_eq!(model.margin(&pose), expected);
+    }
+
+    #[test]
+    fn fitting_is_deterministic_in_the_seed() {
+        let pair = half_turn_pair();
+        let fit = |seed| {
+            RegionModel::fit(&pair, 0, SAMPLES, &mut ChaCha8Rng::seed_from_u64(seed)).expect("fits")
+        };
+        assert_eq!(fit(9), fit(9));
+        assert_ne!(fit(9), fit(10));
     }
 
     #[test]
@@ -160,10 +235,18 @@ mod tests {
         };
         let pair = pair_with(cells);
         let model =
-            RegionModel::fit(&pair, 0, 100, &mut ChaCha8Rng::seed_from_u64(1)).expect("fits");
+            RegionModel::fit(&pair, 0, SAMPLES, &mut ChaCha8Rng::seed_from_u64(1)).expect("fits");
+        assert_eq!(model.held_flag(), 1);
         let text = serde_json::to_string(&model).expect("serialises");
         let back: RegionModel = serde_json::from_str(&text).expect("deserialises");
         assert_eq!(back, model);
         assert_eq!(back.validate(), Ok(()));
+        let mut value: serde_json::Value = serde_json::from_str(&text).expect("parses");
+        assert!(value["mixture"]["weights"].is_array() && value["threshold"].is_number());
+        value["g"] = serde_json::json!(2);
+        let bad: RegionModel = serde_json::from_value(value.clone()).expect("deserialises");
+        assert!(bad.validate().is_err());
+        value["mixture"]["weights"] = serde_json::json!([2.0]);
+        assert!(serde_json::from_value::<RegionModel>(value).is_err(), "invalid mixtures fail");
     }
 }

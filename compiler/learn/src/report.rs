@@ -58,18 +58,20 @@ fn pair_section(out: &mut String, learned: &LearnedPair) {
     );
     let _ = writeln!(
         out,
-        "Bins {:?} over ±{:?} m, {} rotation bins, θ = {}, seen in {} demonstrations.\n",
+        "Bins {:?} over ±{:?} m, {} rotation bins, θ = {}, mixtures of up to {} components covering {} of their samples, seen in {} demonstrations.\n",
         settings.position_bins,
         settings.half_range,
         settings.rotation_bins,
         settings.threshold,
+        settings.max_components,
+        settings.cover,
         pair.demonstrations
     );
     let _ = writeln!(
         out,
-        "| relation | g | centre | spread | representative pose (xyz; roll pitch yaw) | cells | demonstrations | time steps |"
+        "| relation | g | centre | spread | representative pose (xyz; roll pitch yaw) | cells | components | demonstrations | time steps |"
     );
-    let _ = writeln!(out, "| --- | --- | --- | --- | --- | --- | --- | --- |");
+    let _ = writeln!(out, "| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     for region in &learned.regions {
         region_row(out, region);
     }
@@ -97,7 +99,7 @@ fn region_row(out: &mut String, region: &Region) {
     let (roll, pitch, yaw) = summary.representative.rotation.euler_angles();
     let _ = writeln!(
         out,
-        "| `{}` | {} | {} | {} | {}; {} {} {} | {} | {} | {} |",
+        "| `{}` | {} | {} | {} | {}; {} {} {} | {} | {} | {} | {} |",
         region.relation,
         summary.g,
         triple(summary.centre),
@@ -106,7 +108,8 @@ fn region_row(out: &mut String, region: &Region) {
         rounded(roll.to_degrees(), 0),
         rounded(pitch.to_degrees(), 0),
         rounded(yaw.to_degrees(), 0),
-        region.model.cell_count(),
+        summary.cells.cell_count(),
+        region.model.component_count(),
         summary.demonstrations,
         summary.time_steps
     );

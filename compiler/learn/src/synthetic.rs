@@ -142,7 +142,8 @@ fn packing_demonstration(index: usize, truncated: bool, rng: &mut ChaCha8Rng) ->
 }
 
 /// Settings for the synthetic task: a fine gripper–can grid, a coarse box grid, no clear relations for the box
-/// (it holds several cans), and gripper–box relations left out as the reference code does.
+/// (it holds several cans), gripper–box relations left out as the reference code does, and 25 rotation bins so that
+/// the upright poses of the task lie mid-cell rather than on a cell boundary (see `docs/learning.md` §5).
 pub fn packing_config() -> LearnConfig {
     let mut config = LearnConfig { seed: 7, ..LearnConfig::default() };
     config.pairs.insert(
@@ -151,6 +152,7 @@ pub fn packing_config() -> LearnConfig {
             position_bins: [15; 3],
             half_range: [0.3; 3],
             threshold: 0.4,
+            rotation_bins: 25,
             ..PairSettings::default()
         },
     );
@@ -160,6 +162,7 @@ pub fn packing_config() -> LearnConfig {
             position_bins: [5; 3],
             half_range: [0.1; 3],
             threshold: 0.4,
+            rotation_bins: 25,
             clear: false,
             ..PairSettings::default()
         },
