@@ -1,5 +1,6 @@
 //! Fitting speed: 5 000 points in 6-D from three clusters, BIC over k = 1..=4 (compare with
-//! `benches/sklearn_fit.py`, which times scikit-learn on the same mixture and settings).
+//! `benches/sklearn_fit.py`, which times scikit-learn on the same mixture and settings), on the global rayon
+//! pool (all cores, or `RAYON_NUM_THREADS`) and on a one-thread pool.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use lamp_gmm::{FitConfig, GaussianMixture, fit};
@@ -41,6 +42,16 @@ fn bench_fit(criterion: &mut Criterion) {
         bencher.iter(|| {
             let mut rng = ChaCha8Rng::seed_from_u64(2);
             black_box(fit(black_box(&data), &config, &mut rng).expect("fit succeeds"))
+        });
+    });
+    let one_thread =
+        rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("one-thread pool");
+    group.bench_function("bic_k1_to_4_5000x6_one_thread", |bencher| {
+        bencher.iter(|| {
+            one_thread.install(|| {
+                let mut rng = ChaCha8Rng::seed_from_u64(2);
+                black_box(fit(black_box(&data), &config, &mut rng).expect("fit succeeds"))
+            })
         });
     });
     group.finish();

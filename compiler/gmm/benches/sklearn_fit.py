@@ -1,7 +1,8 @@
 """Times scikit-learn on the workload of benches/fit.rs: 5 000 points in 6-D, BIC over k = 1..4.
 
 Usage: python3 benches/sklearn_fit.py
-Prints the median wall time of ten full model selections.
+Prints the median wall time of ten full model selections, and the OpenMP / BLAS thread pools scikit-learn
+used (set OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 to time it on one thread).
 """
 
 import time
@@ -54,6 +55,12 @@ def main():
         bic, components = select(data, repetition)
         times.append(time.perf_counter() - start)
     print(f"scikit-learn fit, BIC k=1..4, {POINTS}x{DIMENSION}: median {np.median(times) * 1e3:.1f} ms (chose k={components})")
+    try:
+        from threadpoolctl import threadpool_info
+    except ImportError:
+        return
+    pools = sorted({(pool["user_api"], pool["internal_api"], pool["num_threads"]) for pool in threadpool_info()})
+    print("thread pools: " + ", ".join(f"{api} ({library}) {threads} threads" for api, library, threads in pools))
 
 
 if __name__ == "__main__":

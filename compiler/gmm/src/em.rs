@@ -1,10 +1,17 @@
 //! Expectation–maximisation for full-covariance mixtures, step for step as scikit-learn's `GaussianMixture`
 //! (responsibilities, `reg_covar` on the diagonal, convergence on the change of the mean log-likelihood).
+//!
+//! The loops run over the column blocks of [`Samples`]: within a block, each loop runs over points, so it
+//! vectorises; each block yields partial sums that are added in block order, so a fit gives bit-identical
+//! results on any number of threads. Responsibilities are kept in one buffer laid out like the data
+//! (block by block, component-major inside a block) and reused across iterations.
 
-use crate::data::Samples;
+use crate::data::{BLOCK, Samples};
 use crate::error::GmmError;
-use crate::linalg::{cholesky_lower, log_sum_exp};
-use crate::mixture::GaussianMixture;
+use crate::kernels::{block_moments, block_scatter, difference_buffer, log_terms, normalise};
+use crate::linalg::cholesky_lower;
+use crate::parallel::{Spread, map_blocks, map_blocks_mut};
+use crate::parameters::Parameters;
 
 /// Added to every component's responsibility mass, as scikit-learn does (`10 · eps`), so that a component that
 /// lost all its points still has a finite mean and weight instead of 0 / 0.
@@ -20,7 +27,7 @@ const JITTER_ATTEMPTS: usize = 12;
 /// The outcome of one EM run.
 #[derive(Debug, Clone)]
 pub(crate) struct EmRun {
-    pub(crate) mixture: GaussianMixture,
+    pub(crate) parameters: Parameters,
     /// EM iterations performed (E-step plus M-step pairs).
     pub(crate) iterations: usize,
     /// Whether the mean log-likelihood changed by less than the tolerance before the iteration limit.
@@ -33,83 +40,143 @@ pub(crate) struct EmSettings {
     pub(crate) max_iterations: usize,
     pub(crate) tolerance: f64,
     pub(crate) regularisation: f64,
+    /// Whether each pass spreads its blocks over the rayon pool.
+    pub(crate) spread: Spread,
 }
 
-/// Mean log-likelihood of the data and the normalised responsibilities (row-major, points × components).
-pub(crate) fn expectation(mixture: &GaussianMixture, samples: &Samples) -> (f64, Vec<f64>) {
-    let components = mixture.component_count();
-    let mut responsibilities = vec![0.0; samples.count() * components];
-    let mut scratch = vec![0.0; samples.dimension()];
-    let mut total = 0.0;
-    for (row, terms) in samples.rows().zip(responsibilities.chunks_exact_mut(components)) {
-        mixture.component_log_terms(row, &mut scratch, terms);
-        let log_density = log_sum_exp(terms);
-        total += log_density;
-        for term in terms.iter_mut() {
-            *term = (*term - log_density).exp();
-        }
-    }
-    (total / samples.count() as f64, responsibilities)
+/// Responsibility masses (with [`EMPTY_COMPONENT_MASS`]) and responsibility-weighted means of every component.
+struct Moments {
+    masses: Vec<f64>,
+    /// `k × d`, component-major.
+    means: Vec<f64>,
 }
 
-/// Maximum-likelihood parameters for given responsibilities (row-major, points × components), with
-/// `regularisation` added to every covariance diagonal.
-pub(crate) fn maximisation(
-    samples: &Samples,
-    responsibilities: &[f64],
+/// Adds up per-block moment partials (as written by [`block_moments`], after `skip` leading values) in block
+/// order.
+fn combine_moments(
+    partials: &[Vec<f64>],
+    skip: usize,
     components: usize,
-    regularisation: f64,
-) -> Result<GaussianMixture, GmmError> {
-    let dimension = samples.dimension();
-    let mut masses = vec![EMPTY_COMPONENT_MASS; components];
-    let mut means = vec![vec![0.0; dimension]; components];
-    for (row, weights) in samples.rows().zip(responsibilities.chunks_exact(components)) {
-        for (component, &weight) in weights.iter().enumerate() {
-            masses[component] += weight;
-            for (sum, value) in means[component].iter_mut().zip(row) {
-                *sum += weight * value;
-            }
+    dimension: usize,
+) -> Moments {
+    let mut totals = vec![0.0; components * (1 + dimension)];
+    for partial in partials {
+        for (total, value) in totals.iter_mut().zip(&partial[skip..]) {
+            *total += value;
         }
     }
-    for (mean, mass) in means.iter_mut().zip(&masses) {
-        for value in mean.iter_mut() {
+    let masses: Vec<f64> =
+        totals[..components].iter().map(|mass| mass + EMPTY_COMPONENT_MASS).collect();
+    let mut means = totals[components..].to_vec();
+    for (mean, mass) in means.chunks_exact_mut(dimension).zip(&masses) {
+        for value in mean {
             *value /= mass;
         }
     }
-    let mut covariances = vec![vec![0.0; dimension * dimension]; components];
-    let mut difference = vec![0.0; dimension];
-    for (row, weights) in samples.rows().zip(responsibilities.chunks_exact(components)) {
-        for (component, &weight) in weights.iter().enumerate() {
-            if weight == 0.0 {
-                continue;
-            }
-            for ((delta, value), mean) in difference.iter_mut().zip(row).zip(&means[component]) {
-                *delta = value - mean;
-            }
-            let covariance = &mut covariances[component];
-            for first in 0..dimension {
-                let scaled = weight * difference[first];
-                for second in 0..=first {
-                    covariance[first * dimension + second] += scaled * difference[second];
-                }
-            }
+    Moments { masses, means }
+}
+
+/// The E-step: writes the responsibilities (block layout) and returns the mean log-likelihood per point with
+/// the moments the M-step needs.
+fn expectation(
+    parameters: &Parameters,
+    samples: &Samples,
+    responsibilities: &mut [f64],
+    spread: Spread,
+) -> (f64, Moments) {
+    let components = parameters.component_count();
+    let dimension = parameters.dimension;
+    let partials = map_blocks_mut(spread, responsibilities, components * BLOCK, |index, terms| {
+        let block = samples.block(index);
+        let len = samples.block_len(index);
+        let mut differences = difference_buffer(dimension, len);
+        for component in 0..components {
+            let out = &mut terms[component * len..(component + 1) * len];
+            log_terms(parameters, component, block, len, &mut differences, out);
+        }
+        let mut partial = vec![normalise(terms, components, len)];
+        block_moments(block, terms, components, len, &mut partial);
+        partial
+    });
+    let total: f64 = partials.iter().map(|partial| partial[0]).sum();
+    let moments = combine_moments(&partials, 1, components, dimension);
+    (total / samples.count() as f64, moments)
+}
+
+/// Mean log-likelihood per point, ln p(x) averaged over the data (scikit-learn's `score`).
+pub(crate) fn mean_log_likelihood(
+    parameters: &Parameters,
+    samples: &Samples,
+    spread: Spread,
+) -> f64 {
+    let components = parameters.component_count();
+    let dimension = parameters.dimension;
+    let partials = map_blocks(spread, samples.block_count(), |index| {
+        let block = samples.block(index);
+        let len = samples.block_len(index);
+        let mut differences = difference_buffer(dimension, len);
+        let mut terms = vec![0.0; components * len];
+        for component in 0..components {
+            let out = &mut terms[component * len..(component + 1) * len];
+            log_terms(parameters, component, block, len, &mut differences, out);
+        }
+        normalise(&mut terms, components, len)
+    });
+    partials.iter().sum::<f64>() / samples.count() as f64
+}
+
+/// The M-step: maximum-likelihood parameters for the responsibilities and their moments, with `regularisation`
+/// added to every covariance diagonal.
+fn maximisation(
+    samples: &Samples,
+    responsibilities: &[f64],
+    moments: Moments,
+    regularisation: f64,
+    spread: Spread,
+) -> Result<Parameters, GmmError> {
+    let Moments { masses, means } = moments;
+    let components = masses.len();
+    let dimension = samples.dimension();
+    let partials = map_blocks(spread, samples.block_count(), |index| {
+        let len = samples.block_len(index);
+        let start = index * BLOCK * components;
+        let mut partial = Vec::with_capacity(components * dimension * (dimension + 1) / 2);
+        block_scatter(
+            samples.block(index),
+            &responsibilities[start..start + components * len],
+            &means,
+            len,
+            &mut partial,
+        );
+        partial
+    });
+    let triangle = dimension * (dimension + 1) / 2;
+    let mut scatter = vec![0.0; components * triangle];
+    for partial in &partials {
+        for (total, value) in scatter.iter_mut().zip(partial) {
+            *total += value;
         }
     }
-    let mut factors = Vec::with_capacity(components);
-    for (component, (covariance, mass)) in covariances.iter_mut().zip(&masses).enumerate() {
+    let square = dimension * dimension;
+    let mut covariances = vec![0.0; components * square];
+    let mut factors = Vec::with_capacity(components * square);
+    for (component, (covariance, mass)) in
+        covariances.chunks_exact_mut(square).zip(&masses).enumerate()
+    {
+        let mut lower = scatter[component * triangle..(component + 1) * triangle].iter();
         for first in 0..dimension {
             for second in 0..=first {
-                let value = covariance[first * dimension + second] / mass;
+                let value = lower.next().copied().unwrap_or_default() / mass;
                 covariance[first * dimension + second] = value;
                 covariance[second * dimension + first] = value;
             }
             covariance[first * dimension + first] += regularisation;
         }
-        factors.push(factor_with_jitter(covariance, dimension, regularisation, component)?);
+        factors.extend(factor_with_jitter(covariance, dimension, regularisation, component)?);
     }
     let total_mass: f64 = masses.iter().sum();
     let weights = masses.iter().map(|mass| mass / total_mass).collect();
-    Ok(GaussianMixture::from_factored(dimension, weights, means, covariances, factors))
+    Ok(Parameters::new(dimension, weights, means, covariances, factors))
 }
 
 /// The Cholesky factor of `covariance`, adding growing diagonal jitter (and keeping it in `covariance`) if the
@@ -141,31 +208,137 @@ fn factor_with_jitter(
     Err(GmmError::CovarianceNotPositiveDefinite { component })
 }
 
+/// The maximum-likelihood parameters of a hard assignment (`labels[n]` in `0..components`), as scikit-learn
+/// starts EM from k-means labels.
+pub(crate) fn from_labels(
+    samples: &Samples,
+    labels: &[usize],
+    components: usize,
+    regularisation: f64,
+    spread: Spread,
+) -> Result<Parameters, GmmError> {
+    let mut responsibilities = vec![0.0; samples.count() * components];
+    let partials =
+        map_blocks_mut(spread, &mut responsibilities, components * BLOCK, |index, terms| {
+            let len = samples.block_len(index);
+            for (point, &label) in labels[index * BLOCK..index * BLOCK + len].iter().enumerate() {
+                terms[label * len + point] = 1.0;
+            }
+            let mut partial = Vec::with_capacity(components * (1 + samples.dimension()));
+            block_moments(samples.block(index), terms, components, len, &mut partial);
+            partial
+        });
+    let moments = combine_moments(&partials, 0, components, samples.dimension());
+    maximisation(samples, &responsibilities, moments, regularisation, spread)
+}
+
 /// Runs EM from `initial` until the mean log-likelihood changes by less than the tolerance or the iteration
 /// limit is reached.
 ///
 /// Like scikit-learn, the log-likelihood tested for convergence is the one computed in the E-step, that is, of
-/// the parameters before the last M-step; the returned mixture is the one after it.
+/// the parameters before the last M-step; the returned parameters are the ones after it.
 pub(crate) fn run(
-    initial: GaussianMixture,
+    initial: Parameters,
     samples: &Samples,
     settings: EmSettings,
 ) -> Result<EmRun, GmmError> {
-    let components = initial.component_count();
-    let mut mixture = initial;
+    let mut responsibilities = vec![0.0; samples.count() * initial.component_count()];
+    let mut parameters = initial;
     let mut lower_bound = f64::NEG_INFINITY;
     let mut iterations = 0;
     let mut converged = false;
     while iterations < settings.max_iterations {
         iterations += 1;
         let previous = lower_bound;
-        let (mean_log_likelihood, responsibilities) = expectation(&mixture, samples);
-        mixture = maximisation(samples, &responsibilities, components, settings.regularisation)?;
+        let (mean_log_likelihood, moments) =
+            expectation(&parameters, samples, &mut responsibilities, settings.spread);
+        parameters = maximisation(
+            samples,
+            &responsibilities,
+            moments,
+            settings.regularisation,
+            settings.spread,
+        )?;
         lower_bound = mean_log_likelihood;
         if (lower_bound - previous).abs() < settings.tolerance {
             converged = true;
             break;
         }
     }
-    Ok(EmRun { mixture, iterations, converged })
+    Ok(EmRun { parameters, iterations, converged })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mixture::GaussianMixture;
+
+    fn mixture() -> GaussianMixture {
+        GaussianMixture::new(
+            vec![0.3, 0.7],
+            vec![vec![0.0, 1.0, -1.0], vec![2.0, 0.5, 0.0]],
+            vec![
+                vec![1.0, 0.4, 0.0, 0.4, 0.8, 0.1, 0.0, 0.1, 0.5],
+                vec![0.6, 0.0, -0.2, 0.0, 1.2, 0.0, -0.2, 0.0, 0.9],
+            ],
+        )
+        .expect("valid mixture")
+    }
+
+    fn points(count: usize) -> Vec<Vec<f64>> {
+        (0..count)
+            .map(|index| {
+                let t = index as f64;
+                vec![(t * 0.37).sin() * 2.0, (t * 0.11).cos(), (t * 0.05).sin() - 0.5]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn blocked_log_likelihood_matches_the_mixture() {
+        let mixture = mixture();
+        // More than one block, and a last block that is not a whole number of tiles.
+        let rows = points(BLOCK + 13);
+        let samples = Samples::from_rows(&rows).expect("well-formed data");
+        let expected: f64 =
+            rows.iter().map(|row| mixture.log_density(row)).sum::<f64>() / rows.len() as f64;
+        let parameters = Parameters::from_mixture(&mixture);
+        let ours = mean_log_likelihood(&parameters, &samples, Spread::Pool);
+        assert_eq!(ours, mean_log_likelihood(&parameters, &samples, Spread::InPlace));
+        assert!((ours - expected).abs() < 1e-12 * expected.abs(), "{ours} vs {expected}");
+        let mut responsibilities = vec![0.0; rows.len() * 2];
+        let (from_e_step, moments) =
+            expectation(&parameters, &samples, &mut responsibilities, Spread::Pool);
+        assert_eq!(from_e_step, ours);
+        let mass: f64 = moments.masses.iter().sum();
+        assert!((mass - rows.len() as f64).abs() < 1e-9);
+    }
+
+    #[test]
+    fn one_hot_labels_give_cluster_statistics() {
+        let rows = points(300);
+        let samples = Samples::from_rows(&rows).expect("well-formed data");
+        let labels: Vec<usize> = rows.iter().map(|row| usize::from(row[0] > 0.0)).collect();
+        let parameters =
+            from_labels(&samples, &labels, 2, 0.0, Spread::InPlace).expect("well-spread clusters");
+        for component in 0..2 {
+            let members: Vec<&Vec<f64>> = rows
+                .iter()
+                .zip(&labels)
+                .filter(|(_, label)| **label == component)
+                .map(|(row, _)| row)
+                .collect();
+            let count = members.len() as f64;
+            let weight = parameters.weights[component];
+            assert!((weight - count / rows.len() as f64).abs() < 1e-12);
+            for axis in 0..3 {
+                let mean = members.iter().map(|row| row[axis]).sum::<f64>() / count;
+                assert!((parameters.means[component * 3 + axis] - mean).abs() < 1e-12);
+                let variance =
+                    members.iter().map(|row| (row[axis] - mean).powi(2)).sum::<f64>() / count;
+                let fitted = parameters.covariances[component * 9 + axis * 4];
+                assert!((fitted - variance).abs() < 1e-12, "{fitted} vs {variance}");
+            }
+        }
+    }
 }

@@ -1,12 +1,19 @@
 //! Fitting: k-means initialisation, EM with restarts, and the choice of the component count by BIC.
+//!
+//! Every (component count, restart) run is independent and draws from its own ChaCha stream, so the runs
+//! go to the rayon pool and the result does not depend on the number of threads.
 
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 
 use crate::data::Samples;
 use crate::em::{self, EmSettings};
 use crate::error::GmmError;
 use crate::kmeans;
 use crate::mixture::GaussianMixture;
+use crate::parallel::Spread;
+use crate::parameters::Parameters;
 
 /// How a mixture is fitted. The defaults are scikit-learn's, with a cap of four components.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -58,11 +65,12 @@ impl FitConfig {
         Ok(())
     }
 
-    fn em_settings(&self) -> EmSettings {
+    fn em_settings(&self, spread: Spread) -> EmSettings {
         EmSettings {
             max_iterations: self.max_iterations,
             tolerance: self.tolerance,
             regularisation: self.regularisation,
+            spread,
         }
     }
 }
@@ -118,7 +126,11 @@ pub fn fit_row_major(
 ///
 /// For each `k` and each restart: k-means++ seeding and Lloyd iterations give hard assignments, whose
 /// maximum-likelihood parameters start EM (scikit-learn `init_params="kmeans"`).
-/// All randomness comes from `rng`, consumed in a fixed order, so a seed fixes the result.
+///
+/// All randomness comes from `rng`, so a seed fixes the result: the fit draws one 32-byte key from `rng`
+/// (32 bytes of its output, whatever the data and configuration), and the run for component count `k` and
+/// restart `r` (from 0) uses `ChaCha8Rng::from_seed(key)` on stream `k · 2³² + r`.
+/// The runs are independent, so they run in parallel on the rayon pool with the same result as in sequence.
 pub fn fit_with_report(
     data: &[Vec<f64>],
     config: &FitConfig,
@@ -144,7 +156,31 @@ pub fn fit_from(
             found: samples.dimension(),
         });
     }
-    Ok(em::run(initial.clone(), &samples, config.em_settings())?.mixture)
+    let initial = Parameters::from_mixture(initial);
+    let run = rayon::scope(|_| em::run(initial, &samples, config.em_settings(Spread::Pool)))?;
+    Ok(run.parameters.into_mixture())
+}
+
+/// The stream of the run for `components` and `restart`; see [`fit_with_report`].
+fn run_stream(key: [u8; 32], components: usize, restart: usize) -> ChaCha8Rng {
+    let mut stream = ChaCha8Rng::from_seed(key);
+    stream.set_stream(((components as u64) << 32) | restart as u64);
+    stream
+}
+
+/// One k-means initialisation and EM run; returns the mean log-likelihood of the fitted parameters with the
+/// run.
+fn fit_once(
+    samples: &Samples,
+    config: &FitConfig,
+    components: usize,
+    mut rng: ChaCha8Rng,
+    spread: Spread,
+) -> Result<(f64, em::EmRun), GmmError> {
+    let labels = kmeans::cluster(samples, components, &mut rng, spread);
+    let initial = em::from_labels(samples, &labels, components, config.regularisation, spread)?;
+    let run = em::run(initial, samples, config.em_settings(spread))?;
+    Ok((em::mean_log_likelihood(&run.parameters, samples, spread), run))
 }
 
 fn select(
@@ -153,23 +189,36 @@ fn select(
     rng: &mut ChaCha8Rng,
 ) -> Result<FitReport, GmmError> {
     config.validate()?;
-    let largest = config.max_components.min(samples.distinct_count());
+    let mut key = [0_u8; 32];
+    rng.fill_bytes(&mut key);
+    let largest = samples.distinct_count_up_to(config.max_components);
+    // Largest k (and restart) first: those runs take longest, so the pool starts them early.
+    let runs: Vec<(usize, usize)> = (1..=largest)
+        .rev()
+        .flat_map(|components| (0..config.restarts).rev().map(move |restart| (components, restart)))
+        .collect();
+    // With a run per thread, runs are the parallel unit: a run's passes over the data then need no
+    // synchronisation. Fewer runs than threads also spread each pass's blocks.
+    let spread =
+        if runs.len() < rayon::current_num_threads() { Spread::Pool } else { Spread::InPlace };
+    let mut outcomes: Vec<Result<(f64, em::EmRun), GmmError>> = runs
+        .par_iter()
+        .map(|&(components, restart)| {
+            let stream = run_stream(key, components, restart);
+            fit_once(samples, config, components, stream, spread)
+        })
+        .collect();
+    // Back to increasing k, restarts in order, so that errors and ties resolve as in a sequential loop.
+    outcomes.reverse();
+    let mut outcomes = outcomes.into_iter();
     let point_count = samples.count() as f64;
     let dimension = samples.dimension() as f64;
     let mut candidates = Vec::with_capacity(largest);
-    let mut best: Option<(f64, GaussianMixture)> = None;
+    let mut best: Option<(f64, Parameters)> = None;
     for components in 1..=largest {
         let mut best_run: Option<(f64, em::EmRun)> = None;
-        for _ in 0..config.restarts {
-            let labels = kmeans::cluster(samples, components, rng);
-            let mut responsibilities = vec![0.0; samples.count() * components];
-            for (row, &label) in labels.iter().enumerate() {
-                responsibilities[row * components + label] = 1.0;
-            }
-            let initial =
-                em::maximisation(samples, &responsibilities, components, config.regularisation)?;
-            let run = em::run(initial, samples, config.em_settings())?;
-            let (score, _) = em::expectation(&run.mixture, samples);
+        for outcome in outcomes.by_ref().take(config.restarts) {
+            let (score, run) = outcome?;
             if best_run.as_ref().is_none_or(|(best_score, _)| score > *best_score) {
                 best_run = Some((score, run));
             }
@@ -186,9 +235,9 @@ fn select(
             converged: run.converged,
         });
         if best.as_ref().is_none_or(|(best_bic, _)| bic < *best_bic) {
-            best = Some((bic, run.mixture));
+            best = Some((bic, run.parameters));
         }
     }
-    let (_, mixture) = best.expect("at least one distinct point, so k = 1 is always tried");
-    Ok(FitReport { mixture, candidates })
+    let (_, parameters) = best.expect("at least one distinct point, so k = 1 is always tried");
+    Ok(FitReport { mixture: parameters.into_mixture(), candidates })
 }

@@ -8,9 +8,12 @@ mod data;
 mod em;
 mod error;
 mod fit;
+mod kernels;
 mod kmeans;
 mod linalg;
 mod mixture;
+mod parallel;
+mod parameters;
 mod threshold;
 
 pub use error::GmmError;

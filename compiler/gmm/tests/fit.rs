@@ -100,6 +100,47 @@ fn fitting_is_deterministic_for_a_seed() {
 }
 
 #[test]
+fn fitting_does_not_depend_on_the_number_of_threads() {
+    // Several blocks of points, several restarts: the runs and the blocks really are spread over threads.
+    let data = draw(&truth(), 2500, 8);
+    let on_threads = |threads: usize, config: FitConfig| {
+        let pool =
+            rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
+        pool.install(|| fit_with_report(&data, &config, &mut ChaCha8Rng::seed_from_u64(5)))
+            .expect("fit succeeds")
+    };
+    // Eight runs (each run on one thread), then a single run (its passes over the data spread instead).
+    for config in [
+        FitConfig { restarts: 2, ..FitConfig::default() },
+        FitConfig { max_components: 1, ..FitConfig::default() },
+    ] {
+        let sequential = on_threads(1, config);
+        assert_eq!(sequential, on_threads(2, config));
+        assert_eq!(sequential, on_threads(3, config));
+    }
+    let start = on_threads(1, FitConfig::default()).mixture;
+    let refit_on = |threads: usize| {
+        let pool =
+            rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
+        pool.install(|| fit_from(&start, &data, &FitConfig::default())).expect("EM succeeds")
+    };
+    assert_eq!(refit_on(1), refit_on(2));
+}
+
+#[test]
+fn fitting_draws_one_32_byte_key_from_the_caller() {
+    use rand::Rng;
+    let data = draw(&truth(), 300, 12);
+    let mut rng = ChaCha8Rng::seed_from_u64(40);
+    fit(&data, &FitConfig::default(), &mut rng).expect("fit succeeds");
+    let mut expected = ChaCha8Rng::seed_from_u64(40);
+    let mut key = [0_u8; 32];
+    expected.fill_bytes(&mut key);
+    // The caller's generator moved on by exactly the key, whatever the data and configuration.
+    assert_eq!(rng.next_u64(), expected.next_u64());
+}
+
+#[test]
 fn fit_from_converges_to_the_same_mixture_as_fit() {
     let data = draw(&truth(), 1000, 4);
     let config = FitConfig { tolerance: 1e-10, max_iterations: 500, ..FitConfig::default() };
