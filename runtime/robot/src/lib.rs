@@ -23,6 +23,7 @@ pub use ik::{
     DEFAULT_POSITION_TOLERANCE, DEFAULT_RESTARTS, IkConfig, pose_error_norms, solve_ik,
 };
 pub use lamp_geometry::{Pose, Shape};
+pub use mesh::load_mesh_file;
 pub use mount::Mount;
 pub use robot::{
     ALL_GROUP, ARM_GROUP, BASE_GROUP, Coordinate, CoordinateKind, GRIPPER_GROUP, JointGroup,

@@ -92,3 +92,35 @@ pub(crate) fn resolve_mesh_path(
         Err(format!("file {} does not exist", resolved.display()))
     }
 }
+
+/// Loads a mesh file for an object type: as the convex hull of its vertices, or as a triangle
+/// mesh (all meshes of the file merged). Errors name the file.
+pub fn load_mesh_file(path: &Path, as_convex_hull: bool) -> Result<Shape, String> {
+    let filename = path.to_string_lossy();
+    if as_convex_hull {
+        return load_convex_hull(&filename, Vec3::new(1.0, 1.0, 1.0), None);
+    }
+    let scene = mesh_loader::Loader::default()
+        .merge_meshes(true)
+        .load(path)
+        .map_err(|error| format!("{}: {error}", path.display()))?;
+    let mut vertices = Vec::new();
+    let mut triangles = Vec::new();
+    for mesh in &scene.meshes {
+        let offset = u32::try_from(vertices.len())
+            .map_err(|_| format!("{}: too many vertices", path.display()))?;
+        vertices.extend(
+            mesh.vertices
+                .iter()
+                .map(|v| Point3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))),
+        );
+        triangles.extend(mesh.faces.iter().map(|f| [f[0] + offset, f[1] + offset, f[2] + offset]));
+    }
+    if triangles.is_empty() {
+        return Err(format!("{}: the mesh has no triangles", path.display()));
+    }
+    if !vertices.iter().all(|point| point.iter().all(|value| value.is_finite())) {
+        return Err(format!("{}: non-finite vertex", path.display()));
+    }
+    Ok(Shape::TriMesh { vertices, triangles })
+}

@@ -27,7 +27,7 @@ impl Mount {
     }
 
     /// The world pose of the root link for the mount's coordinates (`q` starts with them).
-    pub(crate) fn root_pose(&self, q: &[f64]) -> Pose {
+    pub fn root_pose(&self, q: &[f64]) -> Pose {
         match self {
             Mount::Fixed(pose) => *pose,
             Mount::Planar => Pose::from_parts(
@@ -43,7 +43,7 @@ impl Mount {
 
     /// Writes the coordinates that put the root link at `pose` (planar: the pose's projection on
     /// the floor, keeping only the yaw).
-    pub(crate) fn write_coordinates(&self, pose: &Pose, q: &mut [f64]) {
+    pub fn write_coordinates(&self, pose: &Pose, q: &mut [f64]) {
         match self {
             Mount::Fixed(_) => {}
             Mount::Planar => {

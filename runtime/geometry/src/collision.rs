@@ -1,0 +1,165 @@
+//! Collision shapes and the queries on them: intersection, distance and margin tests.
+//!
+//! A [`CollisionShape`] is built once from [`Shape`]s (a compound when a body has several parts)
+//! and queried at any pose. Touching counts as intersecting. A query parry cannot answer for a
+//! pair of shape kinds answers "in collision": a planner must never pass through an
+//! unchecked contact.
+
+use parry3d_f64::query;
+use parry3d_f64::shape::SharedShape;
+
+use crate::error::GeometryError;
+use crate::math::{Point3, Pose, Real};
+use crate::parry_boundary as boundary;
+use crate::shape::Shape;
+
+/// A shape ready for collision queries, in its own frame.
+#[derive(Clone)]
+pub struct CollisionShape {
+    shape: SharedShape,
+    /// Pose of the parry shape in the body's frame (a cylinder's quarter turn, for example).
+    local: Pose,
+}
+
+impl std::fmt::Debug for CollisionShape {
+    fn fmt(&self, formatter: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        formatter.debug_struct("CollisionShape").field("local", &self.local).finish_non_exhaustive()
+    }
+}
+
+impl CollisionShape {
+    /// One shape at the body's origin.
+    pub fn new(shape: &Shape) -> Result<CollisionShape, GeometryError> {
+        check_dimensions(shape)?;
+        let (shape, local) = boundary::shared_shape(shape)?;
+        Ok(CollisionShape { shape, local })
+    }
+
+    /// Several shapes, each placed in the body's frame, as one rigid body.
+    pub fn compound(parts: &[(Pose, Shape)]) -> Result<CollisionShape, GeometryError> {
+        match parts {
+            [] => Err(GeometryError::EmptyBody),
+            [(placement, shape)] => {
+                let single = CollisionShape::new(shape)?;
+                Ok(CollisionShape { local: placement * single.local, ..single })
+            }
+            _ => {
+                let mut placed = Vec::with_capacity(parts.len());
+                for (placement, shape) in parts {
+                    check_dimensions(shape)?;
+                    let (shape, local) = boundary::shared_shape(shape)?;
+                    placed.push((placement * local, shape));
+                }
+                Ok(CollisionShape { shape: boundary::compound(placed), local: Pose::identity() })
+            }
+        }
+    }
+
+    /// The world-aligned bounding box of the shape at `pose`.
+    pub fn aabb(&self, pose: &Pose) -> Aabb {
+        let aabb = self.shape.compute_aabb(&boundary::pose(&(pose * self.local)));
+        Aabb { mins: boundary::from_vector(aabb.mins), maxs: boundary::from_vector(aabb.maxs) }
+    }
+}
+
+fn check_dimensions(shape: &Shape) -> Result<(), GeometryError> {
+    let dimensions: Vec<Real> = match shape {
+        Shape::Box { half_extents } => half_extents.iter().copied().collect(),
+        Shape::Cylinder { radius, half_height } => vec![*radius, *half_height],
+        Shape::Sphere { radius } => vec![*radius],
+        Shape::ConvexHull { points } => {
+            if let Some(&value) = points.iter().flat_map(|p| p.iter()).find(|v| !v.is_finite()) {
+                return Err(GeometryError::BadDimension { value });
+            }
+            return if spans_volume(points) {
+                Ok(())
+            } else {
+                Err(GeometryError::DegenerateHull { points: points.len() })
+            };
+        }
+        Shape::TriMesh { .. } => return Ok(()),
+    };
+    match dimensions.into_iter().find(|v| !(v.is_finite() && *v > 0.0)) {
+        Some(value) => Err(GeometryError::BadDimension { value }),
+        None => Ok(()),
+    }
+}
+
+/// Whether the points span a volume: a point, the farthest from it, the farthest from their line
+/// and the farthest from their plane must be apart by more than a micrometre each.
+fn spans_volume(points: &[Point3]) -> bool {
+    const TOLERANCE: Real = 1e-6;
+    let Some(first) = points.first() else { return false };
+    let farthest = |score: &dyn Fn(&Point3) -> Real| {
+        points.iter().map(|p| (score(p), p)).max_by(|a, b| a.0.total_cmp(&b.0))
+    };
+    let Some((spread, second)) = farthest(&|p| (p - first).norm()) else { return false };
+    if spread <= TOLERANCE {
+        return false;
+    }
+    let axis = (second - first) / spread;
+    let off_line = |p: &Point3| {
+        let v = p - first;
+        (v - axis * v.dot(&axis)).norm()
+    };
+    let Some((height, third)) = farthest(&off_line) else { return false };
+    if height <= TOLERANCE {
+        return false;
+    }
+    let normal = axis.cross(&(third - first)).normalize();
+    farthest(&|p| (p - first).dot(&normal).abs()).is_some_and(|(depth, _)| depth > TOLERANCE)
+}
+
+/// An axis-aligned bounding box in world coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub mins: Point3,
+    pub maxs: Point3,
+}
+
+impl Aabb {
+    /// Whether the boxes overlap once each is grown by `margin` / 2 (so `margin` is a gap).
+    #[inline]
+    pub fn overlaps(&self, other: &Aabb, margin: Real) -> bool {
+        (0..3).all(|axis| {
+            self.mins[axis] <= other.maxs[axis] + margin
+                && other.mins[axis] <= self.maxs[axis] + margin
+        })
+    }
+
+    /// The smallest box containing both.
+    pub fn union(&self, other: &Aabb) -> Aabb {
+        Aabb { mins: self.mins.inf(&other.mins), maxs: self.maxs.sup(&other.maxs) }
+    }
+}
+
+/// Whether the shapes touch or overlap.
+pub fn intersects(a: &CollisionShape, pose_a: &Pose, b: &CollisionShape, pose_b: &Pose) -> bool {
+    let pose_a = boundary::pose(&(pose_a * a.local));
+    let pose_b = boundary::pose(&(pose_b * b.local));
+    query::intersection_test(&pose_a, a.shape.as_ref(), &pose_b, b.shape.as_ref())
+        .map_or(true, |found| found.intersecting)
+}
+
+/// The distance between the shapes (0 when they touch or overlap).
+pub fn distance(a: &CollisionShape, pose_a: &Pose, b: &CollisionShape, pose_b: &Pose) -> Real {
+    let pose_a = boundary::pose(&(pose_a * a.local));
+    let pose_b = boundary::pose(&(pose_b * b.local));
+    query::distance(&pose_a, a.shape.as_ref(), &pose_b, b.shape.as_ref())
+        .map_or(0.0, |found| found.distance.max(0.0))
+}
+
+/// Whether the shapes are closer than `margin` (touching counts; `margin` 0 is [`intersects`]).
+pub fn within_margin(
+    a: &CollisionShape,
+    pose_a: &Pose,
+    b: &CollisionShape,
+    pose_b: &Pose,
+    margin: Real,
+) -> bool {
+    if margin <= 0.0 {
+        intersects(a, pose_a, b, pose_b)
+    } else {
+        a.aabb(pose_a).overlaps(&b.aabb(pose_b), margin) && distance(a, pose_a, b, pose_b) <= margin
+    }
+}

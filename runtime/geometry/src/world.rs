@@ -1,0 +1,123 @@
+//! A set of placed bodies with a broad phase: the scene side of every collision query.
+//!
+//! Bodies keep their world bounding box; a query first compares boxes and runs the exact test
+//! only on overlapping ones. Scenes here hold tens of bodies, where a linear pass over cached
+//! boxes beats maintaining a tree (it is a few dozen comparisons of six numbers).
+
+use crate::collision::{Aabb, CollisionShape, within_margin};
+use crate::math::{Pose, Real};
+
+/// A body's index in its [`CollisionWorld`], in insertion order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct BodyId(pub usize);
+
+#[derive(Clone, Debug)]
+struct Entry {
+    shape: CollisionShape,
+    pose: Pose,
+    aabb: Aabb,
+    enabled: bool,
+}
+
+/// Placed bodies that can be moved, disabled (a held object) and queried.
+#[derive(Clone, Debug, Default)]
+pub struct CollisionWorld {
+    entries: Vec<Entry>,
+}
+
+impl CollisionWorld {
+    /// An empty world.
+    pub fn new() -> CollisionWorld {
+        CollisionWorld::default()
+    }
+
+    /// Adds a body at `pose`.
+    pub fn insert(&mut self, shape: CollisionShape, pose: Pose) -> BodyId {
+        let aabb = shape.aabb(&pose);
+        self.entries.push(Entry { shape, pose, aabb, enabled: true });
+        BodyId(self.entries.len() - 1)
+    }
+
+    /// How many bodies there are (enabled or not).
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// Whether there are no bodies.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// Moves a body.
+    pub fn set_pose(&mut self, id: BodyId, pose: Pose) {
+        if let Some(entry) = self.entries.get_mut(id.0) {
+            entry.aabb = entry.shape.aabb(&pose);
+            entry.pose = pose;
+        }
+    }
+
+    /// The pose of a body.
+    pub fn pose(&self, id: BodyId) -> Option<&Pose> {
+        self.entries.get(id.0).map(|entry| &entry.pose)
+    }
+
+    /// The shape of a body.
+    pub fn shape(&self, id: BodyId) -> Option<&CollisionShape> {
+        self.entries.get(id.0).map(|entry| &entry.shape)
+    }
+
+    /// Includes or excludes a body from queries (a held object is checked as part of the robot).
+    pub fn set_enabled(&mut self, id: BodyId, enabled: bool) {
+        if let Some(entry) = self.entries.get_mut(id.0) {
+            entry.enabled = enabled;
+        }
+    }
+
+    /// The first enabled body (in id order) closer than `margin` to `shape` at `pose`, skipping
+    /// those `skip` says to.
+    pub fn first_contact(
+        &self,
+        shape: &CollisionShape,
+        pose: &Pose,
+        margin: Real,
+        skip: impl Fn(BodyId) -> bool,
+    ) -> Option<BodyId> {
+        let aabb = shape.aabb(pose);
+        self.first_contact_in_box(shape, pose, &aabb, margin, skip)
+    }
+
+    /// [`CollisionWorld::first_contact`] with the query's bounding box already computed.
+    pub fn first_contact_in_box(
+        &self,
+        shape: &CollisionShape,
+        pose: &Pose,
+        aabb: &Aabb,
+        margin: Real,
+        skip: impl Fn(BodyId) -> bool,
+    ) -> Option<BodyId> {
+        self.entries.iter().enumerate().find_map(|(index, entry)| {
+            let hit = entry.enabled
+                && entry.aabb.overlaps(aabb, margin.max(0.0))
+                && !skip(BodyId(index))
+                && within_margin(shape, pose, &entry.shape, &entry.pose, margin);
+            hit.then_some(BodyId(index))
+        })
+    }
+
+    /// Every pair of enabled bodies closer than `margin`, sorted (for checking a scene itself).
+    pub fn contacts_between_bodies(&self, margin: Real) -> Vec<(BodyId, BodyId)> {
+        let mut pairs = Vec::new();
+        for (i, a) in self.entries.iter().enumerate() {
+            for (j, b) in self.entries.iter().enumerate().skip(i + 1) {
+                if a.enabled
+                    && b.enabled
+                    && a.aabb.overlaps(&b.aabb, margin.max(0.0))
+                    && within_margin(&a.shape, &a.pose, &b.shape, &b.pose, margin)
+                {
+                    pairs.push((BodyId(i), BodyId(j)));
+                }
+            }
+        }
+        pairs
+    }
+}

@@ -1,0 +1,159 @@
+//! Collision queries with known answers: touching, separated by a millimetre, penetrating; the
+//! cylinder axis convention; compounds; and the broad phase agreeing with brute force.
+
+#![allow(clippy::unwrap_used)] // a failed step is a failed test
+
+use lamp_geometry::{
+    CollisionShape, CollisionWorld, GeometryError, Point3, Pose, Shape, Vec3, distance, intersects,
+    within_margin,
+};
+
+fn cube(half: f64) -> CollisionShape {
+    CollisionShape::new(&Shape::Box { half_extents: Vec3::new(half, half, half) }).unwrap()
+}
+
+fn at(x: f64, y: f64, z: f64) -> Pose {
+    Pose::translation(x, y, z)
+}
+
+#[test]
+fn boxes_touching_separated_and_penetrating() {
+    let a = cube(0.05);
+    let b = cube(0.05);
+    // Faces exactly in contact.
+    assert!(intersects(&a, &at(0.0, 0.0, 0.0), &b, &at(0.1, 0.0, 0.0)));
+    // One millimetre apart.
+    assert!(!intersects(&a, &at(0.0, 0.0, 0.0), &b, &at(0.101, 0.0, 0.0)));
+    let gap = distance(&a, &at(0.0, 0.0, 0.0), &b, &at(0.101, 0.0, 0.0));
+    assert!((gap - 0.001).abs() < 1e-9, "gap {gap}");
+    assert!(within_margin(&a, &at(0.0, 0.0, 0.0), &b, &at(0.101, 0.0, 0.0), 0.002));
+    assert!(!within_margin(&a, &at(0.0, 0.0, 0.0), &b, &at(0.101, 0.0, 0.0), 0.0005));
+    // Penetrating by 1 cm.
+    assert!(intersects(&a, &at(0.0, 0.0, 0.0), &b, &at(0.09, 0.0, 0.0)));
+    assert_eq!(distance(&a, &at(0.0, 0.0, 0.0), &b, &at(0.09, 0.0, 0.0)), 0.0);
+}
+
+#[test]
+fn rotated_box_reaches_further() {
+    // A cube turned 45° about z reaches half the diagonal along x: 0.05·√2 ≈ 0.0707.
+    let a = cube(0.05);
+    let turned = Pose::from_parts(
+        nalgebra::Translation3::new(0.0, 0.0, 0.0),
+        nalgebra::UnitQuaternion::from_axis_angle(&Vec3::z_axis(), std::f64::consts::FRAC_PI_4),
+    );
+    assert!(intersects(&a, &turned, &a, &at(0.12, 0.0, 0.0)));
+    assert!(!intersects(&a, &turned, &a, &at(0.122, 0.0, 0.0)));
+}
+
+#[test]
+fn cylinders_run_along_local_z() {
+    let can = CollisionShape::new(&Shape::Cylinder { radius: 0.05, half_height: 0.1 }).unwrap();
+    let ball = CollisionShape::new(&Shape::Sphere { radius: 0.01 }).unwrap();
+    let origin = Pose::identity();
+    // Above the top face (z = 0.1) by 5 mm, and beside the round side by 5 mm.
+    let above = distance(&can, &origin, &ball, &at(0.0, 0.0, 0.115));
+    let beside = distance(&can, &origin, &ball, &at(0.065, 0.0, 0.0));
+    assert!((above - 0.005).abs() < 1e-6, "above {above}");
+    assert!((beside - 0.005).abs() < 1e-6, "beside {beside}");
+    // Along y at 0.09 m: outside the radius, but inside if the axis were parry's y.
+    assert!(!intersects(&can, &origin, &ball, &at(0.0, 0.09, 0.0)));
+    assert!(intersects(&can, &origin, &ball, &at(0.0, 0.0, 0.105)));
+}
+
+#[test]
+fn compound_bodies_collide_through_any_part() {
+    // An open box: a floor and one wall; a small cube fits inside without touching.
+    let floor = (at(0.0, 0.0, -0.0025), Shape::Box { half_extents: Vec3::new(0.08, 0.08, 0.0025) });
+    let wall = (at(0.08, 0.0, 0.05), Shape::Box { half_extents: Vec3::new(0.005, 0.08, 0.05) });
+    let open_box = CollisionShape::compound(&[floor, wall]).unwrap();
+    let small = cube(0.02);
+    let placed = at(0.3, 0.1, 0.0);
+    assert!(!intersects(&open_box, &placed, &small, &(placed * at(0.0, 0.0, 0.021))));
+    assert!(intersects(&open_box, &placed, &small, &(placed * at(0.0, 0.0, 0.019))));
+    assert!(intersects(&open_box, &placed, &small, &(placed * at(0.06, 0.0, 0.05))));
+    let aabb = open_box.aabb(&placed);
+    assert!((aabb.maxs.x - 0.385).abs() < 1e-9 && (aabb.mins.z + 0.005).abs() < 1e-9);
+}
+
+#[test]
+fn convex_hull_of_a_cube_matches_the_box() {
+    let corners: Vec<Point3> = (0..8)
+        .map(|i| {
+            let s = |bit: i32| if i & bit == 0 { -0.05 } else { 0.05 };
+            Point3::new(s(1), s(2), s(4))
+        })
+        .collect();
+    let hull = CollisionShape::new(&Shape::ConvexHull { points: corners }).unwrap();
+    let gap = distance(&hull, &Pose::identity(), &cube(0.05), &at(0.101, 0.0, 0.0));
+    assert!((gap - 0.001).abs() < 1e-9);
+}
+
+#[test]
+fn unusable_shapes_are_errors() {
+    let flat =
+        vec![Point3::new(0.0, 0.0, 0.0), Point3::new(1.0, 0.0, 0.0), Point3::new(0.0, 1.0, 0.0)];
+    assert!(matches!(
+        CollisionShape::new(&Shape::ConvexHull { points: flat }),
+        Err(GeometryError::DegenerateHull { .. })
+    ));
+    assert!(matches!(
+        CollisionShape::new(&Shape::Sphere { radius: -1.0 }),
+        Err(GeometryError::BadDimension { .. })
+    ));
+    assert!(matches!(
+        CollisionShape::new(&Shape::Box { half_extents: Vec3::new(0.1, f64::NAN, 0.1) }),
+        Err(GeometryError::BadDimension { .. })
+    ));
+    assert!(matches!(CollisionShape::compound(&[]), Err(GeometryError::EmptyBody)));
+}
+
+#[test]
+fn broad_phase_agrees_with_brute_force() {
+    // A deterministic scatter of boxes and spheres; every query's answer must equal the exact
+    // test over all bodies.
+    let mut world = CollisionWorld::new();
+    let mut bodies = Vec::new();
+    let mut state: u64 = 12345;
+    let mut next = || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for i in 0..40 {
+        let shape = if i % 2 == 0 {
+            Shape::Box { half_extents: Vec3::new(0.02 + 0.05 * next(), 0.02 + 0.05 * next(), 0.05) }
+        } else {
+            Shape::Sphere { radius: 0.02 + 0.04 * next() }
+        };
+        let pose = at(next() * 2.0 - 1.0, next() * 2.0 - 1.0, next() * 0.5);
+        let collision = CollisionShape::new(&shape).unwrap();
+        world.insert(collision.clone(), pose);
+        bodies.push((collision, pose));
+    }
+    let probe = cube(0.06);
+    for _ in 0..300 {
+        let pose = at(next() * 2.0 - 1.0, next() * 2.0 - 1.0, next() * 0.5);
+        for margin in [0.0, 0.01] {
+            let expected = bodies
+                .iter()
+                .position(|(shape, body)| within_margin(&probe, &pose, shape, body, margin));
+            let found = world.first_contact(&probe, &pose, margin, |_| false).map(|id| id.0);
+            assert_eq!(found, expected);
+        }
+    }
+}
+
+#[test]
+fn disabled_and_skipped_bodies_are_ignored() {
+    let mut world = CollisionWorld::new();
+    let a = world.insert(cube(0.05), at(0.0, 0.0, 0.0));
+    let b = world.insert(cube(0.05), at(0.05, 0.0, 0.0));
+    let probe = cube(0.01);
+    let pose = at(0.03, 0.0, 0.0);
+    assert_eq!(world.first_contact(&probe, &pose, 0.0, |_| false), Some(a));
+    assert_eq!(world.first_contact(&probe, &pose, 0.0, |id| id == a), Some(b));
+    world.set_enabled(b, false);
+    assert_eq!(world.first_contact(&probe, &pose, 0.0, |id| id == a), None);
+    world.set_pose(a, at(5.0, 0.0, 0.0));
+    assert_eq!(world.first_contact(&probe, &pose, 0.0, |_| false), None);
+    assert_eq!(world.contacts_between_bodies(0.0), Vec::new());
+}

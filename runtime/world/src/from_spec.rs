@@ -1,0 +1,210 @@
+//! Building robots and scenes from a checked spec: URDF files, mounts, groups, object types and
+//! the initial scene of a problem.
+//!
+//! Paths in a spec are relative to the spec's folder, which the caller passes in.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use lamp_geometry::{Pose, Shape, Vec3};
+use lamp_robot::{Mount, Robot};
+use lamp_spec::{MeshMode, Mobility, ObjectType, Problem, RobotKind, ShapeSpec, Spec};
+
+use crate::error::WorldError;
+use crate::scene::{Body, Scene};
+
+/// Everything of a spec that scenes are built from, loaded once.
+#[derive(Clone, Debug)]
+pub struct SpecWorld {
+    /// Robot models by spec robot name.
+    pub robots: BTreeMap<String, Arc<Robot>>,
+    /// The shapes of each object type, placed in the type's frame.
+    pub type_parts: BTreeMap<String, Vec<(Pose, Shape)>>,
+    spec: Spec,
+}
+
+impl SpecWorld {
+    /// Loads every robot and object type of `spec`; `spec_dir` is the spec file's folder.
+    pub fn load(spec_dir: &Path, spec: &Spec) -> Result<SpecWorld, WorldError> {
+        let mut robots = BTreeMap::new();
+        for robot in &spec.robots {
+            robots.insert(robot.name.clone(), Arc::new(load_robot(spec_dir, robot)?));
+        }
+        let mut type_parts = BTreeMap::new();
+        for object_type in &spec.object_types {
+            type_parts.insert(object_type.name.clone(), type_parts_of(spec_dir, object_type)?);
+        }
+        Ok(SpecWorld { robots, type_parts, spec: spec.clone() })
+    }
+
+    /// The spec this world was loaded from.
+    pub fn spec(&self) -> &Spec {
+        &self.spec
+    }
+
+    /// A body of type `type_name` named `name`, ready to add to a scene.
+    pub fn body(&self, name: &str, type_name: &str) -> Option<Body> {
+        let object_type = self.spec.object_type(type_name)?;
+        Some(Body {
+            name: name.to_string(),
+            type_name: type_name.to_string(),
+            movable: object_type.mobility == Mobility::Movable,
+            world: object_type.world,
+            parts: self.type_parts.get(type_name)?.clone(),
+        })
+    }
+
+    /// Adds robot `name` to `scene` at configuration `q` (its gripper part is the spec's).
+    pub fn add_robot(
+        &self,
+        scene: &mut Scene,
+        name: &str,
+        q: Vec<f64>,
+    ) -> Result<usize, WorldError> {
+        let unknown = || WorldError::UnknownName { what: "robot", name: name.to_string() };
+        let model = self.robots.get(name).ok_or_else(unknown)?;
+        let spec_robot = self.spec.robot(name).ok_or_else(unknown)?;
+        let gripper = match spec_robot.gripper_part() {
+            Some(part) => {
+                let link = model.link_id(&part.link).ok_or_else(|| WorldError::UnknownName {
+                    what: "link",
+                    name: format!("{}/{}", name, part.link),
+                })?;
+                Some((part.type_name.clone(), link))
+            }
+            None => None,
+        };
+        scene.add_robot(name, Arc::clone(model), q, gripper)
+    }
+
+    /// The configuration of robot `name` with its root at `base` (if given) and the named
+    /// configuration applied (if given); other joints at their neutral values.
+    pub fn placement_configuration(
+        &self,
+        name: &str,
+        base: Option<&Pose>,
+        configuration: Option<&str>,
+    ) -> Result<Vec<f64>, WorldError> {
+        let unknown = || WorldError::UnknownName { what: "robot", name: name.to_string() };
+        let model = self.robots.get(name).ok_or_else(unknown)?;
+        let spec_robot = self.spec.robot(name).ok_or_else(unknown)?;
+        let mut q = model.neutral_configuration();
+        if let Some(base) = base {
+            model.mount().write_coordinates(base, &mut q);
+        }
+        if let Some(configuration) = configuration {
+            let named = spec_robot.configuration(configuration).ok_or_else(|| {
+                WorldError::UnknownName { what: "configuration", name: configuration.to_string() }
+            })?;
+            model
+                .apply_named_configuration(
+                    named.values.iter().map(|(k, v)| (k.as_str(), *v)),
+                    &mut q,
+                )
+                .map_err(|source| robot_error(spec_robot, source))?;
+        }
+        Ok(q)
+    }
+
+    /// The initial scene of a problem.
+    pub fn problem_scene(&self, problem: &Problem) -> Result<Scene, WorldError> {
+        let mut scene = Scene::new();
+        for object in &problem.scene.objects {
+            let body = self.body(&object.name, &object.type_name).ok_or_else(|| {
+                WorldError::Undeclared {
+                    problem: problem.name.clone(),
+                    name: object.type_name.clone(),
+                }
+            })?;
+            scene.add_body(body, object.pose)?;
+        }
+        for placement in &problem.scene.robots {
+            let q = self.placement_configuration(
+                &placement.robot,
+                placement.base.as_ref(),
+                placement.configuration.as_deref(),
+            )?;
+            self.add_robot(&mut scene, &placement.robot, q)?;
+        }
+        Ok(scene)
+    }
+}
+
+fn robot_error(robot: &lamp_spec::Robot, source: lamp_robot::RobotError) -> WorldError {
+    WorldError::Robot {
+        robot: robot.name.clone(),
+        urdf: robot.urdf.clone(),
+        source: Box::new(source),
+    }
+}
+
+/// Loads a spec robot: its URDF with the mount its kind implies, its groups and ignored pairs.
+pub fn load_robot(spec_dir: &Path, robot: &lamp_spec::Robot) -> Result<Robot, WorldError> {
+    let mount = match robot.kind {
+        RobotKind::FreeFlying => Mount::Floating,
+        RobotKind::MobileArm => Mount::Planar,
+        RobotKind::FixedArm => Mount::Fixed(robot.mount),
+    };
+    let path: PathBuf = spec_dir.join(&robot.urdf);
+    let fail = |source| robot_error(robot, source);
+    let mut model = Robot::from_urdf_file(&path, mount).map_err(fail)?;
+    for group in &robot.groups {
+        let joints: Vec<&str> = group.joints.iter().map(String::as_str).collect();
+        // A spec may spell out a built-in group (`arm`) to document it; the same set is fine.
+        if let Some(existing) = model.group(&group.name) {
+            let mut coordinates = Vec::new();
+            for joint in &joints {
+                coordinates.extend(model.joint_coordinates(joint).map_err(fail)?);
+            }
+            coordinates.sort_unstable();
+            coordinates.dedup();
+            if coordinates == existing.coordinates {
+                continue;
+            }
+        }
+        model = model.with_group(&group.name, &joints).map_err(fail)?;
+    }
+    let ignored: Vec<(&str, &str)> =
+        robot.ignored_collisions.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect();
+    model = model.with_ignored_collisions(&ignored).map_err(fail)?;
+    for part in &robot.parts {
+        if model.link_id(&part.link).is_none() {
+            return Err(WorldError::UnknownName {
+                what: "link",
+                name: format!("{}/{} (part `{}`)", robot.name, part.link, part.type_name),
+            });
+        }
+    }
+    Ok(model)
+}
+
+/// The shapes of an object type in its frame (meshes loaded from the spec's folder).
+pub fn type_parts_of(
+    spec_dir: &Path,
+    object_type: &ObjectType,
+) -> Result<Vec<(Pose, Shape)>, WorldError> {
+    object_type
+        .shapes
+        .iter()
+        .map(|part| {
+            let shape = match &part.shape {
+                ShapeSpec::Box { size } => {
+                    Shape::Box { half_extents: Vec3::new(size[0], size[1], size[2]) * 0.5 }
+                }
+                ShapeSpec::Cylinder { radius, height } => {
+                    Shape::Cylinder { radius: *radius, half_height: height * 0.5 }
+                }
+                ShapeSpec::Sphere { radius } => Shape::Sphere { radius: *radius },
+                ShapeSpec::Mesh { path, mode } => {
+                    lamp_robot::load_mesh_file(&spec_dir.join(path), *mode == MeshMode::ConvexHull)
+                        .map_err(|reason| WorldError::Shape {
+                            type_name: object_type.name.clone(),
+                            reason,
+                        })?
+                }
+            };
+            Ok((part.origin, shape))
+        })
+        .collect()
+}

@@ -1,0 +1,26 @@
+//! The world robots act in: scenes of bodies and robots, held objects, collision checking,
+//! collision-free inverse kinematics and RRT-Connect motion planning.
+//!
+//! Geometry and collision queries come from `lamp-geometry`, kinematics from `lamp-robot`; this
+//! crate puts them together into the state the demonstrators, the refiner and the validator
+//! step through. It is a pure library: it reads no files beyond the robot and mesh files a spec
+//! names.
+
+mod checking;
+mod error;
+mod from_spec;
+mod ik;
+mod motion;
+mod rrt;
+mod scene;
+
+pub use checking::Contact;
+pub use error::WorldError;
+pub use from_spec::{SpecWorld, load_robot, type_parts_of};
+pub use ik::{ReachError, reach};
+pub use motion::{
+    DEFAULT_ANGULAR_RESOLUTION, DEFAULT_LINEAR_RESOLUTION, FREE_SAMPLING_MARGIN, MotionConfig,
+    MotionError, MotionPlan, RobotSpace, densify, edge_steps, plan_motion,
+};
+pub use rrt::{RrtConfig, RrtError, RrtStats, Space, rrt_connect, shortcut};
+pub use scene::{Body, Gripper, Held, Scene, SceneRobot};

@@ -1,0 +1,225 @@
+//! Motion planning: RRT-Connect on a known 2-D maze and on the bundled robots in cluttered
+//! scenes; every state of every returned path, at the checking resolution, is collision-free.
+
+#![allow(clippy::unwrap_used)] // a failed step is a failed test
+
+mod support;
+
+use std::f64::consts::PI;
+
+use lamp_robot::IkConfig;
+use lamp_world::{
+    MotionConfig, RrtConfig, RrtError, Scene, Space, densify, plan_motion, reach, rrt_connect,
+};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use support::{domain, pose};
+
+/// A point in the unit square; walls are axis-aligned rectangles.
+struct Maze {
+    walls: Vec<[f64; 4]>,
+}
+
+impl Space for Maze {
+    fn sample(&self, rng: &mut ChaCha8Rng, out: &mut [f64]) {
+        use rand::RngExt;
+        out[0] = rng.random();
+        out[1] = rng.random();
+    }
+    fn distance(&self, a: &[f64], b: &[f64]) -> f64 {
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
+    }
+    fn interpolate(&self, a: &[f64], b: &[f64], t: f64, out: &mut [f64]) {
+        out[0] = a[0] + t * (b[0] - a[0]);
+        out[1] = a[1] + t * (b[1] - a[1]);
+    }
+    fn is_valid(&self, q: &[f64]) -> bool {
+        (0.0..=1.0).contains(&q[0])
+            && (0.0..=1.0).contains(&q[1])
+            && !self
+                .walls
+                .iter()
+                .any(|w| q[0] >= w[0] && q[0] <= w[2] && q[1] >= w[1] && q[1] <= w[3])
+    }
+    fn edge_steps(&self, a: &[f64], b: &[f64]) -> usize {
+        (self.distance(a, b) / 0.002).ceil().max(1.0) as usize
+    }
+}
+
+fn path_is_valid(space: &impl Space, path: &[Vec<f64>]) -> bool {
+    path.iter().all(|q| space.is_valid(q))
+        && path.windows(2).all(|w| space.edge_is_valid(&w[0], &w[1]))
+}
+
+fn small_steps() -> RrtConfig {
+    RrtConfig { step: 0.1, max_iterations: 3_000, timeout: None, shortcut_attempts: 100 }
+}
+
+#[test]
+fn rrt_connect_threads_a_maze_deterministically() {
+    // Two walls with gaps at opposite ends force an S-shaped path.
+    let maze = Maze { walls: vec![[0.3, 0.0, 0.35, 0.8], [0.65, 0.2, 0.7, 1.0]] };
+    let (start, goal) = ([0.1, 0.1], [0.9, 0.9]);
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let (path, stats) = rrt_connect(&maze, &start, &goal, &small_steps(), &mut rng).unwrap();
+    assert_eq!(path.first().unwrap().as_slice(), &start);
+    assert_eq!(path.last().unwrap().as_slice(), &goal);
+    assert!(path_is_valid(&maze, &path));
+    assert!(stats.waypoints <= stats.raw_waypoints);
+    // It went around the walls: through the first gap (y > 0.8) and the second (y < 0.2).
+    let crossings = |x: f64| {
+        path.windows(2)
+            .filter(|w| (w[0][0] - x) * (w[1][0] - x) <= 0.0)
+            .map(|w| w[0][1] + (x - w[0][0]) / (w[1][0] - w[0][0]) * (w[1][1] - w[0][1]))
+            .collect::<Vec<_>>()
+    };
+    assert!(crossings(0.325).iter().all(|&y| y > 0.8));
+    assert!(crossings(0.675).iter().all(|&y| y < 0.2));
+
+    let mut again = ChaCha8Rng::seed_from_u64(7);
+    let (same, _) = rrt_connect(&maze, &start, &goal, &small_steps(), &mut again).unwrap();
+    assert_eq!(path, same);
+}
+
+#[test]
+fn rrt_connect_reports_no_path_and_invalid_endpoints() {
+    // The goal is walled in.
+    let walls = vec![[0.6, 0.6, 1.0, 0.62], [0.6, 0.6, 0.62, 1.0]];
+    let maze = Maze { walls };
+    let config = RrtConfig { max_iterations: 300, ..small_steps() };
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let error = rrt_connect(&maze, &[0.1, 0.1], &[0.9, 0.9], &config, &mut rng).unwrap_err();
+    assert!(matches!(error, RrtError::NoPath { iterations: 300, .. }), "{error:?}");
+    let error = rrt_connect(&maze, &[0.61, 0.7], &[0.9, 0.9], &config, &mut rng).unwrap_err();
+    assert_eq!(error, RrtError::InvalidStart);
+    let error = rrt_connect(&maze, &[0.1, 0.1], &[2.0, 0.9], &config, &mut rng).unwrap_err();
+    assert_eq!(error, RrtError::InvalidGoal);
+}
+
+/// Every state along the path at the checking resolution is valid, and the ends are right.
+fn assert_path_collision_free(
+    scene: &Scene,
+    robot: usize,
+    path: &[Vec<f64>],
+    config: &MotionConfig,
+) {
+    let model = scene.robots()[robot].robot().clone();
+    let states = densify(&model, path, config);
+    for (index, q) in states.iter().enumerate() {
+        assert!(scene.is_valid(robot, q), "state {index}: {:?}", scene.first_contact(robot, q));
+    }
+    for pair in states.windows(2) {
+        assert!(
+            lamp_world::edge_steps(
+                &model,
+                &pair[0],
+                &pair[1],
+                config.linear_resolution,
+                config.angular_resolution
+            ) <= 1
+        );
+    }
+}
+
+/// The café scene with the Fetch parked in front of table1, arm tucked.
+fn fetch_at_table() -> (Scene, usize, Vec<f64>) {
+    let (spec, world) = domain("cafe");
+    let problem = &spec.problems[0];
+    let mut scene = world.problem_scene(problem).unwrap();
+    let fetch = scene.robot_index("fetch").unwrap();
+    let robot = scene.robots()[fetch].robot().clone();
+    let mut q = scene.robots()[fetch].configuration().to_vec();
+    robot.mount().write_coordinates(&pose(1.3, -1.0, 0.0, 0.0, 0.0, 0.0), &mut q);
+    assert!(scene.is_valid(fetch, &q), "{:?}", scene.first_contact(fetch, &q));
+    scene.set_configuration(fetch, &q);
+    (scene, fetch, q)
+}
+
+#[test]
+fn collision_free_ik_reaches_over_the_table_within_tolerance() {
+    let (scene, fetch, tucked) = fetch_at_table();
+    let robot = scene.robots()[fetch].robot().clone();
+    let target = pose(1.85, -1.0, 0.95, 0.0, 0.0, 0.0);
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let q =
+        reach(&scene, fetch, "arm", None, &target, &tucked, &IkConfig::new(), &mut rng).unwrap();
+    assert!(scene.is_valid(fetch, &q));
+    let gripper = robot.link_id("gripper_link").unwrap();
+    let (position, orientation) =
+        lamp_robot::pose_error_norms(&robot.link_pose(&q, gripper), &target);
+    assert!(position < 1e-3 && orientation < 1e-2, "errors {position} m, {orientation} rad");
+
+    // Inside the table top there is nothing collision-free to find.
+    let inside = pose(2.0, -1.0, 0.68, 0.0, 0.0, 0.0);
+    let error = reach(&scene, fetch, "arm", None, &inside, &tucked, &IkConfig::new(), &mut rng);
+    assert!(error.is_err());
+}
+
+#[test]
+fn fetch_arm_paths_into_a_cluttered_table_are_collision_free() {
+    let (scene, fetch, tucked) = fetch_at_table();
+    let target = pose(1.85, -0.95, 0.95, 0.0, 0.0, 0.0);
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let goal =
+        reach(&scene, fetch, "arm", None, &target, &tucked, &IkConfig::new(), &mut rng).unwrap();
+    let config = MotionConfig::default();
+    let plan = plan_motion(&scene, fetch, "arm", &tucked, &goal, &config, &mut rng).unwrap();
+    assert_eq!(plan.waypoints.first().unwrap(), &tucked);
+    assert_eq!(plan.waypoints.last().unwrap(), &goal);
+    assert_path_collision_free(&scene, fetch, &plan.waypoints, &config);
+
+    let mut again = ChaCha8Rng::seed_from_u64(5);
+    let goal_again =
+        reach(&scene, fetch, "arm", None, &target, &tucked, &IkConfig::new(), &mut again).unwrap();
+    let replan =
+        plan_motion(&scene, fetch, "arm", &tucked, &goal_again, &config, &mut again).unwrap();
+    assert_eq!(plan, replan, "same seed, same path");
+
+    // Moving a coordinate outside the group is refused, not silently planned.
+    let mut elsewhere = goal.clone();
+    elsewhere[0] += 0.5;
+    assert!(plan_motion(&scene, fetch, "arm", &tucked, &elsewhere, &config, &mut rng).is_err());
+}
+
+#[test]
+fn fetch_base_drives_around_furniture() {
+    let (spec, world) = domain("cafe");
+    let scene = world.problem_scene(&spec.problems[0]).unwrap();
+    let fetch = scene.robot_index("fetch").unwrap();
+    let robot = scene.robots()[fetch].robot().clone();
+    let start = scene.robots()[fetch].configuration().to_vec();
+    // From the origin to the far side of table1 (at x = 2.0, y = -1.0), facing it.
+    let mut goal = start.clone();
+    robot.mount().write_coordinates(&pose(2.7, -1.0, 0.0, 0.0, 0.0, PI), &mut goal);
+    let config = MotionConfig::default();
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let plan = plan_motion(&scene, fetch, "base", &start, &goal, &config, &mut rng).unwrap();
+    assert_path_collision_free(&scene, fetch, &plan.waypoints, &config);
+}
+
+#[test]
+fn the_free_flying_gripper_carries_a_can_into_the_box() {
+    let (spec, world) = domain("packing");
+    let mut scene = world.problem_scene(&spec.problems[0]).unwrap();
+    let gripper = scene.robot_index("gripper").unwrap();
+    let robot = scene.robots()[gripper].robot().clone();
+    let can = scene.body_index("can1").unwrap();
+    let can_pose = scene.body_pose(can);
+    let grasp = pose(0.0, 0.0, 0.215, PI, 0.0, 0.0);
+    let mut start = scene.robots()[gripper].configuration().to_vec();
+    robot.mount().write_coordinates(&(can_pose * grasp), &mut start);
+    scene.set_configuration(gripper, &start);
+    scene.grab(gripper, can).unwrap();
+
+    let box_pose = scene.body_pose(scene.body_index("box1").unwrap());
+    let mut goal = start.clone();
+    robot
+        .mount()
+        .write_coordinates(&(box_pose * pose(0.0, 0.0, 0.001, 0.0, 0.0, 0.3) * grasp), &mut goal);
+    assert!(scene.is_valid(gripper, &goal), "{:?}", scene.first_contact(gripper, &goal));
+    let config = MotionConfig::default();
+    let mut rng = ChaCha8Rng::seed_from_u64(2);
+    let plan = plan_motion(&scene, gripper, "all", &start, &goal, &config, &mut rng).unwrap();
+    assert!(plan.waypoints.len() >= 3, "the box walls are in the way of a straight line");
+    assert_path_collision_free(&scene, gripper, &plan.waypoints, &config);
+}
