@@ -3,6 +3,7 @@
 // The binary is the one place that talks to the terminal.
 #![allow(clippy::print_stdout, clippy::print_stderr)]
 
+mod commands;
 mod diagnostics;
 mod files;
 
@@ -28,33 +29,29 @@ enum Command {
         spec: PathBuf,
     },
     /// Generate simulated demonstrations as MCAP files.
-    Demos { spec: PathBuf },
+    Demos(commands::demos::Args),
     /// Learn regions, relations and actions; write PDDL, samplers and a report.
-    Build { spec: PathBuf },
+    Build(commands::build::Args),
     /// Plan, refine and write a validated trajectory for one problem.
-    Solve {
-        spec: PathBuf,
-        #[arg(long)]
-        problem: String,
-    },
+    Solve(commands::solve::Args),
     /// Draw a scene, a demonstration or a trajectory.
-    Render { file: PathBuf },
+    Render(commands::render::Args),
 }
 
 /// Exit code for a spec with diagnostics.
-const EXIT_DIAGNOSTICS: u8 = 1;
+pub(crate) const EXIT_DIAGNOSTICS: u8 = 1;
 /// Exit code for usage errors and commands that cannot run.
-const EXIT_UNAVAILABLE: u8 = 2;
+pub(crate) const EXIT_UNAVAILABLE: u8 = 2;
 
 fn main() -> ExitCode {
     install_panic_hook();
     let cli = Cli::parse();
     match cli.command {
         Command::Check { spec } => check(&spec),
-        Command::Demos { .. } => not_yet("demos"),
-        Command::Build { .. } => not_yet("build"),
-        Command::Solve { .. } => not_yet("solve"),
-        Command::Render { .. } => not_yet("render"),
+        Command::Demos(args) => commands::demos::run(&args),
+        Command::Build(args) => commands::build::run(&args),
+        Command::Solve(args) => commands::solve::run(&args),
+        Command::Render(args) => commands::render::run(&args),
     }
 }
 
@@ -89,7 +86,7 @@ fn terminal_width() -> usize {
     std::env::var("COLUMNS").ok().and_then(|c| c.parse().ok()).unwrap_or(100)
 }
 
-fn not_yet(command: &str) -> ExitCode {
+pub(crate) fn not_yet(command: &str) -> ExitCode {
     eprintln!("lampc {command}: not implemented yet");
     ExitCode::from(EXIT_UNAVAILABLE)
 }

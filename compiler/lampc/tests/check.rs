@@ -52,7 +52,12 @@ fn a_missing_spec_file_is_a_diagnostic_not_a_panic() {
 #[test]
 fn unimplemented_commands_say_so_and_fail() {
     let spec = domains().join("packing/packing.lamp");
-    let output = lampc().arg("build").arg(&spec).output().expect("lampc runs");
+    let output = lampc()
+        .arg("solve")
+        .arg(&spec)
+        .args(["--problem", "pack4_01"])
+        .output()
+        .expect("lampc runs");
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("not implemented yet"), "{stderr}");

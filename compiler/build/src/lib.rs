@@ -1,0 +1,36 @@
+//! lamp-build: the build pipeline behind `lampc build`.
+//!
+//! Demonstration files (MCAP, read by lamp-trajectory) become the learner's demonstrations through
+//! the [`adapter`], checked against the spec; the spec's `learn` block becomes the learner's
+//! configuration ([`config`]); the learned model becomes the artifacts: the PDDL domain with
+//! provenance, one PDDL problem per spec problem whose goal can be written ([`problems`], with
+//! [`aliases`] bound to learned regions), the sampler file ([`samplers`]) and the vocabulary report.
+//!
+//! The crate is pure: it takes files already read into memory ([`DemoFile`]) and returns every
+//! artifact's text ([`Artifacts`]); reading, globbing, writing and printing are the caller's.
+//! The only files it opens are the robot and mesh files the spec names, through lamp-world.
+
+pub mod adapter;
+pub mod aliases;
+pub mod config;
+pub mod digest;
+pub mod error;
+pub mod input;
+pub mod pipeline;
+pub mod problems;
+pub mod provenance;
+pub mod samplers;
+
+pub use adapter::{Adapter, part_participant_name};
+pub use aliases::{ResolvedAlias, resolve_alias, resolve_aliases};
+pub use config::learn_config;
+pub use digest::{Digest, demonstration_digest};
+pub use error::BuildError;
+pub use input::{DEFAULT_BUILD_DIR, DemoFile, SIMULATED_DEMOS_DIR, demo_name, demo_patterns};
+pub use pipeline::{
+    ArtifactFile, Artifacts, BuildContext, DOMAIN_FILE, PROBLEMS_DIR, SAMPLERS_FILE, Summary,
+    VOCABULARY_FILE, artifacts, build, learn_model,
+};
+pub use problems::{ProblemOutcome, problem_pddl};
+pub use provenance::Provenance;
+pub use samplers::{SAMPLERS_FORMAT, SAMPLERS_VERSION, SamplersFile};

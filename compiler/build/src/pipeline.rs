@@ -1,0 +1,186 @@
+//! The build pipeline as values: demonstration files → demonstrations → model → every artifact's
+//! text, with a summary. Nothing here touches the file system; the caller writes the artifacts.
+//!
+//! The stages are separate functions so that a front end can show progress between them:
+//! [`Adapter::demonstration`] per file, [`learn_model`], then [`artifacts`]; [`build`] runs them all.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use lamp_learn::{Demonstration, Model, SamplerArtifact};
+use lamp_spec::Spec;
+use lamp_world::SpecWorld;
+
+use crate::adapter::Adapter;
+use crate::aliases::resolve_aliases;
+use crate::config::learn_config;
+use crate::digest::{Digest, demonstration_digest};
+use crate::error::BuildError;
+use crate::input::DemoFile;
+use crate::problems::{ProblemContext, ProblemOutcome, problem_pddl};
+use crate::provenance::Provenance;
+use crate::samplers::SamplersFile;
+
+/// The domain file's path inside the build folder.
+pub const DOMAIN_FILE: &str = "domain.pddl";
+/// The folder of problem files inside the build folder.
+pub const PROBLEMS_DIR: &str = "problems";
+/// The sampler file's path inside the build folder.
+pub const SAMPLERS_FILE: &str = "samplers.json";
+/// The vocabulary report's path inside the build folder.
+pub const VOCABULARY_FILE: &str = "vocabulary.md";
+
+/// One artifact: where it goes (relative to the build folder) and its full text.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ArtifactFile {
+    pub path: PathBuf,
+    pub contents: String,
+}
+
+/// What a build learned and wrote, for the front end to report.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Summary {
+    /// Demonstrations learned from.
+    pub demonstrations: usize,
+    /// Time steps over all demonstrations.
+    pub steps: usize,
+    /// Learned regions over all type pairs.
+    pub regions: usize,
+    /// Predicates of the domain (region, `_0` and clear relations).
+    pub relations: usize,
+    /// Induced actions.
+    pub actions: usize,
+    /// Type pairs seen in demonstrations without any region, as `primary_secondary`.
+    pub pairs_without_regions: Vec<String>,
+    /// Alias → the learned relation it was bound to, by alias name.
+    pub aliases: BTreeMap<String, String>,
+    /// Problems written, in spec order.
+    pub problems_written: Vec<String>,
+    /// Problems not written, with the reason, in spec order.
+    pub problems_skipped: Vec<(String, String)>,
+    /// What was left out of written problems, per problem, in spec order.
+    pub notes: Vec<(String, String)>,
+    /// The demonstration digest.
+    pub digest: String,
+}
+
+/// Every artifact in memory, and the summary.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Artifacts {
+    /// In write order: the domain, the problems, the samplers, the report.
+    pub files: Vec<ArtifactFile>,
+    pub summary: Summary,
+}
+
+/// What the artifacts are built for: the checked spec, its file name and its loaded world.
+pub struct BuildContext<'a> {
+    pub spec: &'a Spec,
+    /// The spec's file name (e.g. `packing.lamp`), written into provenance.
+    pub spec_file: &'a str,
+    pub world: &'a SpecWorld,
+    pub adapter: &'a Adapter,
+}
+
+/// Learns a model from demonstrations with the spec's settings and seed.
+pub fn learn_model(spec: &Spec, demonstrations: &[Demonstration]) -> Result<Model, BuildError> {
+    Ok(lamp_learn::learn(demonstrations, &learn_config(spec))?)
+}
+
+/// Every artifact of a learned model.
+pub fn artifacts(
+    context: &BuildContext<'_>,
+    model: &Model,
+    demonstrations: &[Demonstration],
+    digest: Digest,
+) -> Result<Artifacts, BuildError> {
+    let spec = context.spec;
+    let provenance =
+        Provenance::new(context.spec_file, &spec.domain, spec.seed, demonstrations.len(), digest);
+    let domain = lamp_learn::domain(model, &spec.domain)?;
+    let domain_text = format!("{}{}", provenance.pddl_comment(), lamp_pddl::write_domain(&domain));
+    let aliases = resolve_aliases(model, &spec.relation_aliases)?;
+    let header = provenance.lines();
+    let problem_context = ProblemContext {
+        model,
+        domain: &domain,
+        world: context.world,
+        adapter: context.adapter,
+        aliases: &aliases,
+        header: &header,
+    };
+    let mut summary = Summary {
+        demonstrations: demonstrations.len(),
+        steps: demonstrations.iter().map(|demonstration| demonstration.steps.len()).sum(),
+        regions: model.pairs.iter().map(|pair| pair.regions.len()).sum(),
+        relations: domain.predicates.len(),
+        actions: domain.actions.len(),
+        pairs_without_regions: model.pairs_without_regions.iter().map(|pair| pair.stem()).collect(),
+        aliases: aliases
+            .iter()
+            .map(|(name, resolved)| (name.clone(), resolved.relation.clone()))
+            .collect(),
+        digest: provenance.digest.clone(),
+        ..Summary::default()
+    };
+    let mut files = vec![ArtifactFile { path: DOMAIN_FILE.into(), contents: domain_text }];
+    for problem in &spec.problems {
+        match problem_pddl(&problem_context, problem)? {
+            ProblemOutcome::Written { name, text, notes } => {
+                files.push(ArtifactFile {
+                    path: PathBuf::from(PROBLEMS_DIR).join(format!("{name}.pddl")),
+                    contents: text,
+                });
+                summary.notes.extend(notes.into_iter().map(|note| (name.clone(), note)));
+                summary.problems_written.push(name);
+            }
+            ProblemOutcome::Skipped { name, reason } => {
+                summary.problems_skipped.push((name, reason))
+            }
+        }
+    }
+    let samplers = SamplersFile::new(provenance.clone(), SamplerArtifact::from_model(model));
+    files.push(ArtifactFile { path: SAMPLERS_FILE.into(), contents: samplers.to_json()? });
+    files.push(ArtifactFile {
+        path: VOCABULARY_FILE.into(),
+        contents: vocabulary(&provenance, model),
+    });
+    Ok(Artifacts { files, summary })
+}
+
+/// The vocabulary report with the provenance under its title.
+fn vocabulary(provenance: &Provenance, model: &Model) -> String {
+    let report = lamp_learn::vocabulary_report(model);
+    let lines = provenance.lines();
+    let mut block = String::new();
+    for (index, line) in lines.iter().enumerate() {
+        match index {
+            0 => block.push_str(&format!("> {line}\n>\n")),
+            _ => block.push_str(&format!("> - {line}\n")),
+        }
+    }
+    match report.split_once("\n\n") {
+        Some((title, rest)) if title.starts_with("# ") => format!("{title}\n\n{block}\n{rest}"),
+        _ => format!("{block}\n{report}"),
+    }
+}
+
+/// The whole pipeline on files in memory: files are taken in name order.
+pub fn build(
+    spec: &Spec,
+    spec_file: &str,
+    world: &SpecWorld,
+    files: &[DemoFile],
+) -> Result<(Model, Artifacts), BuildError> {
+    let adapter = Adapter::new(spec, &world.robots)?;
+    let mut sorted: Vec<&DemoFile> = files.iter().collect();
+    sorted.sort_by(|a, b| a.name.cmp(&b.name));
+    let demonstrations =
+        sorted.iter().map(|file| adapter.demonstration(file)).collect::<Result<Vec<_>, _>>()?;
+    if demonstrations.is_empty() {
+        return Err(BuildError::NoDemonstrations { searched: "the given files".into() });
+    }
+    let model = learn_model(spec, &demonstrations)?;
+    let context = BuildContext { spec, spec_file, world, adapter: &adapter };
+    let artifacts = artifacts(&context, &model, &demonstrations, demonstration_digest(files))?;
+    Ok((model, artifacts))
+}

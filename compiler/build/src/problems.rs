@@ -1,0 +1,182 @@
+//! PDDL problems from spec problems: objects and initial state from the problem's scene, goal from
+//! its learned-relation and alias atoms.
+//!
+//! Objects are the scene's robot parts (`<robot>_<part type>`) and its bodies that are not the static
+//! world. The initial state is the learned abstraction of the scene: body poses as placed, part
+//! poses by forward kinematics of the robot's initial configuration. AtGoal targets and structure
+//! goals have no learned-relation form here: a problem with only those is skipped, a problem that also
+//! has atoms is written with the atoms and a note.
+
+use std::collections::BTreeMap;
+
+use lamp_learn::{Model, Participant, Pose, Role, Snapshot, abstract_state, ground_atoms};
+use lamp_pddl::{Atom, Literal, Typed};
+use lamp_spec::Problem;
+use lamp_world::SpecWorld;
+
+use crate::adapter::Adapter;
+use crate::aliases::ResolvedAlias;
+use crate::error::BuildError;
+
+/// What became of one spec problem.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ProblemOutcome {
+    /// Written; `notes` say what of its goal was left out.
+    Written { name: String, text: String, notes: Vec<String> },
+    /// Not written, and why.
+    Skipped { name: String, reason: String },
+}
+
+/// Everything a problem is written against.
+pub struct ProblemContext<'a> {
+    pub model: &'a Model,
+    pub domain: &'a lamp_pddl::Domain,
+    pub world: &'a SpecWorld,
+    pub adapter: &'a Adapter,
+    pub aliases: &'a BTreeMap<String, ResolvedAlias>,
+    /// Comment lines (without `;`) written at the top of the file.
+    pub header: &'a [String],
+}
+
+/// The PDDL problem of a spec problem, or why it is skipped.
+pub fn problem_pddl(
+    context: &ProblemContext<'_>,
+    problem: &Problem,
+) -> Result<ProblemOutcome, BuildError> {
+    let name = problem.name.clone();
+    let goal = &problem.goal;
+    let mut omitted = Vec::new();
+    if !goal.at.is_empty() {
+        omitted.push(format!(
+            "{} AtGoal pose target(s) omitted: world-frame poses are not learned relations",
+            goal.at.len()
+        ));
+    }
+    if let Some(structure) = &goal.structure {
+        omitted.push(format!(
+            "structure goal `{}` omitted: structure transcription is not implemented yet",
+            structure.structure
+        ));
+    }
+    if goal.atoms.is_empty() {
+        let reason = if omitted.is_empty() {
+            "its goal is empty".to_string()
+        } else {
+            format!("its goal has no learned-relation atoms ({})", omitted.join("; "))
+        };
+        return Ok(ProblemOutcome::Skipped { name, reason });
+    }
+    let goal_atoms = goal_atoms(context, problem)?;
+    let (participants, snapshot) = initial_snapshot(context, problem)?;
+    let declared: BTreeMap<&str, Role> =
+        context.model.types.iter().map(|(name, role)| (name.as_str(), *role)).collect();
+    if let Some(missing) = participants
+        .iter()
+        .find(|participant| !declared.contains_key(participant.type_name.as_str()))
+    {
+        let reason = format!(
+            "object `{}` has type `{}`, which appears in no demonstration, so the learned domain does not declare it",
+            missing.name, missing.type_name
+        );
+        return Ok(ProblemOutcome::Skipped { name, reason });
+    }
+    let init = abstract_state(context.model, &participants, &snapshot)?;
+    let mut pddl = lamp_pddl::Problem::new(problem.name.clone(), context.domain.name.clone());
+    pddl.objects = participants
+        .iter()
+        .map(|participant| Typed::new(participant.name.clone(), participant.type_name.clone()))
+        .collect();
+    pddl.init = ground_atoms(&init);
+    pddl.goal = goal_atoms.into_iter().map(Literal::positive).collect();
+    pddl.sort_canonical();
+    if let Some(problem_error) = lamp_pddl::check_problem(context.domain, &pddl).first() {
+        return Err(BuildError::Emit {
+            what: format!("problem `{}`", problem.name),
+            reason: problem_error.to_string(),
+        });
+    }
+    let mut text = String::new();
+    for line in context.header {
+        text.push_str(&format!("; {line}\n"));
+    }
+    text.push_str(&lamp_pddl::write_problem(&pddl));
+    Ok(ProblemOutcome::Written { name, text, notes: omitted })
+}
+
+fn goal_atoms(context: &ProblemContext<'_>, problem: &Problem) -> Result<Vec<Atom>, BuildError> {
+    let predicates: Vec<String> =
+        context.model.predicates().into_iter().map(|signature| signature.name).collect();
+    problem
+        .goal
+        .atoms
+        .iter()
+        .map(|atom| {
+            if let Some(alias) = context.aliases.get(&atom.relation) {
+                let arguments = alias.arguments(&atom.arguments);
+                let names: Vec<&str> = arguments.iter().map(String::as_str).collect();
+                return Ok(Atom::ground(alias.relation.clone(), &names));
+            }
+            if !predicates.contains(&atom.relation) {
+                return Err(BuildError::GoalRelation {
+                    problem: problem.name.clone(),
+                    relation: atom.relation.clone(),
+                });
+            }
+            let names: Vec<&str> = atom.arguments.iter().map(String::as_str).collect();
+            Ok(Atom::ground(atom.relation.clone(), &names))
+        })
+        .collect()
+}
+
+/// The participants of a problem's initial scene and their snapshot.
+fn initial_snapshot(
+    context: &ProblemContext<'_>,
+    problem: &Problem,
+) -> Result<(Vec<Participant>, Snapshot), BuildError> {
+    let scene = context.world.problem_scene(problem).map_err(|error| BuildError::Scene {
+        problem: problem.name.clone(),
+        reason: error.to_string(),
+    })?;
+    let mut participants = Vec::new();
+    let mut poses = Vec::new();
+    // (gripper participant, scene body) pairs, mapped once every body has its participant index.
+    let mut holds = Vec::new();
+    for robot in scene.robots() {
+        let parts = context.adapter.robot_parts(&robot.name).ok_or_else(|| BuildError::Scene {
+            problem: problem.name.clone(),
+            reason: format!("robot `{}` is not declared", robot.name),
+        })?;
+        let first = participants.len();
+        participants.extend(parts.participants(&robot.name));
+        let mut links = vec![Pose::identity(); robot.robot().link_count()];
+        parts.part_poses(robot.configuration(), &mut links, &mut poses);
+        if let Some(gripper) = robot.gripper()
+            && let Some(held) = gripper.held
+            && let Some(part) =
+                parts.parts.iter().position(|part| part.type_name == gripper.part_type)
+        {
+            holds.push((first + part, held.body));
+        }
+    }
+    let mut body_participants = Vec::new();
+    for (index, body) in scene.bodies().iter().enumerate() {
+        if body.world {
+            body_participants.push(None);
+            continue;
+        }
+        body_participants.push(Some(participants.len()));
+        participants.push(Participant {
+            name: body.name.clone(),
+            type_name: body.type_name.clone(),
+            role: Role::Object { movable: body.movable },
+        });
+        poses.push(scene.body_pose(index));
+    }
+    let held = holds
+        .into_iter()
+        .filter_map(|(gripper, body)| {
+            body_participants.get(body).copied().flatten().map(|object| (gripper, object))
+        })
+        .collect();
+    Ok((participants, Snapshot { poses, held }))
+}

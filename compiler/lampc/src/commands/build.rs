@@ -1,0 +1,254 @@
+//! `lampc build`: learn regions, relations and actions from demonstration files; write the PDDL
+//! domain and problems, the sampler file and the vocabulary report into the build folder.
+//!
+//! The work is lamp-build's; this module finds and reads the files, shows progress, writes every
+//! artifact only once all of them are computed (each through a temporary file renamed into place),
+//! and prints the summary.
+
+use std::collections::BTreeSet;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+use indicatif::{ProgressBar, ProgressStyle};
+use lamp_build::{Adapter, ArtifactFile, Artifacts, BuildContext, BuildError, DemoFile};
+use lamp_lang::Loader;
+
+use crate::files::DiskLoader;
+
+/// Arguments of `lampc build`.
+#[derive(clap::Args)]
+pub(crate) struct Args {
+    /// The `.lamp` spec file.
+    pub(crate) spec: PathBuf,
+    /// The build folder [default: `build/` beside the spec].
+    #[arg(long, value_name = "DIR")]
+    pub(crate) out: Option<PathBuf>,
+    /// Read demonstrations from `DIR/*.mcap` instead of the spec's sources.
+    #[arg(long, value_name = "DIR")]
+    pub(crate) demos: Option<PathBuf>,
+}
+
+/// Why a build stopped.
+enum Failure {
+    /// The spec has errors (already rendered).
+    Spec,
+    /// A build error to render.
+    Build(Box<BuildError>),
+    /// Writing an artifact failed.
+    Write(String),
+}
+
+impl From<BuildError> for Failure {
+    fn from(error: BuildError) -> Self {
+        Failure::Build(Box::new(error))
+    }
+}
+
+/// Wall-clock time per phase, for the summary.
+#[derive(Default)]
+struct Timings(Vec<(&'static str, Duration)>);
+
+impl Timings {
+    fn time<T>(&mut self, phase: &'static str, work: impl FnOnce() -> T) -> T {
+        let start = Instant::now();
+        let result = work();
+        self.0.push((phase, start.elapsed()));
+        result
+    }
+}
+
+pub(crate) fn run(args: &Args) -> ExitCode {
+    let colour = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+    match build(args, colour) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::Spec) => ExitCode::from(crate::EXIT_DIAGNOSTICS),
+        Err(Failure::Build(error)) => {
+            eprint!("{}", render(error.as_ref(), colour));
+            eprintln!("lampc build: failed; no files were written");
+            ExitCode::from(crate::EXIT_DIAGNOSTICS)
+        }
+        Err(Failure::Write(reason)) => {
+            eprintln!("lampc build: {reason}");
+            ExitCode::from(crate::EXIT_DIAGNOSTICS)
+        }
+    }
+}
+
+fn build(args: &Args, colour: bool) -> Result<(), Failure> {
+    let mut timings = Timings::default();
+    let outcome = timings.time("check", || lamp_lang::check(&args.spec, &DiskLoader));
+    eprint!("{}", crate::diagnostics::render_all(&outcome, colour, crate::terminal_width()));
+    let Some(spec) = outcome.spec else {
+        let name = outcome.sources.name(lamp_lang::FileId(0)).to_string();
+        eprintln!("{name}: {} error(s)", outcome.diagnostics.len());
+        return Err(Failure::Spec);
+    };
+    let spec_dir = match args.spec.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let spec_file = args.spec.file_name().map_or_else(
+        || args.spec.display().to_string(),
+        |name| name.to_string_lossy().into_owned(),
+    );
+    let build_dir =
+        args.out.clone().unwrap_or_else(|| spec_dir.join(lamp_build::DEFAULT_BUILD_DIR));
+
+    let world = timings
+        .time("load", || lamp_world::SpecWorld::load(&spec_dir, &spec).map_err(BuildError::from))?;
+    let adapter = Adapter::new(&spec, &world.robots)?;
+    let paths = find_demonstrations(&spec, &spec_dir, &build_dir, args.demos.as_deref())?;
+    let names_base = args.demos.clone().unwrap_or_else(|| spec_dir.clone());
+
+    let (files, demonstrations) = timings.time("read", || {
+        let progress = progress_bar(paths.len() as u64, "reading demonstrations");
+        let mut files = Vec::with_capacity(paths.len());
+        let mut demonstrations = Vec::with_capacity(paths.len());
+        for path in &paths {
+            let name = lamp_build::demo_name(path, &names_base);
+            progress.set_message(name.clone());
+            let bytes = std::fs::read(path).map_err(|error| BuildError::Read {
+                file: path.display().to_string(),
+                reason: error.to_string(),
+            })?;
+            let file = DemoFile { name, bytes };
+            demonstrations.push(adapter.demonstration(&file)?);
+            files.push(file);
+            progress.inc(1);
+        }
+        progress.finish_and_clear();
+        Ok::<_, BuildError>((files, demonstrations))
+    })?;
+
+    let model = timings.time("learn", || {
+        let spinner = spinner("learning regions, relations and actions");
+        let model = lamp_build::learn_model(&spec, &demonstrations);
+        spinner.finish_and_clear();
+        model
+    })?;
+
+    let context =
+        BuildContext { spec: &spec, spec_file: &spec_file, world: &world, adapter: &adapter };
+    let digest = lamp_build::demonstration_digest(&files);
+    let artifacts = timings
+        .time("emit", || lamp_build::artifacts(&context, &model, &demonstrations, digest))?;
+    timings.time("write", || write_all(&build_dir, &artifacts.files)).map_err(Failure::Write)?;
+    print_summary(&spec_file, &build_dir, &artifacts, &timings);
+    Ok(())
+}
+
+/// Every demonstration file of the spec (or of `--demos`), sorted and without duplicates.
+fn find_demonstrations(
+    spec: &lamp_spec::Spec,
+    spec_dir: &Path,
+    build_dir: &Path,
+    demos: Option<&Path>,
+) -> Result<Vec<PathBuf>, BuildError> {
+    let patterns = lamp_build::demo_patterns(spec, spec_dir, build_dir, demos);
+    let paths: BTreeSet<PathBuf> =
+        patterns.iter().flat_map(|pattern| DiskLoader.glob(pattern)).collect();
+    if paths.is_empty() {
+        let searched: Vec<String> =
+            patterns.iter().map(|pattern| format!("`{}`", pattern.display())).collect();
+        let searched = if searched.is_empty() {
+            "the spec declares no demonstration source".to_string()
+        } else {
+            searched.join(", ")
+        };
+        return Err(BuildError::NoDemonstrations { searched });
+    }
+    Ok(paths.into_iter().collect())
+}
+
+/// A bar on a terminal, nothing at all otherwise (CI logs stay clean).
+fn progress_bar(length: u64, prefix: &'static str) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let style = ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} {wide_msg}")
+        .map(|style| style.progress_chars("=> "))
+        .unwrap_or_else(|_| ProgressStyle::default_bar());
+    ProgressBar::new(length).with_style(style).with_prefix(prefix)
+}
+
+fn spinner(message: &'static str) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let spinner = ProgressBar::new_spinner().with_message(message);
+    spinner.enable_steady_tick(Duration::from_millis(100));
+    spinner
+}
+
+/// Writes every artifact through a temporary file renamed into place, so that a failure never
+/// leaves a partly written artifact behind.
+fn write_all(build_dir: &Path, files: &[ArtifactFile]) -> Result<(), String> {
+    for file in files {
+        let path = build_dir.join(&file.path);
+        let folder = path.parent().unwrap_or(build_dir);
+        std::fs::create_dir_all(folder)
+            .map_err(|error| format!("cannot create {}: {error}", folder.display()))?;
+        let file_name = path.file_name().map(|name| name.to_string_lossy().into_owned());
+        let temporary = folder.join(format!(".{}.tmp", file_name.unwrap_or_default()));
+        std::fs::write(&temporary, &file.contents)
+            .map_err(|error| format!("cannot write {}: {error}", temporary.display()))?;
+        std::fs::rename(&temporary, &path).map_err(|error| {
+            let _ = std::fs::remove_file(&temporary);
+            format!("cannot move {} to {}: {error}", temporary.display(), path.display())
+        })?;
+    }
+    Ok(())
+}
+
+fn render(error: &dyn miette::Diagnostic, colour: bool) -> String {
+    use miette::{GraphicalReportHandler, GraphicalTheme};
+    let theme = if colour { GraphicalTheme::unicode() } else { GraphicalTheme::unicode_nocolor() };
+    let handler = GraphicalReportHandler::new_themed(theme).with_width(crate::terminal_width());
+    let mut out = String::new();
+    if handler.render_report(&mut out, error).is_err() {
+        out = format!("error: {error}\n");
+    }
+    out.push('\n');
+    out
+}
+
+fn print_summary(spec_file: &str, build_dir: &Path, artifacts: &Artifacts, timings: &Timings) {
+    let summary = &artifacts.summary;
+    println!("{spec_file}: built into {}", build_dir.display());
+    println!(
+        "  demonstrations  {} files, {} steps ({})",
+        summary.demonstrations, summary.steps, summary.digest
+    );
+    println!(
+        "  learned         {} regions, {} relations, {} actions",
+        summary.regions, summary.relations, summary.actions
+    );
+    if !summary.pairs_without_regions.is_empty() {
+        println!("  no regions      {}", summary.pairs_without_regions.join(", "));
+    }
+    for (alias, relation) in &summary.aliases {
+        println!("  alias           {alias} = {relation}");
+    }
+    println!(
+        "  problems        {} written, {} skipped",
+        summary.problems_written.len(),
+        summary.problems_skipped.len()
+    );
+    for (problem, note) in &summary.notes {
+        println!("  note            {problem}: {note}");
+    }
+    for (problem, reason) in &summary.problems_skipped {
+        println!("  skipped         {problem}: {reason}");
+    }
+    let written: Vec<String> =
+        artifacts.files.iter().map(|file| file.path.display().to_string()).collect();
+    println!("  wrote           {}", written.join(", "));
+    let phases: Vec<String> = timings
+        .0
+        .iter()
+        .map(|(phase, duration)| format!("{phase} {:.2} s", duration.as_secs_f64()))
+        .collect();
+    println!("  time            {}", phases.join(", "));
+}

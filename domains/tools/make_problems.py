@@ -1,0 +1,254 @@
+"""Generates the bundled test problems of the Packing and Café specs.
+
+Run `python3 domains/tools/make_problems.py packing` (or `cafe`) and paste the printed problem
+blocks into domains/packing/packing.lamp (domains/cafe/cafe.lamp) in place of the old ones.
+The output is deterministic: each domain has a fixed seed, and every layout is checked against
+the rules below after rounding, so the printed numbers are the checked ones.
+
+Packing (12 problems pack4_01 … pack4_12): the 0.9 m × 0.9 m table, the open box (outer
+0.17 m × 0.17 m) somewhere on it with some yaw, four cans (radius 0.0325 m) standing on the
+table at z = 0.001 m with random yaw, and the gripper above the table; the goal is all four cans
+in the box. Cans keep 2 cm from each other, from the box and from the table's edge.
+pack4_01 is the original hand-written problem, kept as it was (it satisfies the same rules).
+
+Café (12 problems with 2, 2, 3, 4, 4, 6, 8, 8, 10, 16, 17, 18 cans): one furniture layout (four
+tables, one counter, all at least 0.8 m apart so the Fetch base, radius 0.28 m, drives between
+them), cans (radius 0.045 m) on the surfaces at surface z + 0.001 m, 3 cm apart and at least
+5 cm from a surface's edge; every can gets a goal surface and at least half of them move.
+The Fetch starts at the floor origin, tucked, more than 1 m from every piece of furniture.
+
+The bundled tests (tests/domains.rs) check the result with lamp's own collision checker.
+"""
+
+import math
+import random
+import sys
+
+# --- Packing ---------------------------------------------------------------------------------
+
+TABLE_HALF = 0.45
+BOX_HALF = 0.085  # outer half side of the box (walls at ±0.08, 1 cm thick)
+CAN_RADIUS = 0.0325
+PACK_CLEARANCE = 0.02
+
+ORIGINAL_PACK4_01 = {
+    "box": (0.25, 0.15, 30),
+    "cans": [(-0.25, -0.20, 0), (-0.10, -0.25, 45), (0.05, -0.30, 0), (-0.30, 0.05, 90)],
+}
+
+
+def square_distance(px, py, cx, cy, yaw_deg, half):
+    """Distance from point (px, py) to a square of half side `half` centred at (cx, cy), yawed."""
+    yaw = math.radians(yaw_deg)
+    dx, dy = px - cx, py - cy
+    lx = math.cos(yaw) * dx + math.sin(yaw) * dy
+    ly = -math.sin(yaw) * dx + math.cos(yaw) * dy
+    ox, oy = max(abs(lx) - half, 0.0), max(abs(ly) - half, 0.0)
+    return math.hypot(ox, oy)
+
+
+def packing_ok(layout):
+    bx, by, byaw = layout["box"]
+    # The box lies on the table: its farthest corner stays inside the top.
+    reach = BOX_HALF * math.sqrt(2)
+    if max(abs(bx), abs(by)) + reach > TABLE_HALF - PACK_CLEARANCE:
+        return False
+    cans = layout["cans"]
+    for i, (x, y, _) in enumerate(cans):
+        if max(abs(x), abs(y)) + CAN_RADIUS > TABLE_HALF - PACK_CLEARANCE:
+            return False
+        if square_distance(x, y, bx, by, byaw, BOX_HALF) < CAN_RADIUS + PACK_CLEARANCE:
+            return False
+        for (x2, y2, _) in cans[:i]:
+            if math.hypot(x - x2, y - y2) < 2 * CAN_RADIUS + PACK_CLEARANCE:
+                return False
+    return True
+
+
+def packing_layouts():
+    rng = random.Random(20251)
+    layouts = [ORIGINAL_PACK4_01]
+    assert packing_ok(ORIGINAL_PACK4_01)
+    limit_box = TABLE_HALF - PACK_CLEARANCE - BOX_HALF * math.sqrt(2)
+    limit_can = TABLE_HALF - PACK_CLEARANCE - CAN_RADIUS
+    while len(layouts) < 12:
+        box = (round(rng.uniform(-limit_box, limit_box), 2),
+               round(rng.uniform(-limit_box, limit_box), 2),
+               rng.randrange(0, 90))
+        # Different layouts: the box is not where an earlier problem has it.
+        if any(math.hypot(box[0] - l["box"][0], box[1] - l["box"][1]) < 0.08 for l in layouts):
+            continue
+        cans = []
+        tries = 0
+        while len(cans) < 4 and tries < 1000:
+            tries += 1
+            can = (round(rng.uniform(-limit_can, limit_can), 2),
+                   round(rng.uniform(-limit_can, limit_can), 2),
+                   rng.randrange(0, 360))
+            if packing_ok({"box": box, "cans": cans + [can]}):
+                cans.append(can)
+        if len(cans) == 4:
+            layouts.append({"box": box, "cans": cans})
+    return layouts
+
+
+def fmt(value):
+    """A number with at most three decimals, trailing zeros dropped."""
+    text = f"{value:.3f}".rstrip("0").rstrip(".")
+    return "0" if text in ("", "-0") else text
+
+
+def rpy(yaw):
+    return f" rpy (0, 0, {yaw}) deg" if yaw else ""
+
+
+def print_packing():
+    for index, layout in enumerate(packing_layouts(), start=1):
+        bx, by, byaw = layout["box"]
+        gap = min(
+            math.hypot(a[0] - b[0], a[1] - b[1]) - 2 * CAN_RADIUS
+            for i, a in enumerate(layout["cans"]) for b in layout["cans"][:i]
+        )
+        note = "the original problem" if index == 1 else "generated"
+        print(f"// pack4_{index:02d}: box at ({fmt(bx)}, {fmt(by)}) yawed {byaw} deg; "
+              f"closest cans {gap * 100:.0f} cm apart ({note}).")
+        print(f"problem pack4_{index:02d} {{")
+        print("  scene {")
+        print("    table table1 at (0, 0, 0) m")
+        print(f"    surface box1 at ({fmt(bx)}, {fmt(by)}, 0) m{rpy(byaw)}")
+        for k, (x, y, yaw) in enumerate(layout["cans"], start=1):
+            print(f"    can can{k} at ({fmt(x)}, {fmt(y)}, 0.001) m{rpy(yaw)}")
+        print("    robot gripper at (0, 0, 0.45) m rpy (180, 0, 0) deg")
+        print("  }")
+        print("  goal {")
+        for k in range(1, 5):
+            print(f"    in_box(can{k}, box1)")
+        print("  }")
+        print("}")
+        print()
+
+
+# --- Café ------------------------------------------------------------------------------------
+
+CAFE_CAN_RADIUS = 0.045
+CAFE_CAN_GAP = 0.03
+CAFE_EDGE = 0.05
+FURNITURE_GAP = 0.8  # Fetch base diameter 0.56 m plus room to turn
+ROBOT_CLEARANCE = 1.0
+
+# name, type, x, y, top z, yaw (deg), half sizes of the top in the surface frame.
+SURFACES = [
+    ("table1", "table", 2.0, -1.0, 0.73, 0, 0.45, 0.45),
+    ("table2", "table", 4.0, 1.5, 0.73, 90, 0.45, 0.45),
+    ("table3", "table", -2.0, -1.5, 0.73, 0, 0.45, 0.45),
+    ("table4", "table", 2.5, 3.2, 0.73, 0, 0.45, 0.45),
+    ("counter1", "counter", 0.5, 2.5, 0.9, 0, 0.6, 0.3),
+]
+
+CAFE_COUNTS = [2, 2, 3, 4, 4, 6, 8, 8, 10, 16, 17, 18]
+
+
+def footprint(surface):
+    """World axis-aligned half sizes of a surface (yaw is a multiple of 90 degrees)."""
+    _, _, x, y, _, yaw, hx, hy = surface
+    if yaw % 180 == 90:
+        hx, hy = hy, hx
+    return x - hx, x + hx, y - hy, y + hy
+
+
+def furniture_ok():
+    boxes = [footprint(s) for s in SURFACES]
+    for i, a in enumerate(boxes):
+        # The robot at the origin (radius 0.28 m, tucked arm inside) keeps a metre away.
+        dx = max(a[0], -a[1], 0)
+        dy = max(a[2], -a[3], 0)
+        if math.hypot(dx, dy) < ROBOT_CLEARANCE:
+            return False
+        for b in boxes[:i]:
+            gx = max(a[0] - b[1], b[0] - a[1], 0)
+            gy = max(a[2] - b[3], b[2] - a[3], 0)
+            if math.hypot(gx, gy) < FURNITURE_GAP:
+                return False
+    return True
+
+
+def to_world(surface, lx, ly):
+    _, _, x, y, z, yaw, _, _ = surface
+    c, s = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
+    return x + c * lx - s * ly, y + s * lx + c * ly, z + 0.001
+
+
+def place_cans(rng, count):
+    """Cans on random surfaces; returns (surface index, world x, y, z, yaw) per can."""
+    cans = []
+    while len(cans) < count:
+        index = rng.randrange(len(SURFACES))
+        surface = SURFACES[index]
+        hx = surface[6] - CAFE_EDGE - CAFE_CAN_RADIUS
+        hy = surface[7] - CAFE_EDGE - CAFE_CAN_RADIUS
+        lx, ly = round(rng.uniform(-hx, hx), 2), round(rng.uniform(-hy, hy), 2)
+        if abs(lx) > hx or abs(ly) > hy:
+            continue
+        x, y, z = to_world(surface, lx, ly)
+        x, y = round(x, 3), round(y, 3)
+        if any(math.hypot(x - c[1], y - c[2]) < 2 * CAFE_CAN_RADIUS + CAFE_CAN_GAP for c in cans):
+            continue
+        cans.append((index, x, y, z, rng.randrange(0, 360)))
+    return cans
+
+
+def goals(rng, cans):
+    """A goal surface per can; at least half of the cans move to another surface."""
+    count = len(cans)
+    movers = set(rng.sample(range(count), (count + 1) // 2))
+    result = []
+    for k, can in enumerate(cans):
+        if k in movers:
+            choices = [i for i in range(len(SURFACES)) if i != can[0]]
+        else:
+            choices = list(range(len(SURFACES)))
+        result.append(rng.choice(choices))
+    return result
+
+
+def print_cafe():
+    assert furniture_ok()
+    rng = random.Random(20252)
+    seen = {}
+    for count in CAFE_COUNTS:
+        seen[count] = seen.get(count, 0) + 1
+        name = f"cafe{count}_{seen[count]:02d}"
+        cans = place_cans(rng, count)
+        targets = goals(rng, cans)
+        moving = sum(1 for can, goal in zip(cans, targets) if goal != can[0])
+        starts = [sum(1 for c in cans if c[0] == i) for i in range(len(SURFACES))]
+        where = ", ".join(f"{SURFACES[i][0]} {n}" for i, n in enumerate(starts) if n)
+        print(f"// {name}: {count} cans ({where}); {moving} move to another surface.")
+        print(f"problem {name} {{")
+        print("  scene {")
+        print("    floor floor1 at (0, 0, 0) m")
+        for surface in SURFACES:
+            sname, stype, x, y, z, yaw, _, _ = surface
+            print(f"    {stype} {sname} at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m{rpy(yaw)}")
+        for k, (_, x, y, z, yaw) in enumerate(cans, start=1):
+            print(f"    can can{k} at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m{rpy(yaw)}")
+        print("    robot fetch at (0, 0, 0) m config tuck")
+        print("  }")
+        print("  goal {")
+        for k, goal in enumerate(targets, start=1):
+            sname, stype = SURFACES[goal][0], SURFACES[goal][1]
+            relation = "on_table" if stype == "table" else "on_counter"
+            print(f"    {relation}(can{k}, {sname})")
+        print("  }")
+        print("}")
+        print()
+
+
+if __name__ == "__main__":
+    which = sys.argv[1] if len(sys.argv) > 1 else ""
+    if which == "packing":
+        print_packing()
+    elif which == "cafe":
+        print_cafe()
+    else:
+        sys.exit("usage: make_problems.py packing|cafe")

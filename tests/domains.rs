@@ -1,0 +1,226 @@
+//! The bundled specs under `domains/`: each checks cleanly, and the Packing and Café test
+//! problems are the promised ones (counts, names, goals) with sound initial scenes: no body
+//! touches another, objects keep their clearances, and each robot starts collision-free.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use lamp_geometry::{Pose, Shape};
+use lamp_spec::{Problem, Spec};
+use lamp_tests::workspace_root;
+use lamp_world::{Scene, SpecWorld};
+
+/// The disk, for the bundled specs.
+struct Disk;
+
+impl lamp_lang::Loader for Disk {
+    fn read_to_string(&self, path: &Path) -> Result<String, String> {
+        std::fs::read_to_string(path).map_err(|e| e.to_string())
+    }
+    fn exists(&self, path: &Path) -> bool {
+        path.is_file()
+    }
+    fn glob(&self, _pattern: &Path) -> Vec<PathBuf> {
+        Vec::new()
+    }
+}
+
+fn check(path: &Path) -> Spec {
+    let outcome = lamp_lang::check(path, &Disk);
+    let messages: Vec<String> =
+        outcome.diagnostics.iter().map(|d| format!("{:?}", d.error)).collect();
+    outcome
+        .spec
+        .unwrap_or_else(|| panic!("{} does not check:\n{}", path.display(), messages.join("\n")))
+}
+
+fn bundled(domain: &str) -> (Spec, SpecWorld) {
+    let dir = workspace_root().join("domains").join(domain);
+    let spec = check(&dir.join(format!("{domain}.lamp")));
+    let world = SpecWorld::load(&dir, &spec).expect("the bundled robots and types load");
+    (spec, world)
+}
+
+#[test]
+fn every_bundled_spec_checks_cleanly() {
+    let mut specs = Vec::new();
+    for entry in std::fs::read_dir(workspace_root().join("domains")).expect("domains/") {
+        let dir = entry.expect("a folder entry").path();
+        for file in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+            if file.path().extension().is_some_and(|e| e == "lamp") {
+                specs.push(file.path());
+            }
+        }
+    }
+    specs.sort();
+    assert!(specs.len() >= 5, "the five domains are bundled: {specs:?}");
+    for path in specs {
+        let spec = check(&path);
+        assert!(!spec.problems.is_empty(), "{} has problems", path.display());
+    }
+}
+
+/// The initial scene has no touching bodies and every robot's configuration is valid.
+fn assert_sound(problem: &Problem, scene: &Scene) {
+    assert_eq!(scene.body_contacts(), Vec::<(String, String)>::new(), "{}", problem.name);
+    for (index, robot) in scene.robots().iter().enumerate() {
+        let q = robot.configuration().to_vec();
+        assert_eq!(
+            scene.first_contact(index, &q),
+            None,
+            "{}: robot `{}` starts in collision",
+            problem.name,
+            robot.name
+        );
+    }
+}
+
+/// Pairs of bodies closer than `margin`, leaving out the pairs where one of them is `support`
+/// (what the objects stand on, 1 mm below them).
+fn close_pairs(scene: &Scene, margin: f64, supports: &[&str]) -> Vec<(String, String)> {
+    let mut scene = scene.clone();
+    scene.set_margin(margin);
+    scene
+        .body_contacts()
+        .into_iter()
+        .filter(|(a, b)| !supports.contains(&a.as_str()) && !supports.contains(&b.as_str()))
+        .collect()
+}
+
+fn objects_of<'a>(problem: &'a Problem, type_name: &str) -> Vec<&'a str> {
+    problem
+        .scene
+        .objects
+        .iter()
+        .filter(|o| o.type_name == type_name)
+        .map(|o| o.name.as_str())
+        .collect()
+}
+
+#[test]
+fn packing_has_twelve_sound_four_can_problems() {
+    let (spec, world) = bundled("packing");
+    let names: Vec<&str> = spec.problems.iter().map(|p| p.name.as_str()).collect();
+    let expected: Vec<String> = (1..=12).map(|k| format!("pack4_{k:02}")).collect();
+    assert_eq!(names, expected);
+    let mut box_poses: Vec<Pose> = Vec::new();
+    for problem in &spec.problems {
+        let cans = objects_of(problem, "can");
+        assert_eq!(cans.len(), 4, "{}", problem.name);
+        assert_eq!(objects_of(problem, "surface"), ["box1"], "{}", problem.name);
+        let goals: Vec<(String, Vec<String>)> =
+            problem.goal.atoms.iter().map(|a| (a.relation.clone(), a.arguments.clone())).collect();
+        for can in &cans {
+            assert!(
+                goals.contains(&("in_box".to_string(), vec![can.to_string(), "box1".to_string()])),
+                "{}: {can} goes into the box",
+                problem.name
+            );
+        }
+        let scene = world.problem_scene(problem).expect("the scene builds");
+        assert_sound(problem, &scene);
+        // 2 cm between cans and between a can and the box, so the gripper reaches each.
+        assert_eq!(close_pairs(&scene, 0.0199, &["table1"]), Vec::new(), "{}", problem.name);
+        for object in &problem.scene.objects {
+            if object.type_name == "can" {
+                let p = object.pose.translation.vector;
+                assert!(
+                    p.x.abs().max(p.y.abs()) + 0.0325 <= 0.45,
+                    "{}: {} on the table",
+                    problem.name,
+                    object.name
+                );
+                assert!(
+                    (p.z - 0.001).abs() < 1e-9,
+                    "{}: {} stands on the table",
+                    problem.name,
+                    object.name
+                );
+            }
+            if object.type_name == "surface" {
+                let index = scene.body_index(&object.name).expect("the box is in the scene");
+                box_poses.push(scene.body_pose(index));
+            }
+        }
+    }
+    // Different layouts: no two problems put the box in the same place.
+    for (i, a) in box_poses.iter().enumerate() {
+        for b in &box_poses[..i] {
+            assert!((a.translation.vector - b.translation.vector).norm() > 0.05);
+        }
+    }
+}
+
+#[test]
+fn cafe_has_twelve_sound_problems_with_the_promised_can_counts() {
+    let (spec, world) = bundled("cafe");
+    let counts: Vec<usize> = spec.problems.iter().map(|p| objects_of(p, "can").len()).collect();
+    assert_eq!(counts, [2, 2, 3, 4, 4, 6, 8, 8, 10, 16, 17, 18]);
+    let mut seen: BTreeMap<usize, usize> = BTreeMap::new();
+    let furniture = |problem: &Problem| -> Vec<(String, String, Pose)> {
+        let mut list: Vec<_> = problem
+            .scene
+            .objects
+            .iter()
+            .filter(|o| o.type_name != "can")
+            .map(|o| (o.name.clone(), o.type_name.clone(), o.pose))
+            .collect();
+        list.sort_by(|a, b| a.0.cmp(&b.0));
+        list
+    };
+    let layout = furniture(&spec.problems[0]);
+    let tables = layout.iter().filter(|(_, t, _)| t == "table").count();
+    assert!(tables >= 3, "at least three tables");
+    assert!(layout.iter().any(|(_, t, _)| t == "counter"));
+    let top_half = |type_name: &str| match &world.type_parts[type_name][0].1 {
+        Shape::Box { half_extents } => (half_extents.x, half_extents.y),
+        other => panic!("the top of a {type_name} is a box, not {other:?}"),
+    };
+
+    for (problem, count) in spec.problems.iter().zip(&counts) {
+        let k = seen.entry(*count).or_insert(0);
+        *k += 1;
+        assert_eq!(problem.name, format!("cafe{count}_{:02}", *k));
+        assert_eq!(furniture(problem), layout, "{}: the same furniture everywhere", problem.name);
+        let robot = &problem.scene.robots[0];
+        assert_eq!(robot.configuration.as_deref(), Some("tuck"));
+
+        let scene = world.problem_scene(problem).expect("the scene builds");
+        assert_sound(problem, &scene);
+        let surfaces: Vec<&str> = layout.iter().map(|(name, _, _)| name.as_str()).collect();
+        // 3 cm between cans.
+        assert_eq!(close_pairs(&scene, 0.0299, &surfaces), Vec::new(), "{}", problem.name);
+
+        let mut moving = 0;
+        for can in problem.scene.objects.iter().filter(|o| o.type_name == "can") {
+            // The surface the can stands on, 5 cm clear of its edges.
+            let support = layout.iter().find(|(_, type_name, pose)| {
+                let local = pose.inverse() * can.pose;
+                let (hx, hy) = top_half(type_name);
+                let p = local.translation.vector;
+                (p.z - 0.001).abs() < 1e-9
+                    && p.x.abs() + 0.045 + 0.05 <= hx + 1e-9
+                    && p.y.abs() + 0.045 + 0.05 <= hy + 1e-9
+            });
+            let Some((support, _, _)) = support else {
+                panic!(
+                    "{}: {} does not stand on a surface, 5 cm from its edges",
+                    problem.name, can.name
+                )
+            };
+            let goal = problem
+                .goal
+                .atoms
+                .iter()
+                .find(|a| a.arguments.first() == Some(&can.name))
+                .unwrap_or_else(|| panic!("{}: {} has a goal", problem.name, can.name));
+            let target = &goal.arguments[1];
+            let relation = if target.starts_with("counter") { "on_counter" } else { "on_table" };
+            assert_eq!(goal.relation, relation);
+            if target != support {
+                moving += 1;
+            }
+        }
+        assert!(2 * moving >= *count, "{}: {moving} of {count} cans move", problem.name);
+    }
+}
