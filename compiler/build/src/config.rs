@@ -1,8 +1,8 @@
 //! The spec's `learn { … }` block as the learner's configuration.
 //!
 //! The spec resolves defaults and per-pair overrides; this maps them field by field. The spec
-//! language has no `clear` switch, no minimum support, rotation share or sample count yet, so
-//! those keep lamp-learn's defaults (see `docs/learning.md`).
+//! language has no minimum support, rotation share or sample count yet, so those keep
+//! lamp-learn's defaults (see `docs/learning.md`).
 
 use lamp_learn::{LearnConfig, PairSettings, TypePair};
 
@@ -36,6 +36,7 @@ fn pair_settings(settings: &lamp_spec::PairSettings) -> PairSettings {
         threshold: settings.threshold,
         max_components: settings.max_components as usize,
         cover: settings.likelihood_cover,
+        clear: settings.clear,
         ..PairSettings::default()
     }
 }
@@ -50,6 +51,7 @@ mod tests {
         let mut override_settings = lamp_spec::PairSettings::DEFAULT;
         override_settings.position_bins = [9, 9, 6];
         override_settings.threshold = 0.2;
+        override_settings.clear = false;
         let learning = lamp_spec::Learning {
             defaults: lamp_spec::PairSettings::DEFAULT,
             pairs: BTreeMap::from([(("surface".into(), "can".into()), override_settings)]),
@@ -78,6 +80,7 @@ mod tests {
         assert_eq!(config.default.max_components, 6);
         let surface_can = config.settings(&TypePair::new("can", "surface"));
         assert_eq!((surface_can.position_bins, surface_can.threshold), ([9, 9, 6], 0.2));
+        assert!(!surface_can.clear && config.default.clear);
         assert!(config.is_ignored(&TypePair::new("can", "can")));
         assert_eq!(config.validate(), Ok(()));
     }

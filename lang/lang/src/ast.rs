@@ -128,11 +128,22 @@ pub enum DemoSource {
 #[derive(Clone, Debug)]
 pub enum LearnItem {
     Threshold(Quantity, Span),
-    Position { bins: Vector, range: Option<Vector>, span: Span },
+    Position {
+        bins: Vector,
+        range: Option<Vector>,
+        span: Span,
+    },
     Rotation(Quantity, Span),
     Components(Quantity, Span),
     Likelihood(Quantity, Span),
-    Pair { first: Name, second: Name, items: Vec<LearnItem>, span: Span },
+    /// `clear on` / `clear off`: whether `clear_…` relations are invented.
+    Clear(bool, Span),
+    Pair {
+        first: Name,
+        second: Name,
+        items: Vec<LearnItem>,
+        span: Span,
+    },
     IgnorePair(Name, Name),
 }
 

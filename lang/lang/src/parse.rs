@@ -136,6 +136,7 @@ fn describe(rule: Rule) -> &'static str {
             "a shape (box, cylinder, sphere, mesh)"
         }
         Rule::mesh_mode => "`convex` or `trimesh`",
+        Rule::switch => "`on` or `off`",
         Rule::at => "`at`",
         Rule::simulate | Rule::files => "a demonstration source (simulate, files)",
         Rule::threshold
@@ -143,9 +144,10 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::rotation
         | Rule::components
         | Rule::likelihood
+        | Rule::clear
         | Rule::pair_override
         | Rule::ignore_pair => {
-            "a learning setting (threshold, position, rotation, components, likelihood, pair, ignore pair)"
+            "a learning setting (threshold, position, rotation, components, likelihood, clear, pair, ignore pair)"
         }
         Rule::placement => "a placement `TYPE NAME at POSE`",
         Rule::scene_inline | Rule::scene_ref | Rule::goal => "`scene` or `goal`",
@@ -439,6 +441,7 @@ impl Lower {
             Rule::rotation => LearnItem::Rotation(self.quantity(next()), span),
             Rule::components => LearnItem::Components(self.quantity(next()), span),
             Rule::likelihood => LearnItem::Likelihood(self.quantity(next()), span),
+            Rule::clear => LearnItem::Clear(next().as_str() == "on", span),
             Rule::pair_override => {
                 let first = self.name(next());
                 let second = self.name(next());

@@ -20,6 +20,10 @@ pub struct PairSettings {
     pub max_components: u32,
     /// Fraction of a region's own samples the membership threshold must accept.
     pub likelihood_cover: f64,
+    /// Whether `clear_<t1>_<t2>_<k>` relations are invented for the pair. Off for a pair whose
+    /// primary holds several secondaries at once (a box holding cans), where "region k is empty"
+    /// would wrongly become a precondition of putting one more in.
+    pub clear: bool,
 }
 
 impl PairSettings {
@@ -31,6 +35,7 @@ impl PairSettings {
         threshold: 0.5,
         max_components: 6,
         likelihood_cover: 0.99,
+        clear: true,
     };
 }
 

@@ -390,6 +390,11 @@ impl Checker<'_> {
                         out.likelihood_cover = v;
                     }
                 }
+                LearnItem::Clear(on, span) => {
+                    if self.once(&mut seen.clear, "`clear`", *span) {
+                        out.clear = *on;
+                    }
+                }
                 LearnItem::Pair { .. } | LearnItem::IgnorePair(..) => {}
             }
         }
@@ -504,4 +509,5 @@ struct Settings {
     rotation: Option<Span>,
     components: Option<Span>,
     likelihood: Option<Span>,
+    clear: Option<Span>,
 }
