@@ -4,7 +4,7 @@
 //! Bodies that never move are not checked against each other; movable bodies resting on a
 //! surface must clear it (the bundled scenes place them 1 mm above).
 
-use lamp_geometry::{BodyId, Pose, intersects, within_margin};
+use lamp_geometry::{Aabb, BodyId, Pose, intersects, within_margin};
 
 use crate::scene::Scene;
 
@@ -68,12 +68,23 @@ impl Scene {
         let link_name = |index: usize| model.link_name(state.links[index].0).to_string();
 
         let moves = |index: usize| moving.is_none_or(|mask| mask[index]);
+        // Every link's world box, once: the broad phase against bodies, each other and the
+        // held object (exact tests are far dearer than comparing boxes).
+        let boxes: Vec<Aabb> =
+            state.links.iter().map(|(link, shape)| shape.aabb(&poses[*link])).collect();
         for (index, (link, shape)) in state.links.iter().enumerate() {
             if !moves(index) {
                 continue;
             }
             let pose = poses[*link];
-            if let Some(body) = self.collision.first_contact(shape, &pose, self.margin, |_| false) {
+            let hit = self.collision.first_contact_in_box(
+                shape,
+                &pose,
+                &boxes[index],
+                self.margin,
+                |_| false,
+            );
+            if let Some(body) = hit {
                 return Some(Contact::LinkBody {
                     link: link_name(index),
                     body: self.bodies[body.0].name.clone(),
@@ -82,6 +93,9 @@ impl Scene {
         }
         for &(a, b) in &state.self_pairs {
             if !moves(a) && !moves(b) {
+                continue;
+            }
+            if !boxes[a].overlaps(&boxes[b], 0.0) {
                 continue;
             }
             let (link_a, shape_a) = &state.links[a];
@@ -95,6 +109,7 @@ impl Scene {
             let held_pose = poses[gripper_link] * held.grasp;
             let held_shape = self.collision.shape(BodyId(held.body))?;
             let skip = |id: BodyId| id.0 == held.body;
+            let held_box = held_shape.aabb(&held_pose);
             if let Some(body) =
                 self.collision.first_contact(held_shape, &held_pose, self.margin, skip)
             {
@@ -105,6 +120,7 @@ impl Scene {
             }
             for (index, (link, shape)) in state.links.iter().enumerate() {
                 if !state.touches_held[index]
+                    && held_box.overlaps(&boxes[index], 0.0)
                     && within_margin(held_shape, &held_pose, shape, &poses[*link], 0.0)
                 {
                     return Some(Contact::HeldLink {
