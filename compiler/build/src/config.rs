@@ -37,7 +37,6 @@ fn pair_settings(settings: &lamp_spec::PairSettings) -> PairSettings {
         max_components: settings.max_components as usize,
         cover: settings.likelihood_cover,
         clear: settings.clear,
-        ..PairSettings::default()
     }
 }
 

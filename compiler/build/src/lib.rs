@@ -19,6 +19,7 @@ pub mod input;
 pub mod pipeline;
 pub mod problems;
 pub mod provenance;
+pub mod region_plots;
 pub mod samplers;
 
 pub use adapter::{Adapter, part_participant_name};
@@ -33,4 +34,5 @@ pub use pipeline::{
 };
 pub use problems::{ProblemOutcome, problem_pddl};
 pub use provenance::Provenance;
+pub use region_plots::{REGIONS_DIR, SAMPLES_PER_REGION, region_plots};
 pub use samplers::{SAMPLERS_FORMAT, SAMPLERS_VERSION, SamplersFile};

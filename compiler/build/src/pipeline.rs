@@ -140,16 +140,31 @@ pub fn artifacts(
     }
     let samplers = SamplersFile::new(provenance.clone(), SamplerArtifact::from_model(model));
     files.push(ArtifactFile { path: SAMPLERS_FILE.into(), contents: samplers.to_json()? });
+    let plots = crate::region_plots::region_plots(model, context.world, spec.seed);
     files.push(ArtifactFile {
         path: VOCABULARY_FILE.into(),
-        contents: vocabulary(&provenance, model),
+        contents: vocabulary(&provenance, model, &plots),
     });
+    files.extend(plots);
+    files.sort_by(|a, b| a.path.cmp(&b.path));
     Ok(Artifacts { files, summary })
 }
 
 /// The vocabulary report with the provenance under its title.
-fn vocabulary(provenance: &Provenance, model: &Model) -> String {
-    let report = lamp_learn::vocabulary_report(model);
+fn vocabulary(provenance: &Provenance, model: &Model, plots: &[ArtifactFile]) -> String {
+    let mut report = lamp_learn::vocabulary_report(model);
+    if !plots.is_empty() {
+        report.truncate(report.trim_end().len());
+        report.push_str("\n\n## Region pictures\n\nSamples of every region in the primary's frame, top and side views.\n\n");
+        for plot in plots {
+            let path = plot.path.to_string_lossy().replace('\\', "/");
+            let stem =
+                plot.path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+            report.push_str(&format!("![{stem}]({path})\n\n"));
+        }
+        report.truncate(report.trim_end().len());
+        report.push('\n');
+    }
     let lines = provenance.lines();
     let mut block = String::new();
     for (index, line) in lines.iter().enumerate() {

@@ -25,8 +25,16 @@ fn every_artifact_is_produced_with_a_summary() {
     let (model, artifacts) = &*PACKING_BUILD;
     let paths: Vec<PathBuf> = artifacts.files.iter().map(|file| file.path.clone()).collect();
     let problems: Vec<String> = (1..=12).map(|k| format!("pack4_{k:02}")).collect();
-    let mut expected: Vec<PathBuf> =
-        ["domain.pddl", "samplers.json", "vocabulary.md"].iter().map(PathBuf::from).collect();
+    let mut expected: Vec<PathBuf> = [
+        "domain.pddl",
+        "samplers.json",
+        "vocabulary.md",
+        "regions/gripper_can.svg",
+        "regions/surface_can.svg",
+    ]
+    .iter()
+    .map(PathBuf::from)
+    .collect();
     expected.extend(problems.iter().map(|name| PathBuf::from(format!("problems/{name}.pddl"))));
     expected.sort();
     assert_eq!(paths, expected);

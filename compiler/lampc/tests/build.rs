@@ -11,7 +11,13 @@ use std::process::{Command, Output};
 
 const DEMOS: usize = 40;
 const SEED: u64 = 11;
-const ARTIFACTS: [&str; 3] = ["domain.pddl", "samplers.json", "vocabulary.md"];
+const ARTIFACTS: [&str; 5] = [
+    "domain.pddl",
+    "regions/gripper_can.svg",
+    "regions/surface_can.svg",
+    "samplers.json",
+    "vocabulary.md",
+];
 /// The bundled Packing spec has twelve four-can problems.
 const PROBLEMS: usize = 12;
 
