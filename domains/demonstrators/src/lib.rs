@@ -1,0 +1,242 @@
+//! Simulated demonstrators: scripted skills (approach, grasp, carry, place, retreat) executed
+//! with lamp-world's collision-free IK and RRT-Connect, recorded as demonstration files.
+//!
+//! Pure: a spec's loaded world in, `Trajectory` values or MCAP bytes out; `lampc demos` writes
+//! the files. Demonstration `i` draws every random choice from
+//! `ChaCha8Rng::seed_from_u64(seed)` with `set_stream(i)` ([`demo_rng`]), so demonstrations are
+//! generated in parallel (rayon) and are identical whatever the thread count.
+//! `docs/demonstrations.md` describes what each demonstrator does.
+
+mod cafe;
+mod error;
+mod packing;
+mod recorder;
+mod skills;
+
+use std::collections::BTreeMap;
+
+use lamp_spec::{DemoSource, Spec};
+use lamp_trajectory::{Step, Trajectory, TrajectoryHeader};
+use lamp_world::SpecWorld;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+
+pub use error::DemoError;
+pub use recorder::STEP_NANOSECONDS;
+
+/// Attempts per demonstration before giving up (each with fresh random choices).
+pub const MAX_ATTEMPTS: u32 = 25;
+
+/// The demonstrators lamp ships.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Demonstrator {
+    /// A free-flying magnetic gripper packs a can into an open box.
+    Packing,
+    /// A Fetch carries a can between tables and a counter.
+    Cafe,
+}
+
+impl Demonstrator {
+    /// The demonstrator called `name` in a spec (`packing`, `cafe`).
+    pub fn from_name(name: &str) -> Result<Demonstrator, DemoError> {
+        match name {
+            "packing" => Ok(Demonstrator::Packing),
+            "cafe" => Ok(Demonstrator::Cafe),
+            _ => Err(DemoError::UnknownDemonstrator { name: name.to_string() }),
+        }
+    }
+
+    /// The name a spec uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            Demonstrator::Packing => "packing",
+            Demonstrator::Cafe => "cafe",
+        }
+    }
+}
+
+/// What to simulate: the spec's `simulate` source, possibly overridden by the caller.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Simulation {
+    pub demonstrator: Demonstrator,
+    pub count: u32,
+    /// Fraction of demonstrations cut short at a random step.
+    pub cut_fraction: f64,
+    /// Objects of the manipulated type per demonstration (the demonstrators support 1).
+    pub objects: u32,
+    pub seed: u64,
+}
+
+impl Simulation {
+    /// The first simulated source of `spec`.
+    pub fn from_spec(spec: &Spec) -> Result<Simulation, DemoError> {
+        spec.demonstrations
+            .iter()
+            .find_map(|source| match source {
+                DemoSource::Simulated {
+                    demonstrator, count, cut_fraction, objects, seed, ..
+                } => Some(Demonstrator::from_name(demonstrator).map(|demonstrator| Simulation {
+                    demonstrator,
+                    count: *count,
+                    cut_fraction: *cut_fraction,
+                    objects: *objects,
+                    seed: *seed,
+                })),
+                DemoSource::Files { .. } => None,
+            })
+            .unwrap_or(Err(DemoError::NoSimulator))
+    }
+}
+
+/// One generated demonstration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Demonstration {
+    pub index: u32,
+    /// Steps kept when the demonstration was cut short, `None` for a full one.
+    pub cut_at: Option<usize>,
+    /// Steps up to and including the release: a cut demonstration never goes beyond them.
+    pub retreat_at: usize,
+    pub trajectory: Trajectory,
+}
+
+impl Demonstration {
+    /// The MCAP file's bytes.
+    pub fn to_bytes(&self) -> Result<Vec<u8>, DemoError> {
+        Ok(self.trajectory.to_bytes()?)
+    }
+}
+
+/// The file name of demonstration `index` of `domain`: `<domain>_<index:04>.mcap`.
+pub fn file_name(domain: &str, index: u32) -> String {
+    format!("{domain}_{index:04}.mcap")
+}
+
+/// The generator of demonstration `index`: seeded with `seed`, on stream `index`.
+pub fn demo_rng(seed: u64, index: u32) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(u64::from(index));
+    rng
+}
+
+/// A full recording before any cut, from one demonstrator attempt.
+pub(crate) struct Recording {
+    pub(crate) header: TrajectoryHeader,
+    pub(crate) steps: Vec<Step>,
+    /// Steps up to and including the release.
+    pub(crate) retreat_at: usize,
+}
+
+/// A demonstrator checked against its spec, ready to generate.
+enum Prepared<'a> {
+    Packing(packing::Packing<'a>),
+    Cafe(cafe::Cafe<'a>),
+}
+
+impl Prepared<'_> {
+    fn attempt(&self, seed: u64, rng: &mut ChaCha8Rng) -> Result<Recording, String> {
+        match self {
+            Prepared::Packing(packing) => packing.attempt(seed, rng),
+            Prepared::Cafe(cafe) => cafe.attempt(seed, rng),
+        }
+    }
+}
+
+fn prepare<'a>(world: &'a SpecWorld, simulation: &Simulation) -> Result<Prepared<'a>, DemoError> {
+    if simulation.objects != 1 {
+        return Err(DemoError::Unsupported {
+            demonstrator: simulation.demonstrator.name().to_string(),
+            reason: format!(
+                "`objects {}`: the demonstrators move exactly one object",
+                simulation.objects
+            ),
+        });
+    }
+    if !(0.0..=1.0).contains(&simulation.cut_fraction) {
+        return Err(DemoError::Unsupported {
+            demonstrator: simulation.demonstrator.name().to_string(),
+            reason: format!("cut fraction {} is not within 0..1", simulation.cut_fraction),
+        });
+    }
+    Ok(match simulation.demonstrator {
+        Demonstrator::Packing => Prepared::Packing(packing::Packing::new(world)?),
+        Demonstrator::Cafe => Prepared::Cafe(cafe::Cafe::new(world)?),
+    })
+}
+
+/// Generates demonstration `index` of `simulation` in `world`.
+pub fn generate(
+    world: &SpecWorld,
+    simulation: &Simulation,
+    index: u32,
+) -> Result<Demonstration, DemoError> {
+    let prepared = prepare(world, simulation)?;
+    generate_prepared(&prepared, simulation, index)
+}
+
+/// Generates every demonstration of `simulation` on rayon's pool, calling `done` after each
+/// (in completion order, for progress); the result is in index order.
+pub fn generate_all(
+    world: &SpecWorld,
+    simulation: &Simulation,
+    done: impl Fn(&Demonstration) + Sync,
+) -> Result<Vec<Demonstration>, DemoError> {
+    let prepared = prepare(world, simulation)?;
+    (0..simulation.count)
+        .into_par_iter()
+        .map(|index| {
+            let demonstration = generate_prepared(&prepared, simulation, index)?;
+            done(&demonstration);
+            Ok(demonstration)
+        })
+        .collect()
+}
+
+fn generate_prepared(
+    prepared: &Prepared<'_>,
+    simulation: &Simulation,
+    index: u32,
+) -> Result<Demonstration, DemoError> {
+    let mut rng = demo_rng(simulation.seed, index);
+    // Drawn first, so that whether and where a demonstration is cut does not depend on how many
+    // attempts its layout took.
+    let cut = rng.random::<f64>() < simulation.cut_fraction;
+    let cut_position: f64 = rng.random();
+    let mut last = String::new();
+    for _ in 0..MAX_ATTEMPTS {
+        match prepared.attempt(simulation.seed, &mut rng) {
+            Ok(recording) => {
+                return Ok(finish(recording, simulation, index, cut.then_some(cut_position)));
+            }
+            Err(reason) => last = reason,
+        }
+    }
+    Err(DemoError::AttemptsExhausted { index, attempts: MAX_ATTEMPTS, last })
+}
+
+/// Applies the cut (keeping `1 + ⌊u·retreat_at⌋` steps, so never the retreat) and the provenance.
+fn finish(
+    recording: Recording,
+    simulation: &Simulation,
+    index: u32,
+    cut: Option<f64>,
+) -> Demonstration {
+    let Recording { mut header, mut steps, retreat_at } = recording;
+    let cut_at = cut.map(|u| {
+        // Truncation is the point: a uniform step index among the first `retreat_at`.
+        let kept = 1 + (u * retreat_at as f64).floor() as usize;
+        kept.min(retreat_at)
+    });
+    if let Some(kept) = cut_at {
+        steps.truncate(kept);
+    }
+    let mut provenance = BTreeMap::new();
+    provenance.insert("demonstrator".to_string(), simulation.demonstrator.name().to_string());
+    provenance.insert("demo_index".to_string(), index.to_string());
+    provenance.insert("seed".to_string(), simulation.seed.to_string());
+    provenance
+        .insert("cut_at".to_string(), cut_at.map_or_else(|| "none".to_string(), |k| k.to_string()));
+    provenance.insert("retreat_at".to_string(), retreat_at.to_string());
+    header.provenance = provenance;
+    Demonstration { index, cut_at, retreat_at, trajectory: Trajectory { header, steps } }
+}
