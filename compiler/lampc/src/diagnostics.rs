@@ -16,3 +16,15 @@ pub(crate) fn render_all(outcome: &lamp_lang::CheckOutcome, colour: bool, width:
     }
     out
 }
+
+/// Renders one library error (a build, demonstration or render failure) with its code and help.
+pub(crate) fn render_error(error: &dyn miette::Diagnostic, colour: bool) -> String {
+    let theme = if colour { GraphicalTheme::unicode() } else { GraphicalTheme::unicode_nocolor() };
+    let handler = GraphicalReportHandler::new_themed(theme).with_width(crate::terminal_width());
+    let mut out = String::new();
+    if handler.render_report(&mut out, error).is_err() {
+        out = format!("error: {error}\n");
+    }
+    out.push('\n');
+    out
+}

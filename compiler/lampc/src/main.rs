@@ -6,6 +6,7 @@
 mod commands;
 mod diagnostics;
 mod files;
+mod spec_input;
 
 use std::io::IsTerminal;
 use std::path::PathBuf;

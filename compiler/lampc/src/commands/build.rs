@@ -65,7 +65,7 @@ pub(crate) fn run(args: &Args) -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Spec) => ExitCode::from(crate::EXIT_DIAGNOSTICS),
         Err(Failure::Build(error)) => {
-            eprint!("{}", render(error.as_ref(), colour));
+            eprint!("{}", crate::diagnostics::render_error(error.as_ref(), colour));
             eprintln!("lampc build: failed; no files were written");
             ExitCode::from(crate::EXIT_DIAGNOSTICS)
         }
@@ -78,21 +78,12 @@ pub(crate) fn run(args: &Args) -> ExitCode {
 
 fn build(args: &Args, colour: bool) -> Result<(), Failure> {
     let mut timings = Timings::default();
-    let outcome = timings.time("check", || lamp_lang::check(&args.spec, &DiskLoader));
-    eprint!("{}", crate::diagnostics::render_all(&outcome, colour, crate::terminal_width()));
-    let Some(spec) = outcome.spec else {
-        let name = outcome.sources.name(lamp_lang::FileId(0)).to_string();
-        eprintln!("{name}: {} error(s)", outcome.diagnostics.len());
+    let checked = timings.time("check", || crate::spec_input::check_spec(&args.spec, colour));
+    let Some(crate::spec_input::CheckedSpec { spec, dir: spec_dir, file_name: spec_file }) =
+        checked
+    else {
         return Err(Failure::Spec);
     };
-    let spec_dir = match args.spec.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let spec_file = args.spec.file_name().map_or_else(
-        || args.spec.display().to_string(),
-        |name| name.to_string_lossy().into_owned(),
-    );
     let build_dir =
         args.out.clone().unwrap_or_else(|| spec_dir.join(lamp_build::DEFAULT_BUILD_DIR));
 
@@ -200,18 +191,6 @@ fn write_all(build_dir: &Path, files: &[ArtifactFile]) -> Result<(), String> {
         })?;
     }
     Ok(())
-}
-
-fn render(error: &dyn miette::Diagnostic, colour: bool) -> String {
-    use miette::{GraphicalReportHandler, GraphicalTheme};
-    let theme = if colour { GraphicalTheme::unicode() } else { GraphicalTheme::unicode_nocolor() };
-    let handler = GraphicalReportHandler::new_themed(theme).with_width(crate::terminal_width());
-    let mut out = String::new();
-    if handler.render_report(&mut out, error).is_err() {
-        out = format!("error: {error}\n");
-    }
-    out.push('\n');
-    out
 }
 
 fn print_summary(spec_file: &str, build_dir: &Path, artifacts: &Artifacts, timings: &Timings) {

@@ -12,8 +12,6 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressStyle};
 use lamp_demonstrators::{DemoError, Simulation, file_name, generate_all};
 
-use crate::files::DiskLoader;
-
 /// Arguments of `lampc demos`.
 #[derive(clap::Args)]
 pub(crate) struct Args {
@@ -46,7 +44,7 @@ pub(crate) fn run(args: &Args) -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Spec) => ExitCode::from(crate::EXIT_DIAGNOSTICS),
         Err(Failure::Demo(error)) => {
-            eprint!("{}", render(error.as_ref(), colour));
+            eprint!("{}", crate::diagnostics::render_error(error.as_ref(), colour));
             eprintln!("lampc demos: failed; no files were written");
             ExitCode::from(crate::EXIT_DIAGNOSTICS)
         }
@@ -59,21 +57,11 @@ pub(crate) fn run(args: &Args) -> ExitCode {
 
 fn demos(args: &Args, colour: bool) -> Result<(), Failure> {
     let start = Instant::now();
-    let outcome = lamp_lang::check(&args.spec, &DiskLoader);
-    eprint!("{}", crate::diagnostics::render_all(&outcome, colour, crate::terminal_width()));
-    let Some(spec) = outcome.spec else {
-        let name = outcome.sources.name(lamp_lang::FileId(0)).to_string();
-        eprintln!("{name}: {} error(s)", outcome.diagnostics.len());
+    let Some(crate::spec_input::CheckedSpec { spec, dir: spec_dir, file_name: spec_file }) =
+        crate::spec_input::check_spec(&args.spec, colour)
+    else {
         return Err(Failure::Spec);
     };
-    let spec_dir = match args.spec.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let spec_file = args.spec.file_name().map_or_else(
-        || args.spec.display().to_string(),
-        |name| name.to_string_lossy().into_owned(),
-    );
     let out = args.out.clone().unwrap_or_else(|| {
         spec_dir.join(lamp_build::DEFAULT_BUILD_DIR).join(lamp_build::SIMULATED_DEMOS_DIR)
     });
@@ -164,16 +152,4 @@ fn progress_bar(length: u64, prefix: &'static str) -> ProgressBar {
             .map(|style| style.progress_chars("=> "))
             .unwrap_or_else(|_| ProgressStyle::default_bar());
     ProgressBar::new(length).with_style(style).with_prefix(prefix)
-}
-
-fn render(error: &dyn miette::Diagnostic, colour: bool) -> String {
-    use miette::{GraphicalReportHandler, GraphicalTheme};
-    let theme = if colour { GraphicalTheme::unicode() } else { GraphicalTheme::unicode_nocolor() };
-    let handler = GraphicalReportHandler::new_themed(theme).with_width(crate::terminal_width());
-    let mut out = String::new();
-    if handler.render_report(&mut out, error).is_err() {
-        out = format!("error: {error}\n");
-    }
-    out.push('\n');
-    out
 }

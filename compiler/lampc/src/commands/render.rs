@@ -11,8 +11,6 @@ use lamp_render::{RenderOptions, render_scene, render_trajectory};
 use lamp_world::SpecWorld;
 use miette::{Diagnostic, MietteDiagnostic};
 
-use crate::files::DiskLoader;
-
 /// Arguments of `lampc render`.
 #[derive(clap::Args)]
 pub(crate) struct Args {
@@ -61,7 +59,7 @@ pub(crate) fn run(args: &Args) -> ExitCode {
         }
         Err(Failure::Spec) => ExitCode::from(crate::EXIT_DIAGNOSTICS),
         Err(Failure::Report(error)) => {
-            eprint!("{}", report(error.as_ref(), colour));
+            eprint!("{}", crate::diagnostics::render_error(error.as_ref(), colour));
             ExitCode::from(crate::EXIT_DIAGNOSTICS)
         }
     }
@@ -140,15 +138,7 @@ fn refuse_option(given: bool, option: &str, what: &str) -> Result<(), Failure> {
 
 /// Checks the spec, printing its diagnostics if it has any.
 fn check_spec(path: &Path, colour: bool) -> Result<lamp_spec::Spec, Failure> {
-    let outcome = lamp_lang::check(path, &DiskLoader);
-    eprint!("{}", crate::diagnostics::render_all(&outcome, colour, crate::terminal_width()));
-    match outcome.spec {
-        Some(spec) => Ok(spec),
-        None => {
-            eprintln!("{}: {} error(s)", path.display(), outcome.diagnostics.len());
-            Err(Failure::Spec)
-        }
-    }
+    crate::spec_input::check_spec(path, colour).map(|checked| checked.spec).ok_or(Failure::Spec)
 }
 
 /// The initial scene of the named problem (or the first), and a description of it.
@@ -186,16 +176,4 @@ fn diagnostic(code: &str, message: String, help: &str) -> Failure {
     Failure::Report(Box::new(
         MietteDiagnostic::new(message).with_code(code.to_string()).with_help(help.to_string()),
     ))
-}
-
-fn report(error: &dyn Diagnostic, colour: bool) -> String {
-    use miette::{GraphicalReportHandler, GraphicalTheme};
-    let theme = if colour { GraphicalTheme::unicode() } else { GraphicalTheme::unicode_nocolor() };
-    let handler = GraphicalReportHandler::new_themed(theme).with_width(crate::terminal_width());
-    let mut out = String::new();
-    if handler.render_report(&mut out, error).is_err() {
-        out = format!("error: {error}\n");
-    }
-    out.push('\n');
-    out
 }
