@@ -3,43 +3,13 @@
 //! touches another, objects keep their clearances, and each robot starts collision-free.
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
 
 use lamp_geometry::{Pose, Shape};
-use lamp_spec::{Problem, Spec};
+use lamp_spec::Problem;
 use lamp_tests::workspace_root;
-use lamp_world::{Scene, SpecWorld};
+use lamp_world::Scene;
 
-/// The disk, for the bundled specs.
-struct Disk;
-
-impl lamp_lang::Loader for Disk {
-    fn read_to_string(&self, path: &Path) -> Result<String, String> {
-        std::fs::read_to_string(path).map_err(|e| e.to_string())
-    }
-    fn exists(&self, path: &Path) -> bool {
-        path.is_file()
-    }
-    fn glob(&self, _pattern: &Path) -> Vec<PathBuf> {
-        Vec::new()
-    }
-}
-
-fn check(path: &Path) -> Spec {
-    let outcome = lamp_lang::check(path, &Disk);
-    let messages: Vec<String> =
-        outcome.diagnostics.iter().map(|d| format!("{:?}", d.error)).collect();
-    outcome
-        .spec
-        .unwrap_or_else(|| panic!("{} does not check:\n{}", path.display(), messages.join("\n")))
-}
-
-fn bundled(domain: &str) -> (Spec, SpecWorld) {
-    let dir = workspace_root().join("domains").join(domain);
-    let spec = check(&dir.join(format!("{domain}.lamp")));
-    let world = SpecWorld::load(&dir, &spec).expect("the bundled robots and types load");
-    (spec, world)
-}
+use lamp_test_support::{check, domain as bundled};
 
 #[test]
 fn every_bundled_spec_checks_cleanly() {

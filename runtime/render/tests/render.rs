@@ -1,8 +1,6 @@
 //! Drawings of scenes, trajectories and regions: what they show, at which scale, in which order,
 //! and that the same input gives the same text.
 
-use std::path::{Path, PathBuf};
-
 use lamp_geometry::{Pose, Shape, Vec3};
 use lamp_render::{
     RegionPlot, RenderError, RenderOptions, SampleSet, render_regions, render_scene,
@@ -13,31 +11,7 @@ use lamp_trajectory::{
 };
 use lamp_world::{Body, Scene, SpecWorld};
 
-struct Disk;
-
-impl lamp_lang::Loader for Disk {
-    fn read_to_string(&self, path: &Path) -> Result<String, String> {
-        std::fs::read_to_string(path).map_err(|e| e.to_string())
-    }
-    fn exists(&self, path: &Path) -> bool {
-        path.is_file()
-    }
-    fn glob(&self, _pattern: &Path) -> Vec<PathBuf> {
-        Vec::new()
-    }
-}
-
-fn domain_dir(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains").join(name)
-}
-
-fn bundled(name: &str) -> (lamp_spec::Spec, SpecWorld) {
-    let dir = domain_dir(name);
-    let outcome = lamp_lang::check(&dir.join(format!("{name}.lamp")), &Disk);
-    let spec = outcome.spec.expect("the bundled spec checks");
-    let world = SpecWorld::load(&dir, &spec).expect("the bundled spec loads");
-    (spec, world)
-}
+use lamp_test_support::domain as bundled;
 
 fn cube(name: &str, half: f64, movable: bool, world: bool) -> Body {
     Body {

@@ -3,7 +3,7 @@
 
 pub mod fixture;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::LazyLock;
 
 use lamp_build::{Artifacts, DemoFile};
@@ -11,33 +11,7 @@ use lamp_learn::Model;
 use lamp_spec::Spec;
 use lamp_world::SpecWorld;
 
-/// Reads specs from disk; globbing is not needed by these tests.
-pub struct Disk;
-
-impl lamp_lang::Loader for Disk {
-    fn read_to_string(&self, path: &Path) -> Result<String, String> {
-        std::fs::read_to_string(path).map_err(|error| error.to_string())
-    }
-
-    fn exists(&self, path: &Path) -> bool {
-        path.is_file()
-    }
-
-    fn glob(&self, _pattern: &Path) -> Vec<PathBuf> {
-        Vec::new()
-    }
-}
-
-/// A bundled spec, checked, with its world loaded.
-pub fn load(path: &Path) -> (Spec, SpecWorld) {
-    let outcome = lamp_lang::check(path, &Disk);
-    let spec = outcome
-        .spec
-        .unwrap_or_else(|| panic!("{} checks: {:?}", path.display(), outcome.diagnostics));
-    let dir = path.parent().expect("a spec folder");
-    let world = SpecWorld::load(dir, &spec).expect("the spec's world loads");
-    (spec, world)
-}
+pub use lamp_test_support::load;
 
 /// The Packing spec and world.
 pub fn packing() -> (Spec, SpecWorld) {

@@ -1,0 +1,58 @@
+//! Test and bench support shared by the crates: the bundled specs under `domains/`, read from
+//! disk, checked, with their worlds loaded. Only dev-dependencies name this crate.
+
+use std::path::{Path, PathBuf};
+
+use lamp_spec::Spec;
+use lamp_world::SpecWorld;
+
+/// Reads spec files from disk; demonstration globs match nothing (tests pass files explicitly).
+pub struct Disk;
+
+impl lamp_lang::Loader for Disk {
+    fn read_to_string(&self, path: &Path) -> Result<String, String> {
+        std::fs::read_to_string(path).map_err(|error| error.to_string())
+    }
+
+    fn exists(&self, path: &Path) -> bool {
+        path.is_file()
+    }
+
+    fn glob(&self, _pattern: &Path) -> Vec<PathBuf> {
+        Vec::new()
+    }
+}
+
+/// The `domains/` folder of the workspace.
+pub fn domains_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains")
+}
+
+/// The spec file of a bundled domain (`domains/<name>/<name>.lamp`).
+pub fn spec_path(name: &str) -> PathBuf {
+    domains_dir().join(name).join(format!("{name}.lamp"))
+}
+
+/// A spec file, checked; panics with every diagnostic if it does not check.
+pub fn check(path: &Path) -> Spec {
+    let outcome = lamp_lang::check(path, &Disk);
+    let messages: Vec<String> =
+        outcome.diagnostics.iter().map(|d| format!("{:?}", d.error)).collect();
+    outcome
+        .spec
+        .unwrap_or_else(|| panic!("{} does not check:\n{}", path.display(), messages.join("\n")))
+}
+
+/// A spec file, checked, with its world (robots and object types) loaded.
+pub fn load(path: &Path) -> (Spec, SpecWorld) {
+    let spec = check(path);
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let world =
+        SpecWorld::load(dir, &spec).unwrap_or_else(|error| panic!("{}: {error}", path.display()));
+    (spec, world)
+}
+
+/// A bundled domain, checked, with its world loaded.
+pub fn domain(name: &str) -> (Spec, SpecWorld) {
+    load(&spec_path(name))
+}
