@@ -37,14 +37,7 @@ fn translate(directory: &Path, name: &str, domain: &str, problem: &str) -> Strin
 
 #[test]
 fn fast_downward_translator_accepts_the_domain_and_problems() {
-    let require = std::env::var("LAMP_REQUIRE_ORACLES").is_ok_and(|v| v == "1");
-    let available = std::process::Command::new("python3")
-        .args(["-c", "import fast_downward.translate"])
-        .output()
-        .is_ok_and(|output| output.status.success());
-    if !available {
-        assert!(!require, "Fast Downward's translator (pip fast-downward-translate) is required");
-        println!("skipped: python3 -m fast_downward.translate is not installed");
+    if !lamp_test_support::python_oracle("fast_downward.translate", "fast-downward-translate") {
         return;
     }
     let directory = tempfile::tempdir().expect("a scratch directory");

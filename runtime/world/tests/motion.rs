@@ -199,16 +199,8 @@ fn fetch_base_drives_around_furniture() {
 
 #[test]
 fn the_free_flying_gripper_carries_a_can_into_the_box() {
-    let (spec, world) = domain("packing");
-    let mut scene = world.problem_scene(&spec.problems[0]).unwrap();
-    let gripper = scene.robot_index("gripper").unwrap();
+    let (mut scene, gripper, can, start, grasp) = support::gripper_over_can();
     let robot = scene.robots()[gripper].robot().clone();
-    let can = scene.body_index("can1").unwrap();
-    let can_pose = scene.body_pose(can);
-    let grasp = pose(0.0, 0.0, 0.215, PI, 0.0, 0.0);
-    let mut start = scene.robots()[gripper].configuration().to_vec();
-    robot.mount().write_coordinates(&(can_pose * grasp), &mut start);
-    scene.set_configuration(gripper, &start);
     scene.grab(gripper, can).unwrap();
 
     let box_pose = scene.body_pose(scene.body_index("box1").unwrap());

@@ -32,19 +32,10 @@ fn packing_problem_scene_is_valid_and_names_contacts() {
 
 #[test]
 fn a_held_can_moves_with_the_gripper_and_is_checked() {
-    let (spec, world) = domain("packing");
-    let mut scene = world.problem_scene(&spec.problems[0]).unwrap();
-    let gripper = scene.robot_index("gripper").unwrap();
+    let (mut scene, gripper, can, mut q, grasp_in_can) = support::gripper_over_can();
     let robot = scene.robots()[gripper].robot().clone();
-    let can = scene.body_index("can1").unwrap();
     let can_pose = scene.body_pose(can);
-
-    // Gripper pointing down, its box's lower face 9 mm above the can's top.
-    let grasp_in_can = pose(0.0, 0.0, 0.215, PI, 0.0, 0.0);
-    let mut q = scene.robots()[gripper].configuration().to_vec();
-    robot.mount().write_coordinates(&(can_pose * grasp_in_can), &mut q);
     assert!(scene.is_valid(gripper, &q), "{:?}", scene.first_contact(gripper, &q));
-    scene.set_configuration(gripper, &q);
     scene.grab(gripper, can).unwrap();
     assert!(scene.grab(gripper, can).is_err(), "a second grab must be refused");
 

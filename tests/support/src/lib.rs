@@ -1,5 +1,6 @@
 //! Test and bench support shared by the crates: the bundled specs under `domains/`, read from
-//! disk, checked, with their worlds loaded. Only dev-dependencies name this crate.
+//! disk, checked, with their worlds loaded; and the oracle rule for Python references. Only
+//! dev-dependencies name this crate.
 
 use std::path::{Path, PathBuf};
 
@@ -55,4 +56,25 @@ pub fn load(path: &Path) -> (Spec, SpecWorld) {
 /// A bundled domain, checked, with its world loaded.
 pub fn domain(name: &str) -> (Spec, SpecWorld) {
     load(&spec_path(name))
+}
+
+/// Whether CI demands every external reference (`LAMP_REQUIRE_ORACLES=1`).
+pub fn oracles_required() -> bool {
+    std::env::var("LAMP_REQUIRE_ORACLES").is_ok_and(|value| value == "1")
+}
+
+/// Whether `python3` can import `module` (an oracle installed with `pip install {package}`).
+/// Missing: the test is skipped with a message, or fails when oracles are required.
+// The test harness shows a skipped test's stdout; that is where the note belongs.
+#[allow(clippy::print_stdout)]
+pub fn python_oracle(module: &str, package: &str) -> bool {
+    let available = std::process::Command::new("python3")
+        .args(["-c", &format!("import {module}")])
+        .output()
+        .is_ok_and(|output| output.status.success());
+    if !available {
+        assert!(!oracles_required(), "the oracle `{module}` (pip {package}) is required");
+        println!("skipped: python3 cannot import {module} (pip install {package})");
+    }
+    available
 }
