@@ -29,15 +29,15 @@
 #![allow(unsafe_code)]
 
 use core::ffi::c_void;
-use core::mem::size_of;
+use core::mem::{offset_of, size_of};
 
 /// The ABI major version; a host refuses any plugin with another major.
 /// Since v1.0.
 pub const ABI_MAJOR: u32 = 1;
 
 /// The ABI minor version; a host refuses plugins with a newer minor than its own.
-/// Since v1.0.
-pub const ABI_MINOR: u32 = 0;
+/// Since v1.0; v1.1 added [`HostVtable::sample_configuration`].
+pub const ABI_MINOR: u32 = 1;
 
 /// The name of the one symbol a plugin library exports: a static [`PluginEntry`] (data, not a
 /// function, so the host can check it without running any plugin code).
@@ -282,6 +282,19 @@ pub struct HostVtable {
             error: *mut ErrorBuffer,
         ) -> Status,
     >,
+    /// A configuration of `robot` drawn uniformly over its sampling space by the host's own
+    /// generator seeded with `seed` (the same seed gives the same configuration), written into
+    /// `out_q`. A plugin calls it only when the host's `struct_size` covers this field (see
+    /// [`v1_1_sizes::HOST`]). Since v1.1.
+    pub sample_configuration: Option<
+        unsafe extern "C" fn(
+            context: *mut c_void,
+            robot: ByteSlice,
+            seed: u64,
+            out_q: *mut F64Buffer,
+            error: *mut ErrorBuffer,
+        ) -> Status,
+    >,
 }
 
 /// A planning request, owned by the host and borrowed for one call.
@@ -515,15 +528,15 @@ unsafe impl Sync for PluginDescriptor {}
 pub mod v1_0_sizes {
     use super::{
         HostVtable, MotionPlannerVtable, MotionRequest, MotionResult, PlanRequest, PlannerVtable,
-        PluginDescriptor, PluginEntry, RefineRequest, RefinerVtable, size_of,
+        PluginDescriptor, PluginEntry, RefineRequest, RefinerVtable, offset_of, size_of,
     };
 
     /// Size of [`PluginEntry`] in v1.0.
     pub const ENTRY: usize = size_of::<PluginEntry>();
     /// Size of [`PluginDescriptor`] in v1.0.
     pub const DESCRIPTOR: usize = size_of::<PluginDescriptor>();
-    /// Size of [`HostVtable`] in v1.0.
-    pub const HOST: usize = size_of::<HostVtable>();
+    /// Size of [`HostVtable`] in v1.0: everything before the first field of v1.1.
+    pub const HOST: usize = offset_of!(HostVtable, sample_configuration);
     /// Size of [`PlannerVtable`] in v1.0.
     pub const PLANNER: usize = size_of::<PlannerVtable>();
     /// Size of [`RefinerVtable`] in v1.0.
@@ -538,6 +551,17 @@ pub mod v1_0_sizes {
     pub const MOTION_REQUEST: usize = size_of::<MotionRequest>();
     /// Size of [`MotionResult`] in v1.0.
     pub const MOTION_RESULT: usize = size_of::<MotionResult>();
+}
+
+/// The sizes of the structs that grew in v1.1. A peer uses a v1.1 field only when the other
+/// side's `struct_size` is at least the size given here.
+pub mod v1_1_sizes {
+    use super::{HostVtable, c_void, offset_of, size_of};
+
+    /// Size of [`HostVtable`] in v1.1: up to the end of
+    /// [`HostVtable::sample_configuration`]. Every function pointer has the same size.
+    pub const HOST: usize = offset_of!(HostVtable, sample_configuration)
+        + size_of::<Option<unsafe extern "C" fn(*mut c_void)>>();
 }
 
 /// A `'static` entry table whose function pointers are known to be valid, because it was built

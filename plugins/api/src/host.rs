@@ -11,8 +11,9 @@ pub const IDENTITY_POSE: Pose = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
 /// What the host offers a plugin during one call.
 ///
 /// The host owns the layout of a configuration vector: plugins treat configurations as opaque
-/// `f64` slices and use [`distance`](Self::distance) and [`interpolate`](Self::interpolate)
-/// rather than their own arithmetic (angles wrap, quaternion coordinates slerp).
+/// `f64` slices and use [`distance`](Self::distance), [`interpolate`](Self::interpolate) and
+/// [`sample_configuration`](Self::sample_configuration) rather than their own arithmetic (angles
+/// wrap, quaternion coordinates slerp).
 /// Robots and links are named as in the world state the host sends.
 ///
 /// Every method has a default: no progress display, never cancelled, and
@@ -33,10 +34,18 @@ pub const IDENTITY_POSE: Pose = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
 ///     fn distance(&self, _robot: &str, a: &[f64], b: &[f64]) -> Result<f64, HostError> {
 ///         Ok((a[0] - b[0]).abs())
 ///     }
+///     fn sample_configuration(&self, _robot: &str, seed: u64) -> Result<Vec<f64>, HostError> {
+///         // A real host seeds a proper generator; one multiplicative hash step shows the idea.
+///         let unit = (seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 11) as f64 / (1u64 << 53) as f64;
+///         Ok(vec![10.0 * unit])
+///     }
 /// }
 ///
 /// assert_eq!(Rail.configuration_is_valid("cart", &[4.0]), Ok(true));
 /// assert_eq!(Rail.distance("cart", &[1.0], &[4.0]), Ok(3.0));
+/// let sample = Rail.sample_configuration("cart", 7).unwrap();
+/// assert!((0.0..10.0).contains(&sample[0]));
+/// assert_eq!(Rail.sample_configuration("cart", 7), Ok(sample));
 /// assert!(Rail.solve_ik("cart", "tool", &[0.0; 7], &[0.0]).is_err());
 /// ```
 pub trait HostServices {
@@ -116,6 +125,21 @@ pub trait HostServices {
     ) -> Result<Vec<f64>, HostError> {
         let _ = (robot, a, b, t);
         Err(HostError::unsupported("interpolate"))
+    }
+
+    /// A configuration of `robot` drawn uniformly over its sampling space (host layout) by the
+    /// host's own generator seeded with `seed`: the same seed gives the same configuration.
+    ///
+    /// Only the host knows what uniform means for a configuration (angles wrap, rotations are
+    /// scaled-axis triples, unbounded base coordinates are drawn in a sampling box, and only the
+    /// moving joint group changes), so a sampling-based planner asks for its random states here
+    /// and keeps its own randomness in the generator that draws the seeds.
+    ///
+    /// # Errors
+    /// [`HostError`] when the service is unavailable or the robot is unknown.
+    fn sample_configuration(&self, robot: &str, seed: u64) -> Result<Vec<f64>, HostError> {
+        let _ = (robot, seed);
+        Err(HostError::unsupported("sample_configuration"))
     }
 }
 

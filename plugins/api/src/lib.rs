@@ -4,8 +4,8 @@
 //! [`Refiner`] (a grounded action and the world state in, a backtrackable [`CandidateStream`] of
 //! target configurations out) and [`MotionPlanner`] (start and goal configurations in, a path out).
 //! Every call receives the host's [`HostServices`]: progress, cancellation and the geometric
-//! oracles (validity, inverse and forward kinematics, distance, interpolation); randomness comes
-//! from the `seed` of each request, which a plugin feeds to its own `ChaCha8Rng`.
+//! oracles (validity, inverse and forward kinematics, distance, interpolation, sampling);
+//! randomness comes from the `seed` of each request, which a plugin feeds to its own `ChaCha8Rng`.
 //!
 //! The runtime sees `Box<dyn Planner>` (and so on) whether a plugin is linked statically or loaded
 //! from a shared library by lamp-plugin-host. The structured inputs that cross a library boundary
@@ -28,6 +28,6 @@ pub use host::{HostServices, IDENTITY_POSE, MinimalHost, Pose};
 pub use motion::{MotionBudget, MotionOutcome, MotionPlanner, MotionRequest, NoPathReason};
 pub use planner::{Plan, PlanBudget, PlanRequest, PlanResponse, PlanStatus, PlanStep, Planner};
 pub use refiner::{
-    Candidate, CandidateStream, GroundAtom, GroundedAction, HeldObject, ObjectPose, ObjectState,
-    RefineRequest, Refiner, RobotState, RobotTarget, WorldState,
+    Candidate, CandidateStream, GraspChange, GroundAtom, GroundedAction, HeldObject, ObjectPose,
+    ObjectState, RefineRequest, Refiner, RobotPart, RobotState, RobotTarget, WorldState,
 };

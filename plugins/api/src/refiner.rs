@@ -42,6 +42,19 @@ pub struct HeldObject {
     pub grasp: Pose,
 }
 
+/// A robot link that takes part in learned relations, named as the PDDL problem names it.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RobotPart {
+    /// The object name of the part in the PDDL problem, for example `fetch_gripper`.
+    pub object: String,
+    /// The part's type in the PDDL domain, for example `gripper`.
+    pub object_type: String,
+    /// The robot link it is.
+    pub link: String,
+    /// Whether the part can hold objects.
+    pub gripper: bool,
+}
+
 /// A robot in the world state.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RobotState {
@@ -51,6 +64,10 @@ pub struct RobotState {
     pub configuration: Vec<f64>,
     /// What it holds.
     pub held: Vec<HeldObject>,
+    /// Its links that take part in relations (added without a wire version change: older
+    /// documents read as having none).
+    #[serde(default)]
+    pub parts: Vec<RobotPart>,
 }
 
 /// An object in the world state.
@@ -116,13 +133,34 @@ pub struct ObjectPose {
     pub pose: Pose,
 }
 
-/// One way to carry out an action.
+/// A gripper taking hold of an object or letting go of it.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct GraspChange {
+    /// The robot.
+    pub robot: String,
+    /// The gripper link.
+    pub link: String,
+    /// The object.
+    pub object: String,
+}
+
+/// One way to carry out an action: let go of `releases` where the robot stands, move each robot
+/// to its target, then take hold of `grabs` where the robot arrived.
+///
+/// `releases` and `grabs` were added without a wire version change: older documents read as
+/// having none.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Candidate {
     /// Where each moving robot must go.
     pub targets: Vec<RobotTarget>,
     /// Objects the action moves, with their poses afterwards.
     pub object_poses: Vec<ObjectPose>,
+    /// Objects let go of before moving.
+    #[serde(default)]
+    pub releases: Vec<GraspChange>,
+    /// Objects taken hold of after moving.
+    #[serde(default)]
+    pub grabs: Vec<GraspChange>,
 }
 
 /// A resumable stream of candidates for one action. Each call to [`next`](Self::next) continues
@@ -164,7 +202,7 @@ pub trait CandidateStream: Send {
 ///             let configuration = vec![self.center + offset];
 ///             if host.configuration_is_valid(&self.robot, &configuration)? {
 ///                 let targets = vec![RobotTarget { robot: self.robot.clone(), configuration }];
-///                 return Ok(Some(Candidate { targets, object_poses: Vec::new() }));
+///                 return Ok(Some(Candidate { targets, ..Candidate::default() }));
 ///             }
 ///         }
 ///         Ok(None)

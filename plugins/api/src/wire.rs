@@ -143,7 +143,7 @@ mod tests {
     use super::*;
     use crate::host::IDENTITY_POSE;
     use crate::planner::{Plan, PlanStatus, PlanStep};
-    use crate::refiner::{HeldObject, ObjectState, RobotState};
+    use crate::refiner::{HeldObject, ObjectState, RobotPart, RobotState};
 
     fn world() -> WorldState {
         WorldState {
@@ -154,6 +154,12 @@ mod tests {
                     object: "can1".into(),
                     link: "gripper".into(),
                     grasp: IDENTITY_POSE,
+                }],
+                parts: vec![RobotPart {
+                    object: "fetch_gripper".into(),
+                    object_type: "gripper".into(),
+                    link: "gripper".into(),
+                    gripper: true,
                 }],
             }],
             objects: vec![ObjectState {

@@ -27,6 +27,7 @@ pub(crate) static HOST_VTABLE: HostVtable = HostVtable {
     forward_kinematics: Some(forward_kinematics),
     distance: Some(distance),
     interpolate: Some(interpolate),
+    sample_configuration: Some(sample_configuration),
 };
 
 /// The context pointer for `host`, valid while `slot` lives.
@@ -263,6 +264,22 @@ unsafe extern "C" fn interpolate(
         unsafe {
             let robot = text(robot, "the robot")?;
             let q = services(context).interpolate(robot, values(a, "a")?, values(b, "b")?, t)?;
+            write_values(out_q, &q)
+        }
+    })
+}
+
+unsafe extern "C" fn sample_configuration(
+    context: *mut c_void,
+    robot: ByteSlice,
+    seed: u64,
+    out_q: *mut F64Buffer,
+    error: *mut ErrorBuffer,
+) -> Status {
+    serve(error, || {
+        // SAFETY: the context and slice of this call; the output buffer (ABI rules).
+        unsafe {
+            let q = services(context).sample_configuration(text(robot, "the robot")?, seed)?;
             write_values(out_q, &q)
         }
     })

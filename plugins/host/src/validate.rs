@@ -221,12 +221,20 @@ mod tests {
         assert_eq!(info.kind, PluginKind::Planner);
         assert_eq!((info.name.as_str(), info.version.as_str()), ("idle", "1.2.3"));
         assert_eq!(info.description, "does nothing");
-        assert_eq!((info.abi_major, info.abi_minor, info.origin.as_str()), (1, 0, "test"));
+        assert_eq!((info.abi_major, info.abi_minor, info.origin.as_str()), (1, 1, "test"));
+    }
+
+    #[test]
+    fn plugins_of_this_or_an_older_minor_load() {
+        for minor in [0, ABI_MINOR] {
+            let info = check(PluginEntry { abi_minor: minor, ..valid() }).unwrap();
+            assert_eq!((info.abi_major, info.abi_minor), (1, minor));
+        }
     }
 
     #[test]
     fn other_majors_and_newer_minors_are_refused() {
-        for (major, minor) in [(0, 0), (2, 0), (1, 1)] {
+        for (major, minor) in [(0, 0), (2, 0), (2, 1), (1, ABI_MINOR + 1)] {
             let entry = PluginEntry { abi_major: major, abi_minor: minor, ..valid() };
             assert!(
                 matches!(check(entry), Err(LoadError::AbiMismatch { plugin_major, plugin_minor, .. })

@@ -117,7 +117,7 @@ impl CandidateStream for RingStream {
             // An empty seed leaves the start to the host (and makes the SDK grow its buffer).
             if let Some(configuration) = host.solve_ik(&self.robot, &self.link, &target, &[])? {
                 let targets = vec![RobotTarget { robot: self.robot.clone(), configuration }];
-                return Ok(Some(Candidate { targets, object_poses: Vec::new() }));
+                return Ok(Some(Candidate { targets, ..Candidate::default() }));
             }
         }
         Ok(None)
@@ -211,6 +211,7 @@ fn reach_request(object_x: f64, seed: u64) -> RefineRequest {
             name: ROBOT.into(),
             configuration: vec![1.0, 1.0],
             held: Vec::new(),
+            parts: Vec::new(),
         }],
         objects: vec![ObjectState {
             name: "can1".into(),
@@ -433,4 +434,75 @@ fn every_plugin_error_crosses_the_abi_unchanged() {
         error,
         LoadError::Panicked { message, .. } if message == "create panicked deliberately"
     ));
+}
+
+/// Samples `dimension` coordinates uniformly in [0, 10) from its own generator seeded with the
+/// seed it is given, and offers nothing else.
+struct UniformBox {
+    dimension: usize,
+}
+
+impl HostServices for UniformBox {
+    fn sample_configuration(&self, robot: &str, seed: u64) -> Result<Vec<f64>, HostError> {
+        PointWorld::check_robot(robot)?;
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        Ok((0..self.dimension).map(|_| WORLD_SIZE * rng.random::<f64>()).collect())
+    }
+}
+
+/// Answers with the host's samples for the request's seed, the seed after it, and the seed again:
+/// a path of three waypoints that shows what crossed the boundary.
+struct SamplingProbe;
+
+impl MotionPlanner for SamplingProbe {
+    fn plan_path(
+        &mut self,
+        request: &MotionRequest,
+        host: &dyn HostServices,
+    ) -> Result<MotionOutcome, PluginError> {
+        let seeds = [request.seed, request.seed.wrapping_add(1), request.seed];
+        let samples = seeds.map(|seed| host.sample_configuration(&request.robot, seed));
+        Ok(MotionOutcome::Path(samples.into_iter().collect::<Result<_, _>>()?))
+    }
+}
+
+impl PluginFactory for SamplingProbe {
+    fn create(_config: &[u8]) -> Result<Self, PluginError> {
+        Ok(SamplingProbe)
+    }
+}
+
+#[test]
+fn sampled_configurations_cross_the_abi_and_a_host_without_sampling_is_unsupported() {
+    let entry = in_process_motion_planner::<SamplingProbe>(descriptor("sampling-probe"));
+    let library = PluginLibrary::from_trusted_entry(entry).expect("the SDK builds a valid entry");
+    let mut loaded = library.create_motion_planner(&[]).unwrap();
+    // 2 values fit the SDK's first buffer; 40 make it grow.
+    for dimension in [2, 40] {
+        let host = UniformBox { dimension };
+        let request = MotionRequest {
+            robot: ROBOT.into(),
+            start: vec![0.0; dimension],
+            goal: vec![0.0; dimension],
+            budget: MotionBudget::default(),
+            seed: 21,
+        };
+        let outcome = loaded.plan_path(&request, &host).unwrap();
+        assert_eq!(outcome, SamplingProbe.plan_path(&request, &host).unwrap());
+        let MotionOutcome::Path(samples) = outcome else { panic!("the probe always answers") };
+        assert_eq!(samples[0], samples[2], "the same seed gives the same configuration");
+        assert_ne!(samples[0], samples[1]);
+        assert!(samples[0].iter().all(|x| (0.0..WORLD_SIZE).contains(x)));
+
+        let unknown = MotionRequest { robot: "arm".into(), ..request.clone() };
+        assert_eq!(
+            loaded.plan_path(&unknown, &host),
+            Err(PluginError::Host(HostError::failed("no robot `arm`")))
+        );
+        // Hosts that implement every other oracle but not sampling answer `Unsupported`.
+        assert_eq!(
+            loaded.plan_path(&request, &PointWorld),
+            Err(PluginError::Host(HostError::unsupported("sample_configuration")))
+        );
+    }
 }

@@ -48,7 +48,7 @@ fn the_echo_planner_loads_and_plans_through_the_c_abi() {
     assert_eq!(info.kind, PluginKind::Planner);
     assert_eq!(info.name, "echo-planner");
     assert_eq!(info.version, env!("CARGO_PKG_VERSION"));
-    assert_eq!((info.abi_major, info.abi_minor), (1, 0));
+    assert_eq!((info.abi_major, info.abi_minor), (1, 1));
 
     let mut planner = library.create_planner(&[]).unwrap();
     let host = RecordingHost::default();
@@ -119,7 +119,7 @@ fn another_abi_major_is_refused_before_any_call() {
             plugin_major: 2,
             plugin_minor: 0,
             host_major: 1,
-            host_minor: 0,
+            host_minor: 1,
             ..
         }
     ));

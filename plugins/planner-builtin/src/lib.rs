@@ -12,7 +12,7 @@ use lamp_planner::{Algorithm, Budget, Status, Unsolvable};
 use lamp_plugin_api::{
     HostServices, Plan, PlanRequest, PlanResponse, PlanStatus, PlanStep, Planner, PluginError,
 };
-use lamp_plugin_sdk::{PluginFactory, export_plugin};
+use lamp_plugin_sdk::PluginFactory;
 
 /// Which built-in search to run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -150,7 +150,8 @@ impl Planner for BuiltinPlanner {
     }
 }
 
-export_plugin! {
+#[cfg(feature = "shared-library")]
+lamp_plugin_sdk::export_plugin! {
     planner: BuiltinPlanner,
     name: "lamp-builtin-planner",
     version: env!("CARGO_PKG_VERSION"),

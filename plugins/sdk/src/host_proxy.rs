@@ -5,11 +5,13 @@
 // block states the ABI rule it relies on.
 #![allow(unsafe_code)]
 
+use std::cell::Cell;
 use std::ffi::c_void;
 use std::mem::MaybeUninit;
 
 use lamp_plugin_abi::{
     ByteSlice, ErrorBuffer, F64Buffer, F64Slice, HostVtable, Pose, Status, status, v1_0_sizes,
+    v1_1_sizes,
 };
 use lamp_plugin_api::{HostError, HostServices, PluginError};
 
@@ -18,11 +20,18 @@ use crate::boundary::sized_struct;
 /// Longest host error message kept, in bytes.
 const ERROR_CAPACITY: usize = 1024;
 
+/// First buffer size for a sampled configuration, whose length the plugin cannot know in
+/// advance; large enough for a mobile manipulator's base, torso and arm.
+const SAMPLE_CAPACITY_HINT: usize = 16;
+
 /// The host's services for the duration of one plugin call.
 #[derive(Debug)]
 pub(crate) struct HostProxy<'a> {
     vtable: &'a HostVtable,
     context: *mut c_void,
+    /// The length of the last sampled configuration, so that a longer one makes the buffer grow
+    /// once per call rather than once per sample.
+    sample_capacity: Cell<usize>,
 }
 
 impl HostProxy<'_> {
@@ -39,7 +48,13 @@ impl HostProxy<'_> {
         let vtable = unsafe {
             sized_struct(vtable, |table| table.struct_size, v1_0_sizes::HOST, "the host table")
         }?;
-        Ok(Self { vtable, context })
+        Ok(Self { vtable, context, sample_capacity: Cell::new(SAMPLE_CAPACITY_HINT) })
+    }
+
+    /// Whether the host's table is large enough to hold fields up to `end` (a `v1_x_sizes`
+    /// constant): a field beyond the host's `struct_size` is not there, whatever its bytes say.
+    fn host_offers(&self, end: usize) -> bool {
+        self.vtable.struct_size >= end
     }
 
     /// Calls a fallible callback with a fresh error buffer and maps its status.
@@ -208,5 +223,101 @@ impl HostServices for HostProxy<'_> {
             // SAFETY: host callback, own context; inputs and outputs valid for the call.
             Some(unsafe { callback(self.context, robot, a, b, t, out_q, error) })
         })
+    }
+
+    fn sample_configuration(&self, robot: &str, seed: u64) -> Result<Vec<f64>, HostError> {
+        // A v1.0 host has no such field: degrade to `Unsupported` without reading past its table.
+        if !self.host_offers(v1_1_sizes::HOST) {
+            return Err(HostError::unsupported("sample_configuration"));
+        }
+        let capacity = self.sample_capacity.get();
+        let q = self.call_with_values("sample_configuration", capacity, |error, out_q| {
+            let callback = self.vtable.sample_configuration?;
+            let robot = ByteSlice::from_text(robot);
+            // SAFETY: host callback, own context; inputs and outputs valid for the call; the
+            // field is covered by the host's `struct_size` (checked above).
+            Some(unsafe { callback(self.context, robot, seed, out_q, error) })
+        })?;
+        self.sample_capacity.set(capacity.max(q.len()));
+        Ok(q)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::cell::Cell;
+
+    use super::*;
+
+    /// Length of the configurations the test host samples: more than the first buffer holds.
+    const SAMPLE_LENGTH: usize = SAMPLE_CAPACITY_HINT + 4;
+
+    /// Writes `seed, seed + 1, ...` and counts its calls in the `Cell<usize>` behind `context`.
+    unsafe extern "C" fn counting_sampler(
+        context: *mut c_void,
+        _robot: ByteSlice,
+        seed: u64,
+        out_q: *mut F64Buffer,
+        _error: *mut ErrorBuffer,
+    ) -> Status {
+        // SAFETY: the tests pass a live `Cell<usize>` as the context and a valid buffer.
+        let (calls, buffer) = unsafe { (&*context.cast::<Cell<usize>>(), &mut *out_q) };
+        calls.set(calls.get() + 1);
+        buffer.len = SAMPLE_LENGTH;
+        if buffer.capacity < SAMPLE_LENGTH {
+            return status::BUFFER_TOO_SMALL;
+        }
+        for index in 0..SAMPLE_LENGTH {
+            // SAFETY: `index` is below the capacity checked above.
+            unsafe { buffer.data.add(index).write(seed as f64 + index as f64) };
+        }
+        status::OK
+    }
+
+    fn host_table(struct_size: usize) -> HostVtable {
+        HostVtable {
+            struct_size,
+            report_progress: None,
+            is_cancelled: None,
+            configuration_is_valid: None,
+            edge_is_valid: None,
+            solve_ik: None,
+            forward_kinematics: None,
+            distance: None,
+            interpolate: None,
+            sample_configuration: Some(counting_sampler),
+        }
+    }
+
+    #[test]
+    fn a_v1_1_host_samples_and_the_buffer_grows_once_per_call() {
+        let calls = Cell::new(0_usize);
+        let table = host_table(size_of::<HostVtable>());
+        let context = std::ptr::from_ref(&calls).cast_mut().cast::<c_void>();
+        // SAFETY: the table and the counter outlive the proxy.
+        let proxy = unsafe { HostProxy::new(&raw const table, context) }.unwrap();
+        let expected: Vec<f64> = (0..SAMPLE_LENGTH).map(|index| 7.0 + index as f64).collect();
+        assert_eq!(proxy.sample_configuration("arm", 7), Ok(expected));
+        assert_eq!(calls.get(), 2, "one call found the buffer too small, one filled it");
+        assert_eq!(proxy.sample_configuration("arm", 8).unwrap()[0], 8.0);
+        assert_eq!(calls.get(), 3, "the second sample fits the remembered length");
+    }
+
+    #[test]
+    fn a_v1_0_host_is_unsupported_without_reading_past_its_table() {
+        let calls = Cell::new(0_usize);
+        // The field is set, but a v1.0 host's `struct_size` does not cover it.
+        let table = host_table(v1_0_sizes::HOST);
+        let context = std::ptr::from_ref(&calls).cast_mut().cast::<c_void>();
+        // SAFETY: the table and the counter outlive the proxy.
+        let proxy = unsafe { HostProxy::new(&raw const table, context) }.unwrap();
+        assert_eq!(
+            proxy.sample_configuration("arm", 7),
+            Err(HostError::unsupported("sample_configuration"))
+        );
+        assert_eq!(calls.get(), 0);
+        // The v1.1 table ends at its sampling field, after everything v1.0 had.
+        const { assert!(v1_0_sizes::HOST < v1_1_sizes::HOST) };
+        const { assert!(v1_1_sizes::HOST == size_of::<HostVtable>()) };
     }
 }
