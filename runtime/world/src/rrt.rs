@@ -28,6 +28,13 @@ pub trait Space {
     /// checking resolution (at least 1).
     fn edge_steps(&self, a: &[f64], b: &[f64]) -> usize;
 
+    /// Whether the search should end now, for example because an oracle behind the space failed
+    /// or the run was cancelled; checked once per iteration. A space that never stops need not
+    /// override it.
+    fn should_stop(&self) -> bool {
+        false
+    }
+
     /// Whether every state along the edge (endpoints excluded) is valid.
     fn edge_is_valid(&self, a: &[f64], b: &[f64]) -> bool {
         let steps = self.edge_steps(a, b);
@@ -76,6 +83,9 @@ pub enum RrtError {
     #[error("no path found within {seconds:.3} s ({iterations} iterations)")]
     #[diagnostic(code(lamp::motion::timeout))]
     Timeout { seconds: f64, iterations: usize },
+    #[error("the search was stopped by its space after {iterations} iterations")]
+    #[diagnostic(code(lamp::motion::stopped))]
+    Stopped { iterations: usize },
 }
 
 /// Statistics of a successful run.
@@ -179,6 +189,9 @@ pub fn rrt_connect(
             && began.elapsed() > limit
         {
             return Err(RrtError::Timeout { seconds: limit.as_secs_f64(), iterations: iteration });
+        }
+        if space.should_stop() {
+            return Err(RrtError::Stopped { iterations: iteration });
         }
         let grow = iteration % 2;
         space.sample(rng, &mut sample);
