@@ -15,7 +15,7 @@ use crate::region_model::RegionModel;
 use crate::relations::PairVocabulary;
 
 /// The artifact format version; bumped on any change to the serialised shape or its meaning.
-pub const SAMPLER_ARTIFACT_VERSION: u32 = 2;
+pub const SAMPLER_ARTIFACT_VERSION: u32 = 3;
 
 /// Everything the run time needs from learning besides the PDDL text.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -19,16 +19,28 @@ use crate::features::{FEATURE_DIMENSION, features_pose, pose_features};
 use crate::learner::PairRegions;
 use crate::regions::RegionCells;
 
-/// The model of one region: a mixture over pose features and the log-density threshold ε of membership.
+/// Draws of the mixture per sample before one outside the region's extent is returned anyway.
+pub const EXTENT_DRAWS: usize = 64;
+
+/// The model of one region: a mixture over pose features, the log-density threshold ε of
+/// membership, and the box its cells span in position.
 ///
-/// Serialised as `{ "g", "mixture", "threshold" }`, the mixture in lamp-gmm's parameter layout; deserialising
-/// the mixture validates it, and [`RegionModel::validate`] checks the rest.
+/// A pose is in the region iff its position lies in that box and its log density is at least ε.
+/// The box matters: a mixture fitted to a region of uniform cells leaks a component's tail past
+/// the cells (a Gaussian of a box's spread accepts points well beyond its edges when the other
+/// features match closely), and such a pose was never seen in a demonstration — a can beside the
+/// box would count as in it.
+///
+/// Serialised as `{ "g", "mixture", "threshold", "extent" }`, the mixture in lamp-gmm's parameter
+/// layout; deserialising the mixture validates it, and [`RegionModel::validate`] checks the rest.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RegionModel {
     g: u8,
     mixture: GaussianMixture,
     /// ε: a pose is inside iff its log density is at least this.
     threshold: f64,
+    /// Per axis, the lowest and highest position coordinate of the region's cells.
+    extent: [[f64; 2]; 3],
 }
 
 impl RegionModel {
@@ -58,14 +70,41 @@ impl RegionModel {
         let mixture = lamp_gmm::fit(&features, &config, rng).map_err(|error| error.to_string())?;
         let threshold = calibrate_threshold(&mixture, &features, pair.settings.cover)
             .map_err(|error| error.to_string())?;
-        let model = RegionModel { g: region.g, mixture, threshold };
+        let mut extent = [[f64::INFINITY, f64::NEG_INFINITY]; 3];
+        for voxel in region.cells.voxels.keys() {
+            for (axis, (low, high)) in pair.grid.voxel_bounds(*voxel).into_iter().enumerate() {
+                extent[axis][0] = extent[axis][0].min(low);
+                extent[axis][1] = extent[axis][1].max(high);
+            }
+        }
+        let model = RegionModel { g: region.g, mixture, threshold, extent };
         model.validate()?;
         Ok(model)
     }
 
-    /// Draws a relative pose: a feature from the mixture, its rotation columns projected to a rotation.
+    /// Draws a relative pose: a feature from the mixture, its rotation columns projected to a
+    /// rotation, redrawn (up to [`EXTENT_DRAWS`] times) while its position is outside the
+    /// region's extent.
     pub fn sample(&self, rng: &mut ChaCha8Rng) -> Pose {
-        features_pose(&self.mixture.sample(rng))
+        let mut pose = features_pose(&self.mixture.sample(rng));
+        for _ in 1..EXTENT_DRAWS {
+            if self.outside(&pose) == 0.0 {
+                break;
+            }
+            pose = features_pose(&self.mixture.sample(rng));
+        }
+        pose
+    }
+
+    /// How far (summed over axes, metres) a pose's position is outside the region's extent.
+    fn outside(&self, relative: &Pose) -> f64 {
+        let position = relative.translation.vector;
+        (0..3)
+            .map(|axis| {
+                let [low, high] = self.extent[axis];
+                (low - position[axis]).max(position[axis] - high).max(0.0)
+            })
+            .sum()
     }
 
     /// The number of mixture components BIC chose.
@@ -102,6 +141,13 @@ impl RegionModel {
         if self.g > 1 {
             return Err(format!("the held flag is {}, not 0 or 1", self.g));
         }
+        if self
+            .extent
+            .iter()
+            .any(|[low, high]| !(low.is_finite() && high.is_finite() && low <= high))
+        {
+            return Err("the region's extent is not a box".to_string());
+        }
         Ok(())
     }
 }
@@ -117,6 +163,11 @@ fn cell_list(cells: &RegionCells) -> Vec<(Voxel, RotationCell)> {
 
 impl RegionClassifier for RegionModel {
     fn margin(&self, relative: &Pose) -> f64 {
+        let outside = self.outside(relative);
+        if outside > 0.0 {
+            // Below zero, and lower the further out.
+            return -1.0 - outside;
+        }
         self.mixture.log_density(&pose_features(relative)) - self.threshold
     }
 }
