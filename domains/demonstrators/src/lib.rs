@@ -10,7 +10,6 @@
 mod cafe;
 mod error;
 mod packing;
-mod recorder;
 mod skills;
 
 use std::collections::BTreeMap;
@@ -23,7 +22,7 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 pub use error::DemoError;
-pub use recorder::STEP_NANOSECONDS;
+pub use lamp_world::STEP_NANOSECONDS;
 
 /// Attempts per demonstration before giving up (each with fresh random choices).
 pub const MAX_ATTEMPTS: u32 = 25;
@@ -130,7 +129,8 @@ pub(crate) struct Recording {
 /// A demonstrator checked against its spec, ready to generate.
 enum Prepared<'a> {
     Packing(packing::Packing<'a>),
-    Cafe(cafe::Cafe<'a>),
+    // Boxed: the Café demonstrator keeps its furniture and configurations, Packing very little.
+    Cafe(Box<cafe::Cafe<'a>>),
 }
 
 impl Prepared<'_> {
@@ -160,7 +160,7 @@ fn prepare<'a>(world: &'a SpecWorld, simulation: &Simulation) -> Result<Prepared
     }
     Ok(match simulation.demonstrator {
         Demonstrator::Packing => Prepared::Packing(packing::Packing::new(world)?),
-        Demonstrator::Cafe => Prepared::Cafe(cafe::Cafe::new(world)?),
+        Demonstrator::Cafe => Prepared::Cafe(Box::new(cafe::Cafe::new(world)?)),
     })
 }
 

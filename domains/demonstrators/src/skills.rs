@@ -5,7 +5,7 @@ use lamp_geometry::{Pose, Rotation, Vec3};
 use lamp_world::{MotionConfig, Scene, densify, plan_motion};
 use rand_chacha::ChaCha8Rng;
 
-use crate::recorder::Recorder;
+use lamp_world::Recorder;
 
 /// The motion settings of every demonstrator: the world's default resolutions (5 mm,
 /// 0.01 rad) and RRT-Connect with an iteration budget but no wall-clock limit, so that the same
@@ -34,8 +34,13 @@ pub(crate) fn move_to(
         .get(robot)
         .map(|r| r.configuration().to_vec())
         .ok_or_else(|| "the robot is not in the scene".to_string())?;
-    let plan = plan_motion(scene, robot, group, &start, goal, &config, rng)
-        .map_err(|error| format!("motion planning ({group}): {error}"))?;
+    let plan =
+        plan_motion(scene, robot, group, &start, goal, &config, rng).map_err(
+            |error| match scene.first_contact(robot, goal) {
+                Some(contact) => format!("motion planning ({group}): {error} ({contact})"),
+                None => format!("motion planning ({group}): {error}"),
+            },
+        )?;
     let model = scene.robots()[robot].robot().clone();
     let states = densify(&model, &plan.waypoints, &config);
     recorder.follow(scene, robot, &states);
@@ -64,4 +69,74 @@ pub(crate) fn release(scene: &mut Scene, recorder: &mut Recorder, robot: usize) 
 /// A pose from a translation and roll, pitch, yaw (radians; `Rz(yaw)·Ry(pitch)·Rx(roll)`).
 pub(crate) fn pose(x: f64, y: f64, z: f64, roll: f64, pitch: f64, yaw: f64) -> Pose {
     Pose::from_parts(Vec3::new(x, y, z).into(), Rotation::from_euler_angles(roll, pitch, yaw))
+}
+
+/// The level top of a static surface: its world pose (frame at the centre of the top face) and
+/// the half extents of its footprint along the frame's x and y.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct SurfaceTop {
+    pub(crate) pose: Pose,
+    pub(crate) half_x: f64,
+    pub(crate) half_y: f64,
+}
+
+impl SurfaceTop {
+    /// The top of a body with these parts (in its frame) at `pose`: the footprint is the
+    /// bounding box of every part, the widest of which is the top for a table or a counter.
+    pub(crate) fn of_parts(pose: Pose, parts: &[(Pose, lamp_geometry::Shape)]) -> Option<Self> {
+        let shape = lamp_geometry::CollisionShape::compound(parts).ok()?;
+        let bounds = shape.aabb(&Pose::identity());
+        let half_x = bounds.maxs.x.min(-bounds.mins.x);
+        let half_y = bounds.maxs.y.min(-bounds.mins.y);
+        (half_x > 0.0 && half_y > 0.0).then_some(SurfaceTop { pose, half_x, half_y })
+    }
+
+    /// The world point at surface-frame (x, y, z).
+    pub(crate) fn point(&self, x: f64, y: f64, z: f64) -> Vec3 {
+        (self.pose * lamp_geometry::Point3::new(x, y, z)).coords
+    }
+}
+
+/// Where a mobile base stands relative to the edge of a surface it faces.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Approach {
+    /// Distance from the edge to the base's origin, metres.
+    pub(crate) standoff: f64,
+    /// The base keeps at least this far from the ends of the edge it faces, metres.
+    pub(crate) edge_margin: f64,
+    /// Added along the edge after aligning with the target point, metres.
+    pub(crate) lateral_offset: f64,
+    /// Added to the yaw that faces the edge squarely, radians.
+    pub(crate) yaw_offset: f64,
+}
+
+/// A planar base pose (z = 0) facing the edge of `top` nearest to the surface-frame point
+/// (x, y): `standoff` out from that edge, level with the point along the edge (kept
+/// `edge_margin` from the edge's ends), looking squarely at the surface — the pose from which an
+/// arm on the base reaches the point over the shortest stretch of the top.
+pub(crate) fn base_pose_facing(top: &SurfaceTop, x: f64, y: f64, approach: &Approach) -> Pose {
+    // (outward normal, half extent along it, half length of the edge, the point's distance in)
+    let edges = [
+        (Vec3::x(), top.half_x, top.half_y, top.half_x - x),
+        (-Vec3::x(), top.half_x, top.half_y, top.half_x + x),
+        (Vec3::y(), top.half_y, top.half_x, top.half_y - y),
+        (-Vec3::y(), top.half_y, top.half_x, top.half_y + y),
+    ];
+    let (normal, depth, half_length, _) = edges
+        .into_iter()
+        .min_by(|a, b| a.3.total_cmp(&b.3))
+        .unwrap_or((Vec3::x(), top.half_x, top.half_y, 0.0));
+    let along = Vec3::new(-normal.y, normal.x, 0.0);
+    let reach = (half_length - approach.edge_margin).max(0.0);
+    let lateral = Vec3::new(x, y, 0.0).dot(&along).clamp(-reach, reach) + approach.lateral_offset;
+    let local = normal * (depth + approach.standoff) + along * lateral;
+    let world = top.pose * lamp_geometry::Point3::from(local);
+    let facing = top.pose.rotation * -normal;
+    let yaw = facing.y.atan2(facing.x) + approach.yaw_offset;
+    pose(world.x, world.y, 0.0, 0.0, 0.0, yaw)
+}
+
+/// The yaw of the horizontal direction from `from` to `to`.
+pub(crate) fn bearing(from: &Vec3, to: &Vec3) -> f64 {
+    (to.y - from.y).atan2(to.x - from.x)
 }

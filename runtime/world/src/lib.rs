@@ -11,6 +11,7 @@ mod error;
 mod from_spec;
 mod ik;
 mod motion;
+mod recording;
 mod rrt;
 mod scene;
 
@@ -22,5 +23,6 @@ pub use motion::{
     DEFAULT_ANGULAR_RESOLUTION, DEFAULT_LINEAR_RESOLUTION, FREE_SAMPLING_MARGIN, MotionConfig,
     MotionError, MotionPlan, RobotSpace, densify, edge_steps, plan_motion,
 };
+pub use recording::{Recorder, STEP_NANOSECONDS, trajectory_header};
 pub use rrt::{RrtConfig, RrtError, RrtStats, Space, rrt_connect, shortcut};
 pub use scene::{Body, Gripper, Held, Scene, SceneRobot};
