@@ -34,17 +34,21 @@ pub struct Adapter {
 
 /// A spec robot with the links of its parts.
 #[derive(Debug, Clone)]
-pub(crate) struct RobotParts {
+pub struct RobotParts {
     pub(crate) model: Arc<Robot>,
     /// In spec part order.
-    pub(crate) parts: Vec<Part>,
+    pub parts: Vec<Part>,
 }
 
+/// A robot link that takes part in relations.
 #[derive(Debug, Clone)]
-pub(crate) struct Part {
-    pub(crate) type_name: String,
-    pub(crate) link: LinkId,
-    pub(crate) gripper: bool,
+pub struct Part {
+    /// The part's type (and the suffix of its participant name).
+    pub type_name: String,
+    /// Its link in the robot model.
+    pub link: LinkId,
+    /// Whether it is the robot's gripper.
+    pub gripper: bool,
 }
 
 impl RobotParts {
@@ -73,7 +77,7 @@ impl RobotParts {
     }
 
     /// The participants of this robot's parts.
-    pub(crate) fn participants(&self, robot: &str) -> Vec<Participant> {
+    pub fn participants(&self, robot: &str) -> Vec<Participant> {
         self.parts
             .iter()
             .map(|part| Participant {
@@ -123,7 +127,7 @@ impl Adapter {
     }
 
     /// The parts of a spec robot.
-    pub(crate) fn robot_parts(&self, robot: &str) -> Option<&RobotParts> {
+    pub fn robot_parts(&self, robot: &str) -> Option<&RobotParts> {
         self.robots.get(robot)
     }
 

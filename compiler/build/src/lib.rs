@@ -21,6 +21,7 @@ pub mod problems;
 pub mod provenance;
 pub mod region_plots;
 pub mod samplers;
+pub mod scene_state;
 
 pub use adapter::{Adapter, part_participant_name};
 pub use aliases::{ResolvedAlias, resolve_alias, resolve_aliases};
@@ -36,3 +37,4 @@ pub use problems::{ProblemOutcome, problem_pddl};
 pub use provenance::Provenance;
 pub use region_plots::{REGIONS_DIR, SAMPLES_PER_REGION, region_plots};
 pub use samplers::{SAMPLERS_FORMAT, SAMPLERS_VERSION, SamplersFile};
+pub use scene_state::scene_snapshot;

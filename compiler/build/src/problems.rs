@@ -7,9 +7,9 @@
 //! goals have no learned-relation form here: a problem with only those is skipped, a problem that also
 //! has atoms is written with the atoms and a note.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
-use lamp_learn::{Model, Participant, Pose, Role, Snapshot, abstract_state, ground_atoms};
+use lamp_learn::{GroundAtom, Model, Participant, Role, Snapshot, abstract_state, ground_atoms};
 use lamp_pddl::{Atom, Literal, Typed};
 use lamp_spec::Problem;
 use lamp_world::SpecWorld;
@@ -17,6 +17,7 @@ use lamp_world::SpecWorld;
 use crate::adapter::Adapter;
 use crate::aliases::ResolvedAlias;
 use crate::error::BuildError;
+use crate::scene_state::scene_snapshot;
 
 /// What became of one spec problem.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -87,7 +88,9 @@ pub fn problem_pddl(
         .map(|participant| Typed::new(participant.name.clone(), participant.type_name.clone()))
         .collect();
     pddl.init = ground_atoms(&init);
-    pddl.goal = goal_atoms.into_iter().map(Literal::positive).collect();
+    let mut goal = goal_atoms;
+    goal.extend(ground_atoms(&hands_free(context.model, &init)));
+    pddl.goal = goal.into_iter().map(Literal::positive).collect();
     pddl.sort_canonical();
     if let Some(problem_error) = lamp_pddl::check_problem(context.domain, &pddl).first() {
         return Err(BuildError::Emit {
@@ -101,6 +104,20 @@ pub fn problem_pddl(
     }
     text.push_str(&lamp_pddl::write_problem(&pddl));
     Ok(ProblemOutcome::Written { name, text, notes: omitted })
+}
+
+/// The clear relations of held regions (g = 1) true in `init`: grippers that start empty must end
+/// empty, so that a plan puts down what it carries instead of stopping with the last object in
+/// hand.
+fn hands_free(model: &Model, init: &BTreeSet<GroundAtom>) -> BTreeSet<GroundAtom> {
+    let held: BTreeSet<String> = model
+        .pairs
+        .iter()
+        .flat_map(|pair| &pair.regions)
+        .filter(|region| region.summary.g == 1)
+        .map(|region| format!("clear_{}", region.relation))
+        .collect();
+    init.iter().filter(|atom| held.contains(&atom.predicate)).cloned().collect()
 }
 
 fn goal_atoms(context: &ProblemContext<'_>, problem: &Problem) -> Result<Vec<Atom>, BuildError> {
@@ -133,50 +150,8 @@ fn initial_snapshot(
     context: &ProblemContext<'_>,
     problem: &Problem,
 ) -> Result<(Vec<Participant>, Snapshot), BuildError> {
-    let scene = context.world.problem_scene(problem).map_err(|error| BuildError::Scene {
-        problem: problem.name.clone(),
-        reason: error.to_string(),
-    })?;
-    let mut participants = Vec::new();
-    let mut poses = Vec::new();
-    // (gripper participant, scene body) pairs, mapped once every body has its participant index.
-    let mut holds = Vec::new();
-    for robot in scene.robots() {
-        let parts = context.adapter.robot_parts(&robot.name).ok_or_else(|| BuildError::Scene {
-            problem: problem.name.clone(),
-            reason: format!("robot `{}` is not declared", robot.name),
-        })?;
-        let first = participants.len();
-        participants.extend(parts.participants(&robot.name));
-        let mut links = vec![Pose::identity(); robot.robot().link_count()];
-        parts.part_poses(robot.configuration(), &mut links, &mut poses);
-        if let Some(gripper) = robot.gripper()
-            && let Some(held) = gripper.held
-            && let Some(part) =
-                parts.parts.iter().position(|part| part.type_name == gripper.part_type)
-        {
-            holds.push((first + part, held.body));
-        }
-    }
-    let mut body_participants = Vec::new();
-    for (index, body) in scene.bodies().iter().enumerate() {
-        if body.world {
-            body_participants.push(None);
-            continue;
-        }
-        body_participants.push(Some(participants.len()));
-        participants.push(Participant {
-            name: body.name.clone(),
-            type_name: body.type_name.clone(),
-            role: Role::Object { movable: body.movable },
-        });
-        poses.push(scene.body_pose(index));
-    }
-    let held = holds
-        .into_iter()
-        .filter_map(|(gripper, body)| {
-            body_participants.get(body).copied().flatten().map(|object| (gripper, object))
-        })
-        .collect();
-    Ok((participants, Snapshot { poses, held }))
+    let scene_error = |reason: String| BuildError::Scene { problem: problem.name.clone(), reason };
+    let scene =
+        context.world.problem_scene(problem).map_err(|error| scene_error(error.to_string()))?;
+    scene_snapshot(context.adapter, &scene).map_err(scene_error)
 }

@@ -1,4 +1,5 @@
-//! Oracle: Fast Downward's translator accepts the learned domain and the written problems unchanged.
+//! Oracle: Fast Downward's translator accepts the domain learned from real Packing demonstrations
+//! and the written problems unchanged.
 //!
 //! Skips with a message when `python3 -m fast_downward.translate` (pip `fast-downward-translate`)
 //! is missing, and fails instead when `LAMP_REQUIRE_ORACLES=1`.

@@ -1,5 +1,7 @@
-//! Fixture demonstration files until the domains' real demonstrators exist: lamp-learn's synthetic
-//! Packing demonstrations written as MCAP trajectories that match `domains/packing/packing.lamp`.
+//! Synthetic demonstration files: lamp-learn's synthetic Packing demonstrations written as MCAP
+//! trajectories that match `domains/packing/packing.lamp`. Real demonstrations come from
+//! lamp-demonstrators; these small, hand-shaped files serve the adapter's tests and lampc's
+//! command-line tests, which need files quickly and exactly known.
 //!
 //! Shared by lamp-build's tests and lampc's (included there with `#[path]`), so it depends only on
 //! lamp-learn, lamp-robot, lamp-trajectory and nalgebra.
