@@ -6,6 +6,7 @@
 mod commands;
 mod diagnostics;
 mod files;
+mod plugin_setup;
 mod spec_input;
 
 use std::io::IsTerminal;
@@ -41,8 +42,6 @@ enum Command {
 
 /// Exit code for a spec with diagnostics.
 pub(crate) const EXIT_DIAGNOSTICS: u8 = 1;
-/// Exit code for usage errors and commands that cannot run.
-pub(crate) const EXIT_UNAVAILABLE: u8 = 2;
 
 fn main() -> ExitCode {
     install_panic_hook();
@@ -85,11 +84,6 @@ fn spec_name(sources: &lamp_lang::SourceMap) -> String {
 
 fn terminal_width() -> usize {
     std::env::var("COLUMNS").ok().and_then(|c| c.parse().ok()).unwrap_or(100)
-}
-
-pub(crate) fn not_yet(command: &str) -> ExitCode {
-    eprintln!("lampc {command}: not implemented yet");
-    ExitCode::from(EXIT_UNAVAILABLE)
 }
 
 /// A panic is a bug in lampc, never the user's fault: say so and ask for a report.

@@ -50,15 +50,18 @@ fn a_missing_spec_file_is_a_diagnostic_not_a_panic() {
 }
 
 #[test]
-fn unimplemented_commands_say_so_and_fail() {
+fn solve_without_a_build_says_how_to_make_one() {
     let spec = domains().join("packing/packing.lamp");
+    let empty = tempfile::tempdir().expect("a scratch directory");
     let output = lampc()
         .arg("solve")
         .arg(&spec)
-        .args(["--problem", "pack4_01"])
+        .args(["--problem", "pack4_01", "--build"])
+        .arg(empty.path())
         .output()
         .expect("lampc runs");
     let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(2), "{stderr}");
-    assert!(stderr.contains("not implemented yet"), "{stderr}");
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("domain.pddl") && stderr.contains("lampc build"), "{stderr}");
+    assert!(std::fs::read_dir(empty.path()).expect("readable").next().is_none(), "nothing written");
 }

@@ -173,24 +173,11 @@ fn spinner(message: &'static str) -> ProgressBar {
     spinner
 }
 
-/// Writes every artifact through a temporary file renamed into place, so that a failure never
-/// leaves a partly written artifact behind.
+/// Writes every artifact through a temporary file renamed into place.
 fn write_all(build_dir: &Path, files: &[ArtifactFile]) -> Result<(), String> {
-    for file in files {
-        let path = build_dir.join(&file.path);
-        let folder = path.parent().unwrap_or(build_dir);
-        std::fs::create_dir_all(folder)
-            .map_err(|error| format!("cannot create {}: {error}", folder.display()))?;
-        let file_name = path.file_name().map(|name| name.to_string_lossy().into_owned());
-        let temporary = folder.join(format!(".{}.tmp", file_name.unwrap_or_default()));
-        std::fs::write(&temporary, &file.contents)
-            .map_err(|error| format!("cannot write {}: {error}", temporary.display()))?;
-        std::fs::rename(&temporary, &path).map_err(|error| {
-            let _ = std::fs::remove_file(&temporary);
-            format!("cannot move {} to {}: {error}", temporary.display(), path.display())
-        })?;
-    }
-    Ok(())
+    let files: Vec<(&Path, &[u8])> =
+        files.iter().map(|file| (file.path.as_path(), file.contents.as_bytes())).collect();
+    crate::files::write_atomically(build_dir, &files)
 }
 
 fn print_summary(spec_file: &str, build_dir: &Path, artifacts: &Artifacts, timings: &Timings) {

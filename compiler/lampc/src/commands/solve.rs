@@ -1,7 +1,25 @@
-//! `lampc solve`: Plan, refine and write a validated trajectory for one problem.
+//! `lampc solve`: plan, refine and write a validated trajectory for one problem of a built spec.
+//!
+//! Reads the build folder (`domain.pddl`, `problems/<name>.pddl`, `samplers.json`), sets up the
+//! three plugins, runs lamp-tamp, and writes into `<build>/solutions/<problem>/` the trajectory
+//! (`trajectory.mcap`), the plan (`plan.txt`), the run summary (`summary.json`) and a picture
+//! (`trajectory.svg`) — only once the trajectory has passed its replay check, each through a
+//! temporary file renamed into place.
 
-use std::path::PathBuf;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use indicatif::ProgressBar;
+use lamp_build::{Adapter, SamplersFile};
+use lamp_plugin_api::{MotionBudget, PlanBudget};
+use lamp_tamp::execute::MotionSettings;
+use lamp_tamp::{Plugins, SolveInput, SolveSettings};
+use lamp_world::{MotionConfig, SpecWorld, trajectory_header};
+
+use crate::plugin_setup::{self, RuntimeOptions};
 
 /// Arguments of `lampc solve`.
 #[derive(clap::Args)]
@@ -11,8 +29,224 @@ pub(crate) struct Args {
     /// The problem to solve, by name.
     #[arg(long)]
     pub(crate) problem: String,
+    /// The build folder `lampc build` wrote [default: `build/` beside the spec].
+    #[arg(long, value_name = "DIR")]
+    pub(crate) build: Option<PathBuf>,
+    /// Where to write the solution [default: `<build>/solutions/<problem>/`].
+    #[arg(long, value_name = "DIR")]
+    pub(crate) out: Option<PathBuf>,
+    /// The planner: a built-in name (`gbfs-ff`, `topk`, `external`) or a library path.
+    #[arg(long, value_name = "NAME|PATH")]
+    pub(crate) planner: Option<String>,
+    /// The refiner: `gmm` or a library path.
+    #[arg(long, value_name = "NAME|PATH")]
+    pub(crate) refiner: Option<String>,
+    /// The motion planner: `rrt-connect` or a library path.
+    #[arg(long, value_name = "NAME|PATH")]
+    pub(crate) motion: Option<String>,
+    /// Plans to ask the planner for (top-k) [default: the planner's `plans` option, else 3].
+    #[arg(long, value_name = "K")]
+    pub(crate) plans: Option<usize>,
+    /// The run's seed [default: the spec's].
+    #[arg(long)]
+    pub(crate) seed: Option<u64>,
+    /// Fail instead of dropping goal atoms no plan reaches.
+    #[arg(long)]
+    pub(crate) no_relax: bool,
 }
 
-pub(crate) fn run(_args: &Args) -> ExitCode {
-    crate::not_yet("solve")
+/// Refiner candidates per plan before it is given up.
+const MAX_CANDIDATES: usize = 400;
+/// RRT-Connect iterations per motion call (deterministic; the time limit is a safety net only).
+const MOTION_ITERATIONS: u64 = 4000;
+/// Rounds over the plans with fresh samples.
+const ROUNDS: usize = 3;
+
+pub(crate) fn run(args: &Args) -> ExitCode {
+    let colour = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+    match solve(args, colour) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            if !message.is_empty() {
+                eprintln!("{message}");
+            }
+            eprintln!("lampc solve: failed; no solution files were written");
+            ExitCode::from(crate::EXIT_DIAGNOSTICS)
+        }
+    }
+}
+
+fn read(path: &Path, what: &str) -> Result<String, String> {
+    std::fs::read_to_string(path).map_err(|error| {
+        format!(
+            "cannot read the {what} {}: {error}\nhelp: run `lampc build` on the spec first",
+            path.display()
+        )
+    })
+}
+
+fn solve(args: &Args, colour: bool) -> Result<(), String> {
+    let Some(checked) = crate::spec_input::check_spec(&args.spec, colour) else {
+        return Err(String::new());
+    };
+    let (spec, spec_dir) = (&checked.spec, &checked.dir);
+    let problem =
+        spec.problems.iter().find(|problem| problem.name == args.problem).ok_or_else(|| {
+            let names: Vec<&str> = spec.problems.iter().map(|p| p.name.as_str()).collect();
+            format!(
+                "{}: no problem `{}`; the spec has: {}",
+                checked.file_name,
+                args.problem,
+                names.join(", ")
+            )
+        })?;
+    let build_dir =
+        args.build.clone().unwrap_or_else(|| spec_dir.join(lamp_build::DEFAULT_BUILD_DIR));
+    let domain = read(&build_dir.join(lamp_build::DOMAIN_FILE), "domain")?;
+    let problem_path =
+        build_dir.join(lamp_build::PROBLEMS_DIR).join(format!("{}.pddl", problem.name));
+    let problem_text = read(&problem_path, "problem")?;
+    let samplers =
+        SamplersFile::from_json(&read(&build_dir.join(lamp_build::SAMPLERS_FILE), "sampler file")?)
+            .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
+
+    let world = SpecWorld::load(spec_dir, spec)
+        .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
+    let adapter = Adapter::new(spec, &world.robots)
+        .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
+    let scene = world
+        .problem_scene(problem)
+        .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
+
+    let plugins_spec = &spec.plugins;
+    let mut runtime = RuntimeOptions::default();
+    let plugin_error = |kind: &str, message: String| {
+        format!("{}: the {kind} plugin: {message}", checked.file_name)
+    };
+    let mut planner = plugin_setup::planner(
+        &plugin_setup::chosen(&plugins_spec.planner, spec_dir, args.planner.as_deref()),
+        &mut runtime,
+    )
+    .map_err(|m| plugin_error("planner", m))?;
+    let mut refiner = plugin_setup::refiner(
+        &plugin_setup::chosen(&plugins_spec.refiner, spec_dir, args.refiner.as_deref()),
+        &samplers.artifact,
+    )
+    .map_err(|m| plugin_error("refiner", m))?;
+    let mut motion = plugin_setup::motion(
+        &plugin_setup::chosen(&plugins_spec.motion, spec_dir, args.motion.as_deref()),
+        &mut runtime,
+    )
+    .map_err(|m| plugin_error("motion", m))?;
+
+    let seed = args.seed.unwrap_or(spec.seed);
+    let mut config = MotionConfig::default();
+    if let Some(resolution) = runtime.linear_resolution {
+        config.linear_resolution = resolution;
+    }
+    if let Some(resolution) = runtime.angular_resolution {
+        config.angular_resolution = resolution;
+    }
+    let interrupted = AtomicBool::new(false);
+    let cancelled = || interrupted.load(Ordering::Relaxed);
+    let grab_ranges = spec
+        .robots
+        .iter()
+        .filter_map(|robot| robot.grab_distance.map(|range| (robot.name.clone(), range)))
+        .collect();
+    let settings = SolveSettings {
+        seed,
+        plan_count: args.plans.or(runtime.plan_count).unwrap_or(3),
+        planner_budget: PlanBudget {
+            time_limit: runtime.planner_timeout.map(Duration::from_secs_f64),
+            ..PlanBudget::default()
+        },
+        rounds: ROUNDS,
+        max_candidates: MAX_CANDIDATES,
+        motion: MotionSettings {
+            config,
+            budget: MotionBudget {
+                max_iterations: Some(MOTION_ITERATIONS),
+                time_limit: runtime.motion_timeout.map(Duration::from_secs_f64),
+            },
+            grab_ranges,
+            cancelled: &cancelled,
+        },
+        relax_goal: !args.no_relax,
+    };
+    let mut header = trajectory_header(spec, &scene, seed);
+    header.provenance.insert("problem".to_string(), problem.name.clone());
+    header.provenance.insert("samplers".to_string(), samplers.provenance.digest.clone());
+    let input = SolveInput {
+        scene: &scene,
+        domain: &domain,
+        problem: &problem_text,
+        artifact: &samplers.artifact,
+        adapter: &adapter,
+        header,
+    };
+    let spinner = spinner();
+    let report = |phase: &str| spinner.set_message(format!("{}: {phase}", problem.name));
+    let mut plugins =
+        Plugins { planner: planner.as_mut(), refiner: refiner.as_mut(), motion: motion.as_mut() };
+    let outcome = lamp_tamp::solve(&input, &mut plugins, &settings, &report);
+    spinner.finish_and_clear();
+    let solution = outcome.map_err(|error| crate::diagnostics::render_error(&error, colour))?;
+
+    let picture =
+        lamp_render::render_trajectory(&world, &solution.trajectory, None, &Default::default())
+            .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
+    let mcap = solution
+        .trajectory
+        .to_bytes()
+        .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
+    let summary = &solution.summary;
+    let mut summary_json =
+        serde_json::to_string_pretty(summary).map_err(|error| error.to_string())?;
+    summary_json.push('\n');
+    let mut plan_text = String::new();
+    for step in &summary.plan {
+        plan_text.push_str(step);
+        plan_text.push('\n');
+    }
+    let out = args.out.clone().unwrap_or_else(|| build_dir.join("solutions").join(&problem.name));
+    let files: [(&Path, &[u8]); 4] = [
+        (Path::new("trajectory.mcap"), &mcap),
+        (Path::new("plan.txt"), plan_text.as_bytes()),
+        (Path::new("summary.json"), summary_json.as_bytes()),
+        (Path::new("trajectory.svg"), picture.as_bytes()),
+    ];
+    crate::files::write_atomically(&out, &files)?;
+    print_summary(summary, &out);
+    Ok(())
+}
+
+fn print_summary(summary: &lamp_tamp::Summary, out: &Path) {
+    println!("{}: solved, written to {}", summary.problem, out.display());
+    if !summary.relaxed_goal.is_empty() {
+        println!("  goal relaxed    dropped {}", summary.relaxed_goal.join(", "));
+    }
+    println!(
+        "  plan            {} steps ({} plan(s) tried)",
+        summary.plan.len(),
+        summary.plans_tried
+    );
+    println!(
+        "  refinement      {} candidates, {} backtracks, {} motion calls ({} without a path)",
+        summary.candidates, summary.backtracks, summary.motion_calls, summary.motion_failures
+    );
+    println!("  trajectory      {} steps, validated by replay", summary.trajectory_steps);
+    println!(
+        "  time            planning {:.2} s, refining {:.2} s, validating {:.2} s",
+        summary.seconds_planning, summary.seconds_refining, summary.seconds_validating
+    );
+}
+
+fn spinner() -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let spinner = ProgressBar::new_spinner();
+    spinner.enable_steady_tick(Duration::from_millis(100));
+    spinner
 }

@@ -1,0 +1,223 @@
+//! The candidate stream of one action: staying put first (grasp changes alone may realise the
+//! effects), then region samples turned into link targets by the host's IK, each kept only if the
+//! learned abstraction of the resulting state is exactly the state the plan expects.
+
+use std::collections::BTreeSet;
+use std::sync::Arc;
+
+use lamp_learn::{GroundAtom, Pose, SamplerArtifact};
+use lamp_plugin_api::{
+    Candidate, CandidateStream, GroundedAction, HostServices, ObjectPose, PluginError, RobotTarget,
+};
+use nalgebra::{Translation3, Vector3};
+use rand::RngExt;
+use rand_chacha::ChaCha8Rng;
+
+use crate::RefinerOptions;
+use crate::realise::{Anchor, Mover, Realisation};
+use crate::world_view::{Hypothesis, WorldView, link_pose, to_wire};
+
+/// One action's stream.
+pub(crate) struct GmmStream {
+    pub(crate) artifact: Arc<SamplerArtifact>,
+    pub(crate) options: RefinerOptions,
+    pub(crate) view: WorldView,
+    pub(crate) realisation: Realisation,
+    /// The abstract state the plan expects after the action.
+    pub(crate) expected: BTreeSet<GroundAtom>,
+    pub(crate) rng: ChaCha8Rng,
+    pub(crate) stayed: bool,
+    pub(crate) yielded: usize,
+    pub(crate) draws: usize,
+    /// Placements found but not yet yielded, best first.
+    pub(crate) pool: std::collections::VecDeque<Candidate>,
+}
+
+/// Valid placements gathered before the best is yielded, when an object is put into a region
+/// other objects may share.
+const PLACEMENT_POOL: usize = 16;
+
+/// The abstract state the plan expects after `action` from `before`.
+pub(crate) fn expected_state(
+    before: &BTreeSet<GroundAtom>,
+    action: &GroundedAction,
+) -> BTreeSet<GroundAtom> {
+    let convert = |atom: &lamp_plugin_api::GroundAtom| GroundAtom {
+        predicate: atom.predicate.clone(),
+        arguments: atom.arguments.clone(),
+    };
+    let deleted: BTreeSet<GroundAtom> = action.delete_effects.iter().map(convert).collect();
+    let mut after: BTreeSet<GroundAtom> = before.difference(&deleted).cloned().collect();
+    after.extend(action.add_effects.iter().map(convert));
+    after
+}
+
+impl CandidateStream for GmmStream {
+    fn next(&mut self, host: &dyn HostServices) -> Result<Option<Candidate>, PluginError> {
+        if self.yielded >= self.options.samples {
+            return Ok(None);
+        }
+        if !self.stayed {
+            self.stayed = true;
+            let configurations = self.view.current.configurations.clone();
+            if let Some(candidate) = self.try_state(configurations, host)? {
+                self.yielded += 1;
+                return Ok(Some(candidate));
+            }
+        }
+        let Some(mover) = self.realisation.mover.clone() else { return Ok(None) };
+        let placing =
+            matches!(mover.anchor, Anchor::HeldSecondary { .. }) && mover.region.is_some();
+        if placing && self.pool.is_empty() {
+            self.fill_pool(&mover, host)?;
+        }
+        if placing {
+            let next = self.pool.pop_front();
+            self.yielded += usize::from(next.is_some());
+            return Ok(next);
+        }
+        while self.draws < self.options.draws {
+            if let Some((candidate, _)) = self.draw(&mover, host)? {
+                self.yielded += 1;
+                return Ok(Some(candidate));
+            }
+        }
+        Ok(None)
+    }
+}
+
+impl GmmStream {
+    /// One draw: a target, IK, and the check of the state it leads to. Returns the candidate and
+    /// the drawn relative pose's distance from the region's centre.
+    fn draw(
+        &mut self,
+        mover: &Mover,
+        host: &dyn HostServices,
+    ) -> Result<Option<(Candidate, f64)>, PluginError> {
+        if host.is_cancelled() {
+            return Err(PluginError::Cancelled);
+        }
+        self.draws += 1;
+        let (target, spread) = self.target(mover, host)?;
+        let seed = self.view.current.configurations.get(&mover.robot).cloned().unwrap_or_default();
+        let Some(q) = host.solve_ik(&mover.robot, &mover.link, &to_wire(&target), &seed)? else {
+            return Ok(None);
+        };
+        let mut configurations = self.view.current.configurations.clone();
+        configurations.insert(mover.robot.clone(), q);
+        Ok(self.try_state(configurations, host)?.map(|candidate| (candidate, spread)))
+    }
+
+    /// Gathers up to [`PLACEMENT_POOL`] valid placements and orders them edge first: farthest
+    /// from the region's centre first, so that objects put into a shared region (cans into a
+    /// box) leave room for the next ones, as a person packing a box starts in the corners.
+    fn fill_pool(&mut self, mover: &Mover, host: &dyn HostServices) -> Result<(), PluginError> {
+        let mut found = Vec::new();
+        while found.len() < PLACEMENT_POOL && self.draws < self.options.draws {
+            if let Some(placement) = self.draw(mover, host)? {
+                found.push(placement);
+            }
+        }
+        // Stable: equal distances keep their draw order.
+        found.sort_by(|a, b| b.1.total_cmp(&a.1));
+        self.pool = found.into_iter().map(|(candidate, _)| candidate).collect();
+        Ok(())
+    }
+
+    /// A world pose for the moving link: from a region sample, or a random displacement.
+    fn target(
+        &mut self,
+        mover: &Mover,
+        host: &dyn HostServices,
+    ) -> Result<(Pose, f64), PluginError> {
+        let current = &self.view.current;
+        let Some((pair, region)) = mover.region else {
+            let here = link_pose(current, &mover.robot, &mover.link, host)?;
+            let direction = loop {
+                let v = Vector3::new(
+                    self.rng.random_range(-1.0..=1.0),
+                    self.rng.random_range(-1.0..=1.0),
+                    self.rng.random_range(-1.0..=1.0),
+                );
+                let norm: f64 = v.norm();
+                if norm > 1e-3 && norm <= 1.0 {
+                    break v / norm;
+                }
+            };
+            let distance = self.rng.random_range(0.0..=self.options.displacement);
+            return Ok((Translation3::from(direction * distance) * here, 0.0));
+        };
+        let model = &self.artifact.pairs[pair].regions[region].model;
+        let relative = model.sample(&mut self.rng);
+        let mixture = model.mixture();
+        let centre = mixture
+            .weights()
+            .iter()
+            .zip(mixture.means())
+            .fold(Vector3::zeros(), |sum, (weight, mean)| {
+                sum + *weight * Vector3::new(mean[0], mean[1], mean[2])
+            });
+        let spread = (relative.translation.vector - centre).norm();
+        let target = match &mover.anchor {
+            Anchor::PrimaryLink { secondary } => {
+                self.view.pose_in(current, secondary, host)? * relative.inverse()
+            }
+            Anchor::HeldSecondary { primary, grasp } => {
+                self.view.pose_in(current, primary, host)? * relative * grasp.inverse()
+            }
+        };
+        Ok((target, spread))
+    }
+
+    /// The candidate reaching `configurations`, if the state it leads to is the expected one.
+    fn try_state(
+        &self,
+        configurations: std::collections::BTreeMap<String, Vec<f64>>,
+        host: &dyn HostServices,
+    ) -> Result<Option<Candidate>, PluginError> {
+        let current = &self.view.current;
+        let mut after = Hypothesis {
+            configurations: current.configurations.clone(),
+            held: current.held.clone(),
+            placed: current.placed.clone(),
+        };
+        for change in &self.realisation.releases {
+            let pose = self.view.pose_in(current, &change.object, host)?;
+            after.held.remove(&change.object);
+            after.placed.insert(change.object.clone(), pose);
+        }
+        after.configurations = configurations;
+        for change in &self.realisation.grabs {
+            let object = self.view.pose_in(&after, &change.object, host)?;
+            let link = link_pose(&after, &change.robot, &change.link, host)?;
+            after.held.insert(
+                change.object.clone(),
+                (change.robot.clone(), change.link.clone(), link.inv_mul(&object)),
+            );
+        }
+        if self.view.abstraction(&self.artifact, &after, host)? != self.expected {
+            return Ok(None);
+        }
+        let mut targets = Vec::new();
+        for (robot, q) in &after.configurations {
+            if current.configurations.get(robot) != Some(q) {
+                if !host.configuration_is_valid(robot, q)? {
+                    return Ok(None);
+                }
+                targets.push(RobotTarget { robot: robot.clone(), configuration: q.clone() });
+            }
+        }
+        let mut object_poses = Vec::new();
+        for object in after.held.keys().chain(after.placed.keys()) {
+            let pose = self.view.pose_in(&after, object, host)?;
+            object_poses.push(ObjectPose { object: object.clone(), pose: to_wire(&pose) });
+        }
+        object_poses.sort_by(|a, b| a.object.cmp(&b.object));
+        Ok(Some(Candidate {
+            targets,
+            object_poses,
+            releases: self.realisation.releases.clone(),
+            grabs: self.realisation.grabs.clone(),
+        }))
+    }
+}

@@ -1,0 +1,75 @@
+//! Why a problem could not be solved.
+
+use miette::Diagnostic;
+use thiserror::Error;
+
+/// A solve failure, with a stable code.
+#[derive(Debug, Error, Diagnostic)]
+pub enum SolveError {
+    /// The domain or problem text does not parse.
+    #[error("the {what} does not parse: {reason}")]
+    #[diagnostic(
+        code(lamp::solve::pddl),
+        help("rebuild with `lampc build`, or fix the edited file")
+    )]
+    Pddl { what: String, reason: String },
+    /// The problem's scene abstracts to another state than the problem file's `:init`.
+    #[error(
+        "problem `{problem}` is stale: its scene abstracts to another initial state than its PDDL file ({difference})"
+    )]
+    #[diagnostic(
+        code(lamp::solve::stale_problem),
+        help("rebuild with `lampc build` after changing the spec or the demonstrations")
+    )]
+    StaleProblem { problem: String, difference: String },
+    /// The planner returned a plan that names an unknown action or the wrong arity.
+    #[error("the planner returned a bad step {step}: {reason}")]
+    #[diagnostic(code(lamp::solve::bad_plan))]
+    BadPlan { step: String, reason: String },
+    /// A plugin call failed.
+    #[error("the {kind} plugin failed: {reason}")]
+    #[diagnostic(code(lamp::solve::plugin))]
+    Plugin { kind: &'static str, reason: String },
+    /// No plan exists even with every goal relation but one dropped, or the planner gave up.
+    #[error("no plan: {reason}")]
+    #[diagnostic(
+        code(lamp::solve::no_plan),
+        help(
+            "check the goal against the vocabulary report; more demonstrations may teach the missing action"
+        )
+    )]
+    NoPlan { reason: String },
+    /// Plans exist but none could be refined into motion within the budget.
+    #[error(
+        "no plan could be refined into motion ({plans} plan(s) tried, {candidates} candidates, deepest step {deepest} of {length}); the last failure: {last_failure}"
+    )]
+    #[diagnostic(
+        code(lamp::solve::refinement_failed),
+        help("raise the refiner's `samples` or the motion budget, or try `--planner topk`")
+    )]
+    RefinementFailed {
+        plans: usize,
+        candidates: usize,
+        deepest: usize,
+        length: usize,
+        last_failure: String,
+    },
+    /// The final trajectory failed its replay check: a bug, never a user error.
+    #[error("the solution failed validation at step {step}: {reason}")]
+    #[diagnostic(code(lamp::solve::invalid_solution))]
+    InvalidSolution { step: usize, reason: String },
+    /// Cancelled by the user.
+    #[error("cancelled")]
+    #[diagnostic(code(lamp::solve::cancelled))]
+    Cancelled,
+    /// A broken invariant inside the solver.
+    #[error("internal error: {0}")]
+    #[diagnostic(code(lamp::solve::internal))]
+    Internal(String),
+}
+
+impl SolveError {
+    pub(crate) fn internal(reason: impl Into<String>) -> Self {
+        SolveError::Internal(reason.into())
+    }
+}

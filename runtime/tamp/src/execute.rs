@@ -1,0 +1,175 @@
+//! Carrying out one candidate in a scene: let go, move along a planned path, take hold; every
+//! visited state recorded at the checking resolution, every motion checked state by state.
+
+use lamp_plugin_api::{
+    Candidate, MotionBudget, MotionOutcome, MotionPlanner, MotionRequest, PluginError,
+};
+use lamp_robot::Robot;
+use lamp_world::{MotionConfig, Recorder, RobotSpace, Scene, densify};
+
+use crate::error::SolveError;
+use crate::host::GroupHost;
+
+/// What the motion of one candidate may use.
+pub struct MotionSettings<'a> {
+    /// Resolutions of recording and checking.
+    pub config: MotionConfig,
+    /// The motion planner's budget per call.
+    pub budget: MotionBudget,
+    /// Grab distance range per robot name (link origin to object origin), if the spec gives one.
+    pub grab_ranges: Vec<(String, (f64, f64))>,
+    /// Whether the user asked to stop.
+    pub cancelled: &'a dyn Fn() -> bool,
+}
+
+/// Why a candidate was rejected (the search tries another), or a hard error.
+pub enum Rejection {
+    /// Try the next candidate; the message says why this one failed.
+    Candidate(String),
+    /// Stop solving.
+    Fatal(SolveError),
+}
+
+impl From<SolveError> for Rejection {
+    fn from(error: SolveError) -> Self {
+        Rejection::Fatal(error)
+    }
+}
+
+/// Counts of the motion planner's work.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct MotionCounts {
+    pub calls: usize,
+    pub failures: usize,
+}
+
+/// Applies `candidate` to `scene`, recording every state into `recorder`.
+pub fn execute(
+    scene: &mut Scene,
+    candidate: &Candidate,
+    recorder: &mut Recorder,
+    motion: &mut dyn MotionPlanner,
+    settings: &MotionSettings<'_>,
+    seed: u64,
+    counts: &mut MotionCounts,
+) -> Result<(), Rejection> {
+    let robot_index = |scene: &Scene, name: &str| {
+        scene.robot_index(name).ok_or_else(|| {
+            Rejection::Fatal(SolveError::Plugin {
+                kind: "refiner",
+                reason: format!("it names robot `{name}`, which is not in the scene"),
+            })
+        })
+    };
+    for change in &candidate.releases {
+        let robot = robot_index(scene, &change.robot)?;
+        let held = scene.held(robot).map(|held| scene.bodies()[held.body].name.clone());
+        if held.as_deref() != Some(change.object.as_str()) {
+            return Err(Rejection::Candidate(format!(
+                "`{}` does not hold `{}`",
+                change.robot, change.object
+            )));
+        }
+        scene.release(robot);
+        recorder.record(scene);
+    }
+    for (offset, target) in candidate.targets.iter().enumerate() {
+        let robot = robot_index(scene, &target.robot)?;
+        let model = scene.robots()[robot].robot().clone();
+        let start = scene.robots()[robot].configuration().to_vec();
+        let goal = &target.configuration;
+        if goal.len() != start.len() {
+            return Err(Rejection::Fatal(SolveError::Plugin {
+                kind: "refiner",
+                reason: format!("a target of `{}` has {} coordinates", target.robot, goal.len()),
+            }));
+        }
+        if model.distance(&start, goal) < 1e-12 {
+            continue;
+        }
+        let group = motion_group(&model, &start, goal);
+        let space = RobotSpace::new(scene, robot, group, &start, goal, &settings.config)
+            .map_err(|error| Rejection::Candidate(error.to_string()))?;
+        let host = GroupHost::new(&target.robot, &model, space, settings.cancelled);
+        let request = MotionRequest {
+            robot: target.robot.clone(),
+            start: start.clone(),
+            goal: goal.clone(),
+            budget: settings.budget,
+            seed: seed.wrapping_add(offset as u64),
+        };
+        counts.calls += 1;
+        let waypoints = match motion.plan_path(&request, &host) {
+            Ok(MotionOutcome::Path(waypoints)) => waypoints,
+            Ok(MotionOutcome::NoPath { reason, message }) => {
+                counts.failures += 1;
+                return Err(Rejection::Candidate(format!(
+                    "no {group} path for `{}` ({reason:?}{}{message})",
+                    target.robot,
+                    if message.is_empty() { "" } else { ": " }
+                )));
+            }
+            Err(PluginError::Cancelled) => return Err(Rejection::Fatal(SolveError::Cancelled)),
+            Err(error) => {
+                return Err(Rejection::Fatal(SolveError::Plugin {
+                    kind: "motion",
+                    reason: error.to_string(),
+                }));
+            }
+        };
+        let states = densify(&model, &waypoints, &settings.config);
+        let joins = |a: &[f64], b: &[f64]| model.distance(a, b) < 1e-9;
+        let (Some(first), Some(last)) = (states.first(), states.last()) else {
+            return Err(bad_path("it is empty"));
+        };
+        if !joins(first, &start) || !joins(last, goal) {
+            return Err(bad_path("it does not run from the start to the goal"));
+        }
+        if let Some(index) = states.iter().position(|q| !scene.is_valid(robot, q)) {
+            return Err(bad_path(&format!("its state {index} collides or leaves the limits")));
+        }
+        recorder.follow(scene, robot, &states);
+        scene.set_configuration(robot, goal);
+    }
+    for change in &candidate.grabs {
+        let robot = robot_index(scene, &change.robot)?;
+        let Some(body) = scene.body_index(&change.object) else {
+            return Err(Rejection::Candidate(format!("no body `{}`", change.object)));
+        };
+        let reach =
+            scene.gripper_pose(robot, scene.robots()[robot].configuration()).map(|gripper| {
+                (gripper.translation.vector - scene.body_pose(body).translation.vector).norm()
+            });
+        if let (Some(distance), Some((_, (low, high)))) =
+            (reach, settings.grab_ranges.iter().find(|(name, _)| name == &change.robot))
+            && !(*low..=*high).contains(&distance)
+        {
+            return Err(Rejection::Candidate(format!(
+                "`{}` is {distance:.3} m from the gripper, outside the grab range {low:.3}–{high:.3} m",
+                change.object
+            )));
+        }
+        scene.grab(robot, body).map_err(|error| Rejection::Candidate(error.to_string()))?;
+        recorder.record(scene);
+    }
+    Ok(())
+}
+
+fn bad_path(reason: &str) -> Rejection {
+    Rejection::Fatal(SolveError::Plugin {
+        kind: "motion",
+        reason: format!("it returned a path the world rejects: {reason}"),
+    })
+}
+
+/// The smallest joint group that holds every coordinate that changes from `start` to `goal`.
+fn motion_group<'r>(robot: &'r Robot, start: &[f64], goal: &[f64]) -> &'r str {
+    let changed: Vec<usize> =
+        (0..start.len()).filter(|&index| (start[index] - goal[index]).abs() > 1e-12).collect();
+    let mut groups: Vec<_> = robot
+        .groups()
+        .filter(|group| changed.iter().all(|index| group.coordinates.contains(index)))
+        .collect();
+    groups.sort_by_key(|group| (group.coordinates.len(), group.name.clone()));
+    groups.first().map_or(lamp_robot::ALL_GROUP, |group| group.name.as_str())
+}

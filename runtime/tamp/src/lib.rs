@@ -1,0 +1,31 @@
+//! lamp-tamp: task and motion planning over a learned model (paper App. F).
+//!
+//! [`solve`] plans with the planner plugin (k plans), refines each plan's actions in order with the
+//! refiner plugin's candidate streams and chronological backtracking ([`refine`]), moves the robot
+//! with the motion-planner plugin for every configuration change ([`execute`]), and checks after
+//! every step that the learned abstraction of the reached state is exactly the state the plan
+//! expects. When no plan refines, the next of the k plans is tried, then all of them again with
+//! fresh samples; when the planner proves the goal unreachable, the goal is relaxed (the relation
+//! used least in action preconditions dropped first) and the summary says so. The finished
+//! trajectory is replayed from the initial scene ([`validate`]) before it is returned.
+//!
+//! Pure: values in, values out. Plugins arrive as trait objects; files, terminals and libraries
+//! are `lampc`'s.
+
+pub mod error;
+pub mod execute;
+pub mod ground;
+pub mod host;
+pub mod plugins;
+pub mod poses;
+pub mod refine;
+pub mod state;
+pub mod summary;
+pub mod validate;
+
+mod solve;
+
+pub use error::SolveError;
+pub use plugins::Plugins;
+pub use solve::{Context, Solution, SolveInput, SolveSettings, solve};
+pub use summary::Summary;

@@ -1,0 +1,21 @@
+//! Poses between the plugin contract's `[x, y, z, qx, qy, qz, qw]` and nalgebra.
+
+use lamp_geometry::Pose;
+use nalgebra::{Quaternion, Translation3, UnitQuaternion};
+
+/// A wire pose as an isometry; the quaternion must be of unit length (within 1e-6).
+pub fn from_wire(pose: &[f64; 7]) -> Result<Pose, String> {
+    let [x, y, z, qx, qy, qz, qw] = *pose;
+    let quaternion = Quaternion::new(qw, qx, qy, qz);
+    if !pose.iter().all(|value| value.is_finite()) || (quaternion.norm() - 1.0).abs() > 1e-6 {
+        return Err(format!("not a pose: {pose:?}"));
+    }
+    Ok(Pose::from_parts(Translation3::new(x, y, z), UnitQuaternion::new_normalize(quaternion)))
+}
+
+/// An isometry as a wire pose.
+pub fn to_wire(pose: &Pose) -> [f64; 7] {
+    let t = pose.translation.vector;
+    let q = pose.rotation.quaternion();
+    [t.x, t.y, t.z, q.i, q.j, q.k, q.w]
+}

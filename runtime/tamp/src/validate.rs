@@ -1,0 +1,81 @@
+//! Replaying a finished trajectory from the initial scene, as an independent check before it is
+//! written: every step's grasp changes are legal, every configuration is valid (within limits,
+//! collision-free, the held object included), consecutive configurations are within the checking
+//! resolution of each other, bodies move only while held, and the goal holds at the end.
+
+use std::collections::BTreeSet;
+
+use lamp_build::Adapter;
+use lamp_learn::{GroundAtom, SamplerArtifact};
+use lamp_trajectory::Step;
+use lamp_world::{MotionConfig, Scene, edge_steps};
+
+use crate::error::SolveError;
+use crate::state::abstraction;
+
+/// Checks `steps` from `initial`; returns the final abstract state.
+pub fn replay(
+    initial: &Scene,
+    steps: &[Step],
+    config: &MotionConfig,
+    artifact: &SamplerArtifact,
+    adapter: &Adapter,
+    goal: &BTreeSet<GroundAtom>,
+) -> Result<BTreeSet<GroundAtom>, SolveError> {
+    let mut scene = initial.clone();
+    let fail = |step: usize, reason: String| SolveError::InvalidSolution { step, reason };
+    for (index, step) in steps.iter().enumerate() {
+        if step.robots.len() != scene.robots().len()
+            || step.body_poses.len() != scene.bodies().len()
+        {
+            return Err(fail(index, "the step does not describe the scene".to_string()));
+        }
+        for (robot, state) in step.robots.iter().enumerate() {
+            let held_now = scene.held(robot).map(|held| held.body);
+            let held_next = state.held.first().copied().flatten();
+            if held_now != held_next {
+                if held_now.is_some() {
+                    scene.release(robot);
+                }
+                if let Some(body) = held_next {
+                    scene.grab(robot, body).map_err(|error| fail(index, error.to_string()))?;
+                }
+            }
+            let model = scene.robots()[robot].robot().clone();
+            let previous = scene.robots()[robot].configuration().to_vec();
+            let steps_needed = edge_steps(
+                &model,
+                &previous,
+                &state.positions,
+                config.linear_resolution,
+                config.angular_resolution,
+            );
+            if steps_needed > 1 {
+                return Err(fail(
+                    index,
+                    format!("robot `{}` jumps further than one resolution step", model.name()),
+                ));
+            }
+            scene.set_configuration(robot, &state.positions);
+            if let Some(contact) = scene.first_contact(robot, &state.positions) {
+                return Err(fail(index, contact.to_string()));
+            }
+        }
+        for (body, pose) in step.body_poses.iter().enumerate() {
+            let here = scene.body_pose(body);
+            let moved = (here.translation.vector - pose.translation.vector).norm() > 1e-9
+                || here.rotation.angle_to(&pose.rotation) > 1e-9;
+            if moved {
+                return Err(fail(
+                    index,
+                    format!("body `{}` moves without being held", scene.bodies()[body].name),
+                ));
+            }
+        }
+    }
+    let reached = abstraction(artifact, adapter, &scene)?;
+    if let Some(missing) = goal.iter().find(|atom| !reached.contains(atom)) {
+        return Err(fail(steps.len(), format!("the goal atom {missing} does not hold at the end")));
+    }
+    Ok(reached)
+}

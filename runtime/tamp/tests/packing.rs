@@ -1,0 +1,124 @@
+//! End to end on Packing: real demonstrations made in memory, learned with lamp-build, and four-can
+//! problems solved with the first-party plugins linked in. The trajectory is checked for what a
+//! robot engineer cares about, independently of the solver's own replay: every can ends standing
+//! on the box floor inside its walls, nothing collides along the way, and the same seed gives the
+//! same trajectory.
+
+#[path = "support/packing.rs"]
+mod packing;
+
+use lamp_build::{Adapter, SamplersFile};
+use lamp_motion_rrt::{RrtConnectPlanner, RrtOptions};
+use lamp_planner_builtin::{BuiltinAlgorithm, BuiltinPlanner};
+use lamp_plugin_api::{MotionBudget, PlanBudget};
+use lamp_refiner_gmm::{GmmRefiner, RefinerOptions};
+use lamp_tamp::execute::MotionSettings;
+use lamp_tamp::{Plugins, Solution, SolveError, SolveInput, SolveSettings, solve};
+use lamp_world::{MotionConfig, trajectory_header};
+use packing::{PACKING, artifact, solve_problem};
+
+/// Replays the trajectory in a fresh scene: no step collides; at the end every can stands on the
+/// box floor, inside its walls, released.
+fn check_packed(name: &str, solution: &Solution) {
+    let (spec, world, _) = &*PACKING;
+    let problem = spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
+    let mut scene = world.problem_scene(problem).expect("the scene loads");
+    let steps = &solution.trajectory.steps;
+    for (index, step) in steps.iter().enumerate() {
+        let held = step.robots[0].held.first().copied().flatten();
+        if scene.held(0).map(|h| h.body) != held {
+            scene.release(0);
+            if let Some(body) = held {
+                scene.grab(0, body).expect("a legal grab");
+            }
+        }
+        let q = &step.robots[0].positions;
+        scene.set_configuration(0, q);
+        assert!(scene.first_contact(0, q).is_none(), "step {index} collides");
+    }
+    let last = steps.last().expect("a trajectory");
+    assert_eq!(last.robots[0].held, vec![None], "the last can is released");
+    let box_index = scene.body_index("box1").expect("the box");
+    let box_pose = last.body_poses[box_index];
+    for can in ["can1", "can2", "can3", "can4"] {
+        let pose = box_pose.inv_mul(&last.body_poses[scene.body_index(can).expect("a can")]);
+        let t = pose.translation.vector;
+        let inner = 0.075 - 0.0325;
+        assert!(
+            t.x.abs() <= inner && t.y.abs() <= inner,
+            "{name}: {can} inside the walls: {t:?}; plan {:?}",
+            solution.summary.plan
+        );
+        assert!((-1e-9..=0.006).contains(&t.z), "{can} stands on the floor: {t:?}");
+        let up = pose.rotation * nalgebra::Vector3::z();
+        assert!(up.z > 0.99, "{can} upright");
+    }
+}
+
+#[test]
+fn four_cans_are_packed_and_the_trajectory_is_collision_free() {
+    for name in ["pack4_01", "pack4_09"] {
+        let solution = solve_problem(name, 1).unwrap_or_else(|error| panic!("{name}: {error}"));
+        assert!(solution.summary.success);
+        assert_eq!(
+            solution.summary.plan.len(),
+            19,
+            "{name}: per can approach, grab, carry in, release, and a retreat between cans"
+        );
+        check_packed(name, &solution);
+    }
+}
+
+#[test]
+fn the_same_seed_gives_the_same_trajectory() {
+    let first = solve_problem("pack4_04", 7).expect("solved");
+    let second = solve_problem("pack4_04", 7).expect("solved");
+    assert_eq!(
+        first.trajectory.to_bytes().expect("encodes"),
+        second.trajectory.to_bytes().expect("encodes")
+    );
+}
+
+#[test]
+fn a_stale_problem_file_is_refused() {
+    let (spec, world, artifacts) = &*PACKING;
+    let problem = spec.problems.iter().find(|p| p.name == "pack4_01").expect("exists");
+    let mut scene = world.problem_scene(problem).expect("the scene loads");
+    // Move can1 into the box after the problem file was written.
+    let box_pose = scene.body_pose(scene.body_index("box1").expect("box"));
+    let can = scene.body_index("can1").expect("can");
+    scene.set_body_pose(can, box_pose * nalgebra::Translation3::new(0.0, 0.0, 0.001));
+    let adapter = Adapter::new(spec, &world.robots).expect("an adapter");
+    let samplers = SamplersFile::from_json(artifact(artifacts, "samplers.json")).expect("samplers");
+    let never = || false;
+    let settings = SolveSettings {
+        seed: 1,
+        plan_count: 1,
+        planner_budget: PlanBudget::default(),
+        rounds: 1,
+        max_candidates: 10,
+        motion: MotionSettings {
+            config: MotionConfig::default(),
+            budget: MotionBudget::default(),
+            grab_ranges: Vec::new(),
+            cancelled: &never,
+        },
+        relax_goal: false,
+    };
+    let input = SolveInput {
+        scene: &scene,
+        domain: artifact(artifacts, "domain.pddl"),
+        problem: artifact(artifacts, "problems/pack4_01.pddl"),
+        artifact: &samplers.artifact,
+        adapter: &adapter,
+        header: trajectory_header(spec, &scene, 1),
+    };
+    let mut planner = BuiltinPlanner::new(BuiltinAlgorithm::GbfsFf);
+    let mut refiner =
+        GmmRefiner::new(samplers.artifact.clone(), RefinerOptions::default()).expect("valid");
+    let mut motion = RrtConnectPlanner::new(RrtOptions::default());
+    let mut plugins = Plugins { planner: &mut planner, refiner: &mut refiner, motion: &mut motion };
+    let error = solve(&input, &mut plugins, &settings, &|_| {}).err().expect("refused");
+    assert!(matches!(error, SolveError::StaleProblem { .. }), "{error}");
+    assert!(error.to_string().contains("can1"), "{error}");
+}
