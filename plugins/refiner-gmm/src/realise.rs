@@ -4,8 +4,9 @@
 //! The driving effect is the first added region relation (`<t1>_<t2>_<k>`, k ≥ 1) whose
 //! realisation moves a robot link; failing that, the first added "in no region" relation
 //! (`<t1>_<t2>_0`). The link that moves is the primary when the primary is a robot part (the
-//! gripper approaches a can, the base drives to a table), or the gripper holding the secondary
-//! when the primary is an object (a held can is carried into the box).
+//! gripper approaches a can, the base drives to a table), the secondary when both are links of
+//! one robot (the arm tucks relative to the base), or the gripper holding the secondary when the
+//! primary is an object (a held can is carried into the box).
 //!
 //! Grasp changes follow the held flag of the regions: an added held region (g = 1) whose gripper
 //! does not hold its object yet is a grab, done after the motion; a deleted held region whose
@@ -47,6 +48,8 @@ pub(crate) enum Anchor {
     PrimaryLink { secondary: String },
     /// The secondary is held by the moving link with `grasp`: target = primary · X · grasp⁻¹.
     HeldSecondary { primary: String, grasp: Pose },
+    /// The secondary is the moving link, of the same robot as the primary: target = primary · X.
+    SecondaryLink { primary: String },
 }
 
 /// The motion that realises the driving effect.
@@ -116,6 +119,18 @@ pub(crate) fn realisation(
     let released = |object: &str| releases.iter().any(|change| change.object == object);
     let mover_for = |atom: &GroundAtom, region: Option<(usize, usize)>| -> Option<Mover> {
         let [primary, secondary] = atom.arguments.as_slice() else { return None };
+        if let (Some(first), Some(second)) = (view.parts.get(primary), view.parts.get(secondary))
+            && first.robot == second.robot
+        {
+            // Two links of one robot (the gripper relative to the base): moving the primary
+            // would carry the secondary along, so the secondary moves.
+            return Some(Mover {
+                robot: second.robot.clone(),
+                link: second.link.clone(),
+                anchor: Anchor::SecondaryLink { primary: primary.clone() },
+                region,
+            });
+        }
         if let Some(part) = view.parts.get(primary) {
             return Some(Mover {
                 robot: part.robot.clone(),

@@ -165,6 +165,9 @@ impl GmmStream {
             Anchor::HeldSecondary { primary, grasp } => {
                 self.view.pose_in(current, primary, host)? * relative * grasp.inverse()
             }
+            Anchor::SecondaryLink { primary } => {
+                self.view.pose_in(current, primary, host)? * relative
+            }
         };
         Ok((target, spread))
     }
