@@ -56,11 +56,11 @@ pub(crate) struct Args {
 }
 
 /// Refiner candidates per plan before it is given up.
-const MAX_CANDIDATES: usize = 400;
+const MAX_CANDIDATES: usize = 100;
 /// RRT-Connect iterations per motion call (deterministic; the time limit is a safety net only).
 const MOTION_ITERATIONS: u64 = 4000;
 /// Rounds over the plans with fresh samples.
-const ROUNDS: usize = 3;
+const ROUNDS: usize = 20;
 
 pub(crate) fn run(args: &Args) -> ExitCode {
     let colour = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();

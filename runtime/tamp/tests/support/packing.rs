@@ -16,13 +16,10 @@ use lamp_tamp::execute::MotionSettings;
 use lamp_tamp::{Plugins, Solution, SolveError, SolveInput, SolveSettings, solve};
 use lamp_world::{MotionConfig, SpecWorld, trajectory_header};
 
-/// Demonstrations learned from: from 40 on, the spec's seed gives the 200-demonstration domain.
-pub const DEMOS: u32 = 60;
-
 pub static PACKING: LazyLock<(Spec, SpecWorld, Artifacts)> = LazyLock::new(|| {
     let (spec, world) = lamp_test_support::load(&lamp_test_support::spec_path("packing"));
     let mut simulation = Simulation::from_spec(&spec).expect("the spec simulates Packing");
-    simulation.count = DEMOS;
+    // The spec's own 200 demonstrations: the model a user's `lampc build` learns.
     let files: Vec<DemoFile> = generate_all(&world, &simulation, |_| {})
         .expect("the demonstrator runs")
         .into_iter()
@@ -56,8 +53,8 @@ pub fn solve_problem(name: &str, seed: u64) -> Result<Solution, SolveError> {
         seed,
         plan_count: 1,
         planner_budget: PlanBudget::default(),
-        rounds: 2,
-        max_candidates: 200,
+        rounds: 20,
+        max_candidates: 100,
         motion: MotionSettings {
             config: MotionConfig::default(),
             budget: MotionBudget { max_iterations: Some(4000), time_limit: None },
