@@ -18,7 +18,7 @@ use lamp_world::{MotionConfig, SpecWorld, trajectory_header};
 
 pub static PACKING: LazyLock<(Spec, SpecWorld, Artifacts)> = LazyLock::new(|| {
     let (spec, world) = lamp_test_support::load(&lamp_test_support::spec_path("packing"));
-    let mut simulation = Simulation::from_spec(&spec).expect("the spec simulates Packing");
+    let simulation = Simulation::from_spec(&spec).expect("the spec simulates Packing");
     // The spec's own 200 demonstrations: the model a user's `lampc build` learns.
     let files: Vec<DemoFile> = generate_all(&world, &simulation, |_| {})
         .expect("the demonstrator runs")
