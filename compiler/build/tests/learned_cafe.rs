@@ -11,10 +11,10 @@ use std::sync::LazyLock;
 
 use lamp_build::{Artifacts, DemoFile};
 use lamp_demonstrators::{Simulation, file_name, generate_all};
-use lamp_learn::{Action, LiftedAtom, Model, Region};
+use lamp_learn::{Model, Region};
 use lamp_planner::{Algorithm, Budget, Status};
 
-use support::artifact;
+use support::{actions_changing, artifact, has, regions};
 
 /// How many real demonstrations these tests learn from. The spec asks for 200; Café
 /// demonstrations are long (thousands of steps each), and the first 100 of the spec's seed learn
@@ -41,15 +41,6 @@ static CAFE_BUILD: LazyLock<(Model, Artifacts)> = LazyLock::new(|| {
 /// Heights of the tops above the floor, which the base stands on.
 const TABLE_TOP: f64 = 0.73;
 const COUNTER_TOP: f64 = 0.90;
-
-fn regions<'a>(model: &'a Model, primary: &str, secondary: &str) -> Vec<&'a Region> {
-    model
-        .pairs
-        .iter()
-        .filter(|pair| pair.pair.pair.primary == primary && pair.pair.pair.secondary == secondary)
-        .flat_map(|pair| &pair.regions)
-        .collect()
-}
 
 /// The one region of the pair whose centre (and held flag) passes `test`.
 fn one_region(
@@ -101,21 +92,6 @@ fn standing_on(model: &Model, surface: &str) -> String {
     one_region(model, (surface, "can"), "a can on the top", |g, [x, y, z]| {
         g == 0 && x.abs() < 0.1 && y.abs() < 0.1 && z.abs() < 0.005
     })
-}
-
-fn has(atoms: &[LiftedAtom], predicate: &str) -> bool {
-    atoms.iter().any(|atom| atom.predicate == predicate)
-}
-
-/// The actions that turn `from` into `to`: `from` a precondition and deleted, `to` added.
-fn actions_changing<'a>(model: &'a Model, from: &str, to: &str) -> Vec<&'a Action> {
-    model
-        .actions
-        .iter()
-        .filter(|action| {
-            has(&action.preconditions, from) && has(&action.delete, from) && has(&action.add, to)
-        })
-        .collect()
 }
 
 #[test]

@@ -5,10 +5,10 @@
 
 mod support;
 
-use lamp_learn::{Action, LiftedAtom, Model, Region};
+use lamp_learn::{Model, Region};
 use lamp_planner::{Algorithm, Budget, Status};
 
-use support::{PACKING_BUILD, artifact};
+use support::{PACKING_BUILD, actions_changing, artifact, has, regions};
 
 /// How far the gripper link's origin is from the can's origin when the magnet holds it: the
 /// spec's `grab distance 0.207 m .. 0.23 m`, with a millimetre either side for the regions'
@@ -19,15 +19,6 @@ const GRAB_DISTANCE: std::ops::RangeInclusive<f64> = 0.206..=0.231;
 /// standing on it.
 const BOX_HALF_FLOOR: f64 = 0.075;
 const STANDING_HEIGHT: f64 = 0.01;
-
-fn regions<'a>(model: &'a Model, primary: &str, secondary: &str) -> Vec<&'a Region> {
-    model
-        .pairs
-        .iter()
-        .filter(|pair| pair.pair.pair.primary == primary && pair.pair.pair.secondary == secondary)
-        .flat_map(|pair| &pair.regions)
-        .collect()
-}
 
 /// The one gripper–can region at grab distance with the given held flag.
 fn gripper_can_region(model: &Model, held: bool) -> String {
@@ -54,22 +45,6 @@ fn in_box_region(model: &Model) -> String {
         .collect();
     assert_eq!(found.len(), 1, "one region of a can standing in the box");
     found[0].relation.clone()
-}
-
-fn has(atoms: &[LiftedAtom], predicate: &str) -> bool {
-    atoms.iter().any(|atom| atom.predicate == predicate)
-}
-
-/// The actions that turn `from` into `to`: `from` a precondition and deleted, `to` added. (Deletes
-/// alone do not tell: an action also deletes the other relations of the pair it changes.)
-fn actions_changing<'a>(model: &'a Model, from: &str, to: &str) -> Vec<&'a Action> {
-    model
-        .actions
-        .iter()
-        .filter(|action| {
-            has(&action.preconditions, from) && has(&action.delete, from) && has(&action.add, to)
-        })
-        .collect()
 }
 
 #[test]

@@ -14,7 +14,7 @@ use lamp_world::{Recorder, Scene};
 
 use crate::error::SolveError;
 use crate::execute::MotionSettings;
-use crate::ground::{ground_step, pddl_atom, progress, step_text};
+use crate::ground::{ground_step, pddl_atom, step_text};
 use crate::plugins::Plugins;
 use crate::refine::{RefineCounts, Refined, difference, mix, refine_plan};
 use crate::state::abstraction;
@@ -135,7 +135,7 @@ pub fn solve(
                 let mut expected = Vec::with_capacity(actions.len());
                 let mut state = initial_state.clone();
                 for action in &actions {
-                    state = progress_state(&state, action);
+                    state = crate::ground::progress(&state, action);
                     expected.push(state.clone());
                 }
                 let mut recorder = Recorder::default();
@@ -189,10 +189,6 @@ pub fn solve(
             last_failure: counts.last_failure,
         });
     }
-}
-
-fn progress_state(state: &BTreeSet<GroundAtom>, action: &GroundedAction) -> BTreeSet<GroundAtom> {
-    progress(state, action)
 }
 
 fn fill(summary: &mut Summary, counts: &RefineCounts, steps: usize) {

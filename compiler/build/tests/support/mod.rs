@@ -9,7 +9,7 @@ use std::sync::LazyLock;
 
 use lamp_build::{Artifacts, DemoFile};
 use lamp_demonstrators::{Simulation, file_name, generate_all};
-use lamp_learn::Model;
+use lamp_learn::{Action, LiftedAtom, Model, Region};
 use lamp_spec::Spec;
 use lamp_world::SpecWorld;
 
@@ -71,4 +71,31 @@ pub fn artifact<'a>(artifacts: &'a Artifacts, path: &str) -> &'a str {
         .find(|file| file.path == Path::new(path))
         .map(|file| file.contents.as_str())
         .unwrap_or_else(|| panic!("no artifact {path}"))
+}
+
+/// The regions of one type pair of a model.
+pub fn regions<'a>(model: &'a Model, primary: &str, secondary: &str) -> Vec<&'a Region> {
+    model
+        .pairs
+        .iter()
+        .filter(|pair| pair.pair.pair.primary == primary && pair.pair.pair.secondary == secondary)
+        .flat_map(|pair| &pair.regions)
+        .collect()
+}
+
+/// Whether an atom list names `predicate`.
+pub fn has(atoms: &[LiftedAtom], predicate: &str) -> bool {
+    atoms.iter().any(|atom| atom.predicate == predicate)
+}
+
+/// The actions that turn `from` into `to`: `from` a precondition and deleted, `to` added. (Deletes
+/// alone do not tell: an action also deletes the other relations of the pair it changes.)
+pub fn actions_changing<'a>(model: &'a Model, from: &str, to: &str) -> Vec<&'a Action> {
+    model
+        .actions
+        .iter()
+        .filter(|action| {
+            has(&action.preconditions, from) && has(&action.delete, from) && has(&action.add, to)
+        })
+        .collect()
 }
