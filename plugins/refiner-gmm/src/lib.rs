@@ -93,6 +93,7 @@ impl Refiner for GmmRefiner {
             yielded: 0,
             draws: 0,
             pool: std::collections::VecDeque::new(),
+            centre: None,
         }))
     }
 }

@@ -31,6 +31,8 @@ pub(crate) struct GmmStream {
     pub(crate) draws: usize,
     /// Placements found but not yet yielded, best first.
     pub(crate) pool: std::collections::VecDeque<Candidate>,
+    /// The mean position of the sampled region's mixture (one region per stream), once known.
+    pub(crate) centre: Option<Vector3<f64>>,
 }
 
 /// Valid placements gathered before the best is yielded, when an object is put into a region
@@ -149,14 +151,16 @@ impl GmmStream {
         };
         let model = &self.artifact.pairs[pair].regions[region].model;
         let relative = model.sample(&mut self.rng);
-        let mixture = model.mixture();
-        let centre = mixture
-            .weights()
-            .iter()
-            .zip(mixture.means())
-            .fold(Vector3::zeros(), |sum, (weight, mean)| {
-                sum + *weight * Vector3::new(mean[0], mean[1], mean[2])
-            });
+        let centre = *self.centre.get_or_insert_with(|| {
+            let mixture = model.mixture();
+            mixture
+                .weights()
+                .iter()
+                .zip(mixture.means())
+                .fold(Vector3::zeros(), |sum, (w, mean)| {
+                    sum + *w * Vector3::new(mean[0], mean[1], mean[2])
+                })
+        });
         let spread = (relative.translation.vector - centre).norm();
         let target = match &mover.anchor {
             Anchor::PrimaryLink { secondary } => {
