@@ -38,6 +38,8 @@ const DAMPING_INCREASE: f64 = 8.0;
 /// Largest change of any coordinate in one step (radians or metres); larger steps are scaled down
 /// because the linearisation is meaningless that far away.
 const MAXIMUM_STEP: f64 = 0.4;
+/// How close to a limit a coordinate counts as at it, for blocking steps that push past it.
+const LIMIT_SLACK: f64 = 1e-9;
 
 /// Tolerances and budgets of [`solve_ik`].
 #[derive(Clone, Debug, PartialEq)]
@@ -211,6 +213,9 @@ struct Solver<'a> {
     poses: Vec<Pose>,
     jacobian: Matrix6xX<f64>,
     step: Vec<f64>,
+    /// Per group coordinate: at a limit and pushed past it by this iteration's step, so left out
+    /// of the step (its column would otherwise be clamped away after the solve and stall it).
+    blocked: Vec<bool>,
     candidate: Vec<f64>,
     /// Best (position, orientation) error seen, for the failure report.
     best: (f64, f64),
@@ -233,6 +238,7 @@ impl<'a> Solver<'a> {
             poses: vec![Pose::identity(); robot.link_count()],
             jacobian: Matrix6xX::zeros(robot.dof()),
             step: vec![0.0; group.coordinates.len()],
+            blocked: vec![false; group.coordinates.len()],
             candidate: vec![0.0; robot.dof()],
             best: (f64::INFINITY, f64::INFINITY),
         }
@@ -280,7 +286,11 @@ impl<'a> Solver<'a> {
             }
             // `poses` holds the FK of `q` here: every rejected candidate is followed by a re-evaluation.
             self.robot.jacobian_into(&self.poses, self.link, &mut self.jacobian);
+            self.blocked.fill(false);
             self.damped_step(&error, damping);
+            while self.block_outward(q) {
+                self.damped_step(&error, damping);
+            }
             self.candidate.copy_from_slice(q);
             self.robot.integrate_sparse(&mut self.candidate, &self.group.coordinates, &self.step);
             let mut candidate = std::mem::take(&mut self.candidate);
@@ -304,10 +314,36 @@ impl<'a> Solver<'a> {
         self.converged(&error)
     }
 
-    /// `step = Jᵀ (J Jᵀ + λ² I)⁻¹ e` over the group's columns, scaled to at most [`MAXIMUM_STEP`].
+    /// Marks the coordinates that sit at a limit and that the step pushes past it; true if any
+    /// was newly marked (the step must then be solved again without them).
+    fn block_outward(&mut self, q: &[f64]) -> bool {
+        let mut changed = false;
+        for (slot, &index) in self.group.coordinates.iter().enumerate() {
+            let coordinate = &self.robot.coordinates[index];
+            if self.blocked[slot]
+                || !matches!(coordinate.kind, CoordinateKind::Linear | CoordinateKind::Angle)
+            {
+                continue;
+            }
+            let step = self.step[slot];
+            let at_lower = q[index] <= coordinate.lower + LIMIT_SLACK && step < 0.0;
+            let at_upper = q[index] >= coordinate.upper - LIMIT_SLACK && step > 0.0;
+            if at_lower || at_upper {
+                self.blocked[slot] = true;
+                changed = true;
+            }
+        }
+        changed
+    }
+
+    /// `step = Jᵀ (J Jᵀ + λ² I)⁻¹ e` over the group's unblocked columns, scaled to at most
+    /// [`MAXIMUM_STEP`].
     fn damped_step(&mut self, error: &Vector6<f64>, damping: f64) {
         let mut normal = Matrix6::identity() * (damping * damping);
-        for &index in &self.group.coordinates {
+        for (slot, &index) in self.group.coordinates.iter().enumerate() {
+            if self.blocked[slot] {
+                continue;
+            }
             let column = self.jacobian.fixed_view::<6, 1>(0, index);
             normal += column * column.transpose();
         }
@@ -316,8 +352,11 @@ impl<'a> Solver<'a> {
             None => Vector6::zeros(),
         };
         let mut largest: f64 = 0.0;
-        for (slot, &index) in self.step.iter_mut().zip(&self.group.coordinates) {
-            *slot = self.jacobian.fixed_view::<6, 1>(0, index).dot(&solved);
+        for ((slot, &index), &blocked) in
+            self.step.iter_mut().zip(&self.group.coordinates).zip(&self.blocked)
+        {
+            *slot =
+                if blocked { 0.0 } else { self.jacobian.fixed_view::<6, 1>(0, index).dot(&solved) };
             largest = largest.max(slot.abs());
         }
         if largest > MAXIMUM_STEP {

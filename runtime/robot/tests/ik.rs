@@ -3,7 +3,7 @@
 mod common;
 
 use lamp_robot::{IkConfig, IkError, Mount, Pose, Robot, pose_error_norms, solve_ik};
-use rand::SeedableRng;
+use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// Solves IK for the FK of `count` random configurations of `group`, each from a fresh random seed
@@ -51,6 +51,45 @@ fn fetch_arm_with_torso_round_trips_at_least_99_percent() {
     let successes = round_trips(&robot, "arm", 1000, 7);
     println!("fetch arm (torso + 7 DoF): {successes}/1000");
     assert!(successes >= 990, "only {successes}/1000 IK round trips succeeded");
+}
+
+/// Local solves (no restarts, from a nearby seed) of targets whose solution has the torso at its
+/// lower limit: the step must not keep pushing the torso down, where clamping throws the step
+/// away and the solver stalls short of the tolerance.
+#[test]
+fn local_solves_converge_with_a_coordinate_at_its_limit() {
+    let robot = common::fetch_fixed();
+    let group = robot.group("arm").expect("group exists").clone();
+    let link = robot.end_effector().expect("an end effector");
+    let torso = robot.coordinate_index("torso_lift_joint").expect("a torso");
+    let lower = robot.coordinates()[torso].lower;
+    let config = IkConfig {
+        restarts: 0,
+        position_tolerance: 1e-4,
+        orientation_tolerance: 1e-3,
+        ..IkConfig::new()
+    };
+    let mut rng = ChaCha8Rng::seed_from_u64(17);
+    let neutral = robot.neutral_configuration();
+    let mut goal = neutral.clone();
+    let mut successes = 0;
+    for _ in 0..200 {
+        robot.sample_uniform(&group, &neutral, &mut rng, &mut goal);
+        goal[torso] = lower;
+        // The seed: the goal with every arm joint moved by up to 0.1 rad, the torso at its limit.
+        let mut start = goal.clone();
+        for &index in &group.coordinates {
+            start[index] += rng.random_range(-0.1..=0.1);
+        }
+        start[torso] = lower;
+        let target = robot.link_pose(&goal, link);
+        if solve_ik(&robot, &group, link, &target, &start, &config, &mut rng, &mut |_| true).is_ok()
+        {
+            successes += 1;
+        }
+    }
+    println!("local solves at the torso's limit: {successes}/200");
+    assert!(successes >= 190, "only {successes}/200 local solves converged");
 }
 
 #[test]
