@@ -14,6 +14,7 @@ mod motion;
 mod recording;
 mod rrt;
 mod scene;
+mod straight;
 
 pub use checking::Contact;
 pub use error::WorldError;
@@ -26,3 +27,4 @@ pub use motion::{
 pub use recording::{Recorder, STEP_NANOSECONDS, trajectory_header};
 pub use rrt::{RrtConfig, RrtError, RrtStats, Space, rrt_connect, shortcut};
 pub use scene::{Body, Gripper, Held, Scene, SceneRobot};
+pub use straight::{StraightLineError, straight_line};

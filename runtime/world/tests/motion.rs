@@ -9,7 +9,8 @@ use std::f64::consts::PI;
 
 use lamp_robot::IkConfig;
 use lamp_world::{
-    MotionConfig, RrtConfig, RrtError, Scene, Space, densify, plan_motion, reach, rrt_connect,
+    MotionConfig, RrtConfig, RrtError, Scene, Space, StraightLineError, densify, plan_motion,
+    reach, rrt_connect, straight_line,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -179,6 +180,44 @@ fn fetch_arm_paths_into_a_cluttered_table_are_collision_free() {
     let mut elsewhere = goal.clone();
     elsewhere[0] += 0.5;
     assert!(plan_motion(&scene, fetch, "arm", &tucked, &elsewhere, &config, &mut rng).is_err());
+}
+
+#[test]
+fn a_straight_move_keeps_the_gripper_on_the_line_and_stops_at_the_table() {
+    let (scene, fetch, tucked) = fetch_at_table();
+    let robot = scene.robots()[fetch].robot().clone();
+    let gripper = robot.link_id("gripper_link").unwrap();
+    let above = pose(1.85, -1.0, 0.95, 0.0, 0.0, 0.0);
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let ik = IkConfig::new();
+    let start = reach(&scene, fetch, "arm", None, &above, &tucked, &ik, &mut rng).unwrap();
+    let config = MotionConfig::default();
+
+    // Down 12 cm: every solution is on the vertical line through the start, and so is every
+    // state between them, to within the IK tolerance plus the chord of one small step.
+    let lower = pose(1.85, -1.0, 0.83, 0.0, 0.0, 0.0);
+    let path = straight_line(&scene, fetch, "arm", None, &start, &lower, &config, &ik).unwrap();
+    assert_eq!(path.first().unwrap(), &start);
+    assert!(path.len() >= 24, "a solution every 5 mm: {}", path.len());
+    let (position, _) =
+        lamp_robot::pose_error_norms(&robot.link_pose(path.last().unwrap(), gripper), &lower);
+    assert!(position < 1e-3);
+    assert_path_collision_free(&scene, fetch, &path, &config);
+    for q in densify(&robot, &path, &config) {
+        let p = robot.link_pose(&q, gripper).translation.vector;
+        let off_line = ((p.x - 1.85).powi(2) + (p.y + 1.0).powi(2)).sqrt();
+        assert!(off_line < 2e-3, "{off_line} m off the line at z = {}", p.z);
+    }
+
+    // Down into the table top: refused part of the way, with nothing to follow.
+    let inside = pose(1.85, -1.0, 0.70, 0.0, 0.0, 0.0);
+    match straight_line(&scene, fetch, "arm", None, &start, &inside, &config, &ik) {
+        Err(StraightLineError::Collision { percent, contact }) => {
+            assert!(percent > 50.0 && percent < 100.0, "{percent} %");
+            assert!(contact.contains("table1"), "{contact}");
+        }
+        other => panic!("expected a collision, got {other:?}"),
+    }
 }
 
 #[test]
