@@ -12,7 +12,7 @@ in the box. Cans keep 2 cm from each other, from the box and from the table's ed
 pack4_01 is the original hand-written problem, kept as it was (it satisfies the same rules).
 
 Café (12 problems with 2, 2, 3, 4, 4, 6, 8, 8, 10, 16, 17, 18 cans): one furniture layout (four
-tables, one counter, all at least 0.8 m apart so the Fetch base, radius 0.28 m, drives between
+tables, one counter, every top a 0.9 m × 0.9 m `surface`, all at least 0.8 m apart so the Fetch base, radius 0.28 m, drives between
 them), cans (radius 0.045 m) on the surfaces at surface z + 0.001 m, 3 cm apart and at least
 5 cm from a surface's edge; every can gets a goal surface and at least half of them move.
 The Fetch starts at the floor origin, tucked, more than 1 m from every piece of furniture.
@@ -136,14 +136,18 @@ CAFE_EDGE = 0.05
 FURNITURE_GAP = 0.8  # Fetch base diameter 0.56 m plus room to turn
 ROBOT_CLEARANCE = 1.0
 
-# name, type, x, y, top z, yaw (deg), half sizes of the top in the surface frame.
+# name, the world-type body under the top, x, y, top z, yaw (deg), half sizes of the top in the
+# surface frame. Every top is a `surface` (one type, as in the paper's CafeWorld, so that "on a
+# surface" and "standing at a surface" are one relation each); what holds it up is scenery of a
+# `static world` type at the same pose, named after it.
 SURFACES = [
-    ("table1", "table", 2.0, -1.0, 0.73, 0, 0.45, 0.45),
-    ("table2", "table", 4.0, 1.5, 0.73, 90, 0.45, 0.45),
-    ("table3", "table", -2.0, -1.5, 0.73, 0, 0.45, 0.45),
-    ("table4", "table", 2.5, 3.2, 0.73, 0, 0.45, 0.45),
-    ("counter1", "counter", 0.5, 2.5, 0.9, 0, 0.6, 0.3),
+    ("table1", "table_leg", 2.0, -1.0, 0.73, 0, 0.45, 0.45),
+    ("table2", "table_leg", 4.0, 1.5, 0.73, 90, 0.45, 0.45),
+    ("table3", "table_leg", -2.0, -1.5, 0.73, 0, 0.45, 0.45),
+    ("table4", "table_leg", 2.5, 3.2, 0.73, 0, 0.45, 0.45),
+    ("counter1", "counter_cabinet", 0.5, 2.5, 0.9, 0, 0.45, 0.45),
 ]
+STAND_SUFFIX = {"table_leg": "leg", "counter_cabinet": "cabinet"}
 
 CAFE_COUNTS = [2, 2, 3, 4, 4, 6, 8, 8, 10, 16, 17, 18]
 
@@ -228,17 +232,17 @@ def print_cafe():
         print("  scene {")
         print("    floor floor1 at (0, 0, 0) m")
         for surface in SURFACES:
-            sname, stype, x, y, z, yaw, _, _ = surface
-            print(f"    {stype} {sname} at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m{rpy(yaw)}")
+            sname, stand, x, y, z, yaw, _, _ = surface
+            at = f"at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m{rpy(yaw)}"
+            print(f"    surface {sname} {at}")
+            print(f"    {stand} {sname}_{STAND_SUFFIX[stand]} {at}")
         for k, (_, x, y, z, yaw) in enumerate(cans, start=1):
             print(f"    can can{k} at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m{rpy(yaw)}")
         print("    robot fetch at (0, 0, 0) m config tuck")
         print("  }")
         print("  goal {")
         for k, goal in enumerate(targets, start=1):
-            sname, stype = SURFACES[goal][0], SURFACES[goal][1]
-            relation = "on_table" if stype == "table" else "on_counter"
-            print(f"    {relation}(can{k}, {sname})")
+            print(f"    on(can{k}, {SURFACES[goal][0]})")
         print("  }")
         print("}")
         print()

@@ -6,13 +6,14 @@
 //! drawn from all surfaces; the can upright at a random x, y on the start surface's top (clear of
 //! its edges), random yaw, 1 mm above the top; the robot at a random collision-free base pose in
 //! the room, arm tucked, fingers open. Script: base path to a pose facing the start surface's
-//! edge nearest the can; arm path to a side grasp at the can's mid-height; grab; arm path to the
-//! spec's `carry` configuration; base path to a pose facing the goal surface's edge nearest a
-//! random placement spot; arm path to the placement (can upright, 1 mm above the top); release;
-//! arm path to `tuck`; base path to a random pose. Base motions keep the arm at rest (`tuck`
-//! empty-handed, `carry` holding: in `tuck` the gripper points up and a can held from the side
-//! would lie across the shoulder); arm motions keep the base still; every path is planned with
-//! RRT-Connect on one joint group.
+//! edge nearest the can; arm path to a pre-grasp 10 cm back from the grasp, then a straight
+//! approach to a side grasp at the can's mid-height; grab; arm path to the spec's `tuck`
+//! configuration; base path to a pose facing the goal surface's edge nearest a random placement
+//! spot; arm path to the placement (can upright, 1 mm above the top); release; a straight
+//! retreat; arm path to `tuck`; base path to a random pose. Base motions keep the arm in `tuck`,
+//! empty-handed or holding (one resting configuration, as in the reference set-up, so that
+//! "the arm is at rest" is one learned relation and every drive needs it); arm motions keep the
+//! base still; arm and base paths are planned with RRT-Connect on one joint group.
 //!
 //! The grasp approaches from the one of the can's four sides (its frame's ±x, ±y) that faces the
 //! robot best, give or take a little yaw: the can's yaw is random, so the can's pose in the
@@ -26,28 +27,29 @@ use lamp_geometry::{CollisionShape, Pose, Vec3};
 use lamp_robot::{ARM_GROUP, BASE_GROUP, GRIPPER_GROUP, IkConfig, wrap_angle};
 use lamp_spec::{Mobility, RobotKind};
 use lamp_world::{Body, Scene, SpecWorld, reach};
+use nalgebra::Translation3;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 
 use crate::Recording;
 use crate::error::DemoError;
 use crate::skills::{
-    Approach, Attempt, SurfaceTop, base_pose_facing, bearing, grab, move_to, pose, release,
+    Approach, Attempt, SurfaceTop, base_pose_facing, bearing, grab, move_straight, move_to, pose,
+    release,
 };
 use lamp_world::{Recorder, trajectory_header as header};
 
 /// The problem whose furniture every demonstration uses (else the spec's first problem).
 const FURNITURE_PROBLEM: &str = "cafe2_01";
-/// The named configurations the arm rests in while the base moves: empty-handed, and holding.
+/// The named configuration the arm rests in while the base moves, empty-handed or holding.
 const TUCK: &str = "tuck";
-const CARRY: &str = "carry";
 /// Height of a resting can's origin above its support.
 const REST: f64 = 0.001;
 /// Least distance between the can's side and the edges of the surface it starts or ends on.
 const EDGE_CLEARANCE: f64 = 0.05;
 /// Range of the base origin's distance from the edge it faces: within arm reach of the middle
 /// of a table, and clear of the counter's front.
-const STANDOFF: (f64, f64) = (0.35, 0.45);
+const STANDOFF: (f64, f64) = (0.42, 0.50);
 /// The base stays this far from the ends of the edge it faces (it aligns with the can inside).
 const EDGE_MARGIN: f64 = 0.30;
 /// Noise on the base's position along the edge and on its yaw.
@@ -60,9 +62,14 @@ const GRASP_DEPTH_NOISE: f64 = 0.003;
 /// Noise on the grasp's yaw about the can's axis, and on the placement's approach yaw.
 const GRASP_YAW_NOISE: f64 = 0.05;
 const PLACE_YAW_NOISE: f64 = 0.15;
-/// The gripper comes to a grasp, and leaves a placement, along its approach axis over this
-/// distance: with the fingers straddling the can, any other way out is a narrow passage.
+/// The gripper comes to a grasp, and leaves a placement, in a straight line along its approach
+/// axis over this distance: with the fingers straddling the can, any other way is a narrow
+/// passage.
 const BACK_OFF: f64 = 0.10;
+/// When pulling straight back would fold the arm into the torso, the fingers leave the can
+/// upwards instead (they slide along its sides, clear of its top): this far up, in the world,
+/// and this far back along the approach axis.
+const LIFT_OFF: (f64, f64) = (0.12, 0.04);
 /// Random base poses (start, end) lie within the furniture's footprint grown by this much.
 const ROOM_PADDING: f64 = 1.0;
 /// Draws of a random base pose before an attempt gives up on finding a free one.
@@ -70,6 +77,10 @@ const POSE_DRAWS: usize = 200;
 /// IK tolerances: tight, so that a placed can rests 1 mm above the top to within 0.2 mm.
 const IK_POSITION_TOLERANCE: f64 = 1e-4;
 const IK_ORIENTATION_TOLERANCE: f64 = 1e-3;
+/// Restarts and iterations per IK call: the counter top is high, and its poses sit where few
+/// restarts converge without the elbow touching the head.
+const IK_RESTARTS: usize = 100;
+const IK_ITERATIONS: usize = 300;
 
 /// What the Café demonstrator needs from the spec, checked once.
 pub(crate) struct Cafe<'a> {
@@ -77,15 +88,14 @@ pub(crate) struct Cafe<'a> {
     robot: String,
     /// The furniture: every static body of the furniture problem, with its pose.
     furniture: Vec<(Body, Pose)>,
-    /// The tops of the furniture that takes part in relations (tables, the counter).
-    surfaces: Vec<SurfaceTop>,
+    /// The tops of the furniture that takes part in relations (tables, the counter), by name.
+    surfaces: Vec<(String, SurfaceTop)>,
     /// The manipulated object: the body, its radius and the height of its middle.
     can: Body,
     can_radius: f64,
     can_middle: f64,
-    /// The robot at the origin, arm tucked, fingers open; and the same carrying.
+    /// The robot at the origin, arm tucked, fingers open.
     tucked: Vec<f64>,
-    carrying: Vec<f64>,
     /// The coordinates of the arm group (torso and arm joints).
     arm: Vec<usize>,
     /// Where random base poses are drawn: (x min, x max, y min, y max).
@@ -128,7 +138,7 @@ impl<'a> Cafe<'a> {
                     .map_err(|_| mismatch(&format!("shapes for `{}`", object.name)))?
                     .aabb(&object.pose);
                 bounds = Some(bounds.map_or(footprint, |b| b.union(&footprint)));
-                surfaces.push(top);
+                surfaces.push((object.name.clone(), top));
             }
             furniture.push((body, object.pose));
         }
@@ -151,7 +161,7 @@ impl<'a> Cafe<'a> {
                 .placement_configuration(&robot.name, None, Some(name))
                 .map_err(|_| mismatch(&format!("a `{name}` configuration")))
         };
-        let (mut tucked, mut carrying) = (named(TUCK)?, named(CARRY)?);
+        let mut tucked = named(TUCK)?;
         let group = |name: &str| {
             model
                 .group(name)
@@ -163,7 +173,6 @@ impl<'a> Cafe<'a> {
             let upper = model.coordinates()[index].upper;
             if upper.is_finite() {
                 tucked[index] = upper;
-                carrying[index] = upper;
             }
         }
         group(BASE_GROUP)?;
@@ -176,7 +185,6 @@ impl<'a> Cafe<'a> {
             can_middle: 0.5 * (can_bounds.mins.z + can_bounds.maxs.z),
             can,
             tucked,
-            carrying,
             arm: group(ARM_GROUP)?,
             room: (
                 bounds.mins.x - ROOM_PADDING,
@@ -189,16 +197,28 @@ impl<'a> Cafe<'a> {
 
     /// One attempt: a fresh layout and the whole script, or why it failed.
     pub(crate) fn attempt(&self, seed: u64, rng: &mut ChaCha8Rng) -> Attempt<Recording> {
-        let mut scene = Scene::new();
-        for (body, body_pose) in &self.furniture {
-            scene.add_body(body.clone(), *body_pose).map_err(|e| e.to_string())?;
-        }
         let start = rng.random_range(0..self.surfaces.len());
         let mut goal = rng.random_range(0..self.surfaces.len() - 1);
         if goal >= start {
             goal += 1;
         }
-        let (from, to) = (&self.surfaces[start], &self.surfaces[goal]);
+        let ((from_name, from), (to_name, to)) = (&self.surfaces[start], &self.surfaces[goal]);
+        self.carry_between(from, to, seed, rng)
+            .map_err(|reason| format!("from `{from_name}` to `{to_name}`: {reason}"))
+    }
+
+    /// The whole script for a can carried from the top `from` to the top `to`.
+    fn carry_between(
+        &self,
+        from: &SurfaceTop,
+        to: &SurfaceTop,
+        seed: u64,
+        rng: &mut ChaCha8Rng,
+    ) -> Attempt<Recording> {
+        let mut scene = Scene::new();
+        for (body, body_pose) in &self.furniture {
+            scene.add_body(body.clone(), *body_pose).map_err(|e| e.to_string())?;
+        }
         let (u, v) = self.spot(from, rng);
         let can_pose = upright(from.point(u, v, REST), rng.random_range(-PI..PI));
         let can = scene.add_body(self.can.clone(), can_pose).map_err(|e| e.to_string())?;
@@ -225,19 +245,17 @@ impl<'a> Cafe<'a> {
             * pose(0.0, 0.0, self.can_middle, 0.0, 0.0, grasp_yaw)
             * pose(-depth, 0.0, 0.0, 0.0, 0.0, 0.0);
         let back = pose(-BACK_OFF, 0.0, 0.0, 0.0, 0.0, 0.0);
-        let carrying = self.at_rest(&scene, robot, &self.carrying);
+        let tucked = self.at_rest(&scene, robot, &self.tucked);
         let pre_q = self
-            .reach(&scene, robot, &(grasp * back), &carrying, rng)
+            .reach(&scene, robot, &(grasp * back), &tucked, rng)
             .map_err(|e| format!("pre-grasp: {e}"))?;
-        let goal_q =
-            self.reach(&scene, robot, &grasp, &pre_q, rng).map_err(|e| format!("grasp: {e}"))?;
         move_to(&mut scene, &mut recorder, robot, ARM_GROUP, &pre_q, rng)
             .map_err(|e| format!("to the pre-grasp: {e}"))?;
-        move_to(&mut scene, &mut recorder, robot, ARM_GROUP, &goal_q, rng)
+        move_straight(&mut scene, &mut recorder, robot, ARM_GROUP, &grasp, &ik_config())
             .map_err(|e| format!("approach: {e}"))?;
         grab(&mut scene, &mut recorder, robot, can)?;
-        self.rest_arm(&mut scene, &mut recorder, robot, &self.carrying, rng)
-            .map_err(|e| format!("carry: {e}"))?;
+        self.rest_arm(&mut scene, &mut recorder, robot, &self.tucked, rng)
+            .map_err(|e| format!("tuck holding: {e}"))?;
 
         // To the goal surface, then the can upright on its top, approached from the base.
         let (u, v) = self.spot(to, rng);
@@ -250,23 +268,26 @@ impl<'a> Cafe<'a> {
             + rng.random_range(-PLACE_YAW_NOISE..=PLACE_YAW_NOISE);
         let carried = pose(0.0, 0.0, 0.0, 0.0, 0.0, approach_yaw) * held.grasp;
         let target = upright(spot, yaw_of(&carried));
-        let carrying = self.at_rest(&scene, robot, &self.carrying);
+        let tucked = self.at_rest(&scene, robot, &self.tucked);
         let goal_q = self
-            .reach(&scene, robot, &(target * held.grasp.inverse()), &carrying, rng)
+            .reach(&scene, robot, &(target * held.grasp.inverse()), &tucked, rng)
             .map_err(|e| format!("placement: {e}"))?;
         move_to(&mut scene, &mut recorder, robot, ARM_GROUP, &goal_q, rng)
             .map_err(|e| format!("place: {e}"))?;
         release(&mut scene, &mut recorder, robot)?;
         let retreat_at = recorder.len();
 
-        // Retreat: back the open fingers off the can along the approach, tuck, then drive to a
-        // random pose.
+        // Retreat: back the open fingers off the can along the approach (or up, where that
+        // folds the arm into the torso), tuck, then drive to a random pose.
         let now = scene.robots()[robot].configuration().to_vec();
         let gripper = scene.gripper_pose(robot, &now).ok_or_else(|| "no gripper".to_string())?;
-        let clear_q = self
-            .reach(&scene, robot, &(gripper * back), &now, rng)
-            .map_err(|e| format!("back-off: {e}"))?;
-        move_to(&mut scene, &mut recorder, robot, ARM_GROUP, &clear_q, rng)
+        let lift = Translation3::new(0.0, 0.0, LIFT_OFF.0)
+            * gripper
+            * pose(-LIFT_OFF.1, 0.0, 0.0, 0.0, 0.0, 0.0);
+        move_straight(&mut scene, &mut recorder, robot, ARM_GROUP, &(gripper * back), &ik_config())
+            .or_else(|_| {
+                move_straight(&mut scene, &mut recorder, robot, ARM_GROUP, &lift, &ik_config())
+            })
             .map_err(|e| format!("back off: {e}"))?;
         self.rest_arm(&mut scene, &mut recorder, robot, &self.tucked, rng)
             .map_err(|e| format!("tuck: {e}"))?;
@@ -334,7 +355,7 @@ impl<'a> Cafe<'a> {
         move_to(scene, recorder, robot, BASE_GROUP, &q, rng)
     }
 
-    /// Moves the arm to the arm coordinates of `rest` (tucked or carrying), the base still.
+    /// Moves the arm to the arm coordinates of `rest`, the base still.
     fn rest_arm(
         &self,
         scene: &mut Scene,
@@ -366,12 +387,20 @@ impl<'a> Cafe<'a> {
         seed: &[f64],
         rng: &mut ChaCha8Rng,
     ) -> Attempt<Vec<f64>> {
-        let mut config = IkConfig::new();
-        config.position_tolerance = IK_POSITION_TOLERANCE;
-        config.orientation_tolerance = IK_ORIENTATION_TOLERANCE;
-        reach(scene, robot, ARM_GROUP, None, target, seed, &config, rng)
+        reach(scene, robot, ARM_GROUP, None, target, seed, &ik_config(), rng)
             .map_err(|error| format!("inverse kinematics: {error}"))
     }
+}
+
+/// The demonstrator's IK settings: tight tolerances, and more restarts than the default, for
+/// the poses at the edge of the arm's reach over the counter.
+fn ik_config() -> IkConfig {
+    let mut config = IkConfig::new();
+    config.position_tolerance = IK_POSITION_TOLERANCE;
+    config.orientation_tolerance = IK_ORIENTATION_TOLERANCE;
+    config.restarts = IK_RESTARTS;
+    config.max_iterations = IK_ITERATIONS;
+    config
 }
 
 /// An upright pose at `position` turned by `yaw` about the vertical.

@@ -2,7 +2,8 @@
 //! record every state along it at the checking resolution, grab and release.
 
 use lamp_geometry::{Pose, Rotation, Vec3};
-use lamp_world::{MotionConfig, Scene, densify, plan_motion};
+use lamp_robot::IkConfig;
+use lamp_world::{MotionConfig, Scene, densify, plan_motion, straight_line};
 use rand_chacha::ChaCha8Rng;
 
 use lamp_world::Recorder;
@@ -43,6 +44,30 @@ pub(crate) fn move_to(
         )?;
     let model = scene.robots()[robot].robot().clone();
     let states = densify(&model, &plan.waypoints, &config);
+    recorder.follow(scene, robot, &states);
+    Ok(())
+}
+
+/// Moves the gripper of `robot` in a straight line to `target` with `group`, recording it: the
+/// way into a grasp and out of a placement, where the fingers straddle the can.
+pub(crate) fn move_straight(
+    scene: &mut Scene,
+    recorder: &mut Recorder,
+    robot: usize,
+    group: &str,
+    target: &Pose,
+    ik: &IkConfig,
+) -> Attempt<()> {
+    let config = motion_config();
+    let start = scene
+        .robots()
+        .get(robot)
+        .map(|r| r.configuration().to_vec())
+        .ok_or_else(|| "the robot is not in the scene".to_string())?;
+    let path = straight_line(scene, robot, group, None, &start, target, &config, ik)
+        .map_err(|error| format!("straight move ({group}): {error}"))?;
+    let model = scene.robots()[robot].robot().clone();
+    let states = densify(&model, &path, &config);
     recorder.follow(scene, robot, &states);
     Ok(())
 }

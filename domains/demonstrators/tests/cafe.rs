@@ -51,8 +51,7 @@ fn resting_on(trajectory: &Trajectory, step: usize) -> Option<String> {
     let can = header.body_index("can1").expect("a can");
     let poses = &trajectory.steps[step].body_poses;
     let footprint = |type_name: &str| match type_name {
-        "table" => Some((0.45, 0.45)),
-        "counter" => Some((0.6, 0.3)),
+        "surface" => Some((0.45, 0.45)),
         _ => None,
     };
     header.bodies.iter().enumerate().find_map(|(index, body)| {
