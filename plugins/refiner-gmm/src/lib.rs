@@ -26,7 +26,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::Deserialize;
 
-use crate::stream::{GmmStream, expected_state};
+use crate::stream::{Effects, GmmStream};
 use crate::world_view::WorldView;
 
 /// How hard the refiner tries per action.
@@ -71,7 +71,7 @@ impl Refiner for GmmRefiner {
     fn refine(
         &mut self,
         request: &RefineRequest,
-        host: &dyn HostServices,
+        _host: &dyn HostServices,
     ) -> Result<Box<dyn CandidateStream>, PluginError> {
         let view = WorldView::new(&request.world)?;
         let action = &request.action;
@@ -81,11 +81,10 @@ impl Refiner for GmmRefiner {
             &action.add_effects,
             &action.delete_effects,
         );
-        let before = view.abstraction(&self.artifact, &view.current, host)?;
         Ok(Box::new(GmmStream {
             artifact: Arc::clone(&self.artifact),
             options: self.options,
-            expected: expected_state(&before, action),
+            effects: Effects::of(action),
             view,
             realisation,
             rng: ChaCha8Rng::seed_from_u64(request.seed),

@@ -23,8 +23,8 @@ pub(crate) struct GmmStream {
     pub(crate) options: RefinerOptions,
     pub(crate) view: WorldView,
     pub(crate) realisation: Realisation,
-    /// The abstract state the plan expects after the action.
-    pub(crate) expected: BTreeSet<GroundAtom>,
+    /// What the action changes: a candidate is one whose state has these.
+    pub(crate) effects: Effects,
     pub(crate) rng: ChaCha8Rng,
     pub(crate) stayed: bool,
     pub(crate) yielded: usize,
@@ -39,19 +39,31 @@ pub(crate) struct GmmStream {
 /// other objects may share.
 const PLACEMENT_POOL: usize = 16;
 
-/// The abstract state the plan expects after `action` from `before`.
-pub(crate) fn expected_state(
-    before: &BTreeSet<GroundAtom>,
-    action: &GroundedAction,
-) -> BTreeSet<GroundAtom> {
-    let convert = |atom: &lamp_plugin_api::GroundAtom| GroundAtom {
-        predicate: atom.predicate.clone(),
-        arguments: atom.arguments.clone(),
-    };
-    let deleted: BTreeSet<GroundAtom> = action.delete_effects.iter().map(convert).collect();
-    let mut after: BTreeSet<GroundAtom> = before.difference(&deleted).cloned().collect();
-    after.extend(action.add_effects.iter().map(convert));
-    after
+/// An action's ground effects, in the learner's atoms.
+pub(crate) struct Effects {
+    adds: BTreeSet<GroundAtom>,
+    deletes: BTreeSet<GroundAtom>,
+}
+
+impl Effects {
+    pub(crate) fn of(action: &GroundedAction) -> Effects {
+        let convert = |atoms: &[lamp_plugin_api::GroundAtom]| {
+            atoms
+                .iter()
+                .map(|atom| GroundAtom {
+                    predicate: atom.predicate.clone(),
+                    arguments: atom.arguments.clone(),
+                })
+                .collect()
+        };
+        Effects { adds: convert(&action.add_effects), deletes: convert(&action.delete_effects) }
+    }
+
+    /// Every add true and every delete false in `state`. What else changes is the TAMP loop's
+    /// to judge: it knows the rest of the plan.
+    fn hold_in(&self, state: &BTreeSet<GroundAtom>) -> bool {
+        self.adds.is_subset(state) && self.deletes.is_disjoint(state)
+    }
 }
 
 impl CandidateStream for GmmStream {
@@ -176,7 +188,8 @@ impl GmmStream {
         Ok((target, spread))
     }
 
-    /// The candidate reaching `configurations`, if the state it leads to is the expected one.
+    /// The candidate reaching `configurations`, if the action's effects hold in the state it
+    /// leads to.
     fn try_state(
         &self,
         configurations: std::collections::BTreeMap<String, Vec<f64>>,
@@ -202,7 +215,7 @@ impl GmmStream {
                 (change.robot.clone(), change.link.clone(), link.inv_mul(&object)),
             );
         }
-        if self.view.abstraction(&self.artifact, &after, host)? != self.expected {
+        if !self.effects.hold_in(&self.view.abstraction(&self.artifact, &after, host)?) {
             return Ok(None);
         }
         let mut targets = Vec::new();

@@ -71,6 +71,30 @@ pub fn progress(before: &BTreeSet<GroundAtom>, action: &GroundedAction) -> BTree
     after
 }
 
+/// Whether `action`'s effects hold in `state`: every add is true and every delete false.
+pub fn effects_hold(state: &BTreeSet<GroundAtom>, action: &GroundedAction) -> bool {
+    action.add_effects.iter().all(|atom| state.contains(&learned_atom(atom)))
+        && !action.delete_effects.iter().any(|atom| state.contains(&learned_atom(atom)))
+}
+
+/// The first of `rest` (by index) whose preconditions do not hold when the actions are applied
+/// in order from `state`, or `rest.len()` if none and the goal then fails; `None` when the rest
+/// of the plan still runs from `state` and reaches `goal`.
+pub fn first_broken(
+    state: &BTreeSet<GroundAtom>,
+    rest: &[GroundedAction],
+    goal: &BTreeSet<GroundAtom>,
+) -> Option<usize> {
+    let mut state = state.clone();
+    for (index, action) in rest.iter().enumerate() {
+        if !action.preconditions.iter().all(|atom| state.contains(&learned_atom(atom))) {
+            return Some(index);
+        }
+        state = progress(&state, action);
+    }
+    (!goal.is_subset(&state)).then_some(rest.len())
+}
+
 /// A ground atom of the plugin contract as the learner's.
 pub fn learned_atom(atom: &WireAtom) -> GroundAtom {
     GroundAtom { predicate: atom.predicate.clone(), arguments: atom.arguments.clone() }

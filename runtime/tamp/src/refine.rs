@@ -1,5 +1,11 @@
 //! Refining one symbolic plan: actions in order, each from its refiner stream, with chronological
 //! backtracking — when step i has no candidate left, step i − 1 takes its next one.
+//!
+//! A candidate is kept when the step's effects hold in the state it reaches and the rest of the
+//! plan still runs from that state to the goal (execution monitoring). The state need not be the
+//! one the plan predicted: a learned action says what it changes, not everything that changes
+//! with it (lifting a can off a table happens while the arm tucks; the tuck action does not say
+//! so), and such a side effect is harmless unless a later step or the goal needs what it undid.
 
 use std::collections::BTreeSet;
 
@@ -10,6 +16,7 @@ use lamp_world::{Recorder, Scene};
 use crate::Context;
 use crate::error::SolveError;
 use crate::execute::{MotionCounts, Rejection, execute};
+use crate::ground::{effects_hold, first_broken};
 use crate::host::SceneHost;
 use crate::plugins::Plugins;
 use crate::state::{abstraction, world_state};
@@ -39,14 +46,14 @@ pub enum Refined {
     Failed,
 }
 
-/// Refines `actions` (with their expected states) from `initial`, recording into `recorder`.
+/// Refines `actions` from `initial` so that they reach `goal`, recording into `recorder`.
 #[allow(clippy::too_many_arguments)] // the loop's inputs are distinct and all needed
 pub fn refine_plan(
     context: &Context<'_>,
     plugins: &mut Plugins<'_>,
     initial: &Scene,
     actions: &[GroundedAction],
-    expected: &[BTreeSet<GroundAtom>],
+    goal: &BTreeSet<GroundAtom>,
     seed: u64,
     recorder: &mut Recorder,
     counts: &mut RefineCounts,
@@ -106,16 +113,28 @@ pub fn refine_plan(
             match attempt {
                 Ok(()) => {
                     let reached = abstraction(context.artifact, context.adapter, &trial)?;
-                    if reached == expected[at] {
+                    let effects = effects_hold(&reached, &actions[at]);
+                    let broken = if effects {
+                        first_broken(&reached, &actions[at + 1..], goal)
+                    } else {
+                        None
+                    };
+                    if effects && broken.is_none() {
                         scene = trial;
                         break;
                     }
-                    counts.last_failure = format!(
-                        "step {} ({}): the state reached differs from the plan's ({})",
-                        at + 1,
-                        actions[at].name,
-                        difference(&reached, &expected[at])
-                    );
+                    let why = match broken {
+                        None => "its effects do not hold in the state reached".to_string(),
+                        Some(later) if at + 1 + later == actions.len() => {
+                            "the state reached no longer leads to the goal".to_string()
+                        }
+                        Some(later) => format!(
+                            "the state reached breaks step {} ({})",
+                            at + 2 + later,
+                            actions[at + 1 + later].name
+                        ),
+                    };
+                    counts.last_failure = format!("step {} ({}): {why}", at + 1, actions[at].name);
                 }
                 Err(Rejection::Candidate(reason)) => {
                     counts.last_failure =

@@ -132,12 +132,12 @@ pub fn solve(
                     .iter()
                     .map(|step| ground_step(&domain, step))
                     .collect::<Result<Vec<GroundedAction>, _>>()?;
-                let mut expected = Vec::with_capacity(actions.len());
-                let mut state = initial_state.clone();
-                for action in &actions {
-                    state = crate::ground::progress(&state, action);
-                    expected.push(state.clone());
-                }
+                let goal: BTreeSet<GroundAtom> = problem
+                    .goal
+                    .iter()
+                    .filter(|l| l.positive)
+                    .map(|l| pddl_atom(&l.atom))
+                    .collect();
                 let mut recorder = Recorder::default();
                 recorder.record(input.scene);
                 let seed = mix(settings.seed, attempts, 0);
@@ -146,7 +146,7 @@ pub fn solve(
                     plugins,
                     input.scene,
                     &actions,
-                    &expected,
+                    &goal,
                     seed,
                     &mut recorder,
                     &mut counts,
@@ -155,12 +155,6 @@ pub fn solve(
                     summary.seconds_refining += started.elapsed().as_secs_f64();
                     progress("validating");
                     let started = Instant::now();
-                    let goal: BTreeSet<GroundAtom> = problem
-                        .goal
-                        .iter()
-                        .filter(|l| l.positive)
-                        .map(|l| pddl_atom(&l.atom))
-                        .collect();
                     replay(
                         input.scene,
                         &recorder.steps,
