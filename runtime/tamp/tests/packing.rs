@@ -4,8 +4,8 @@
 //! on the box floor inside its walls, nothing collides along the way, and the same seed gives the
 //! same trajectory.
 
-#[path = "support/packing.rs"]
-mod packing;
+#[path = "support/learned.rs"]
+mod learned;
 
 use lamp_build::{Adapter, SamplersFile};
 use lamp_motion_rrt::{RrtConnectPlanner, RrtOptions};
@@ -15,12 +15,16 @@ use lamp_refiner_gmm::{GmmRefiner, RefinerOptions};
 use lamp_tamp::execute::MotionSettings;
 use lamp_tamp::{Plugins, Solution, SolveError, SolveInput, SolveSettings, solve};
 use lamp_world::{MotionConfig, trajectory_header};
-use packing::{PACKING, artifact, solve_problem};
+use learned::{Learned, PACKING, artifact};
+
+fn solve_problem(name: &str, seed: u64) -> Result<Solution, SolveError> {
+    learned::solve_problem(&PACKING, name, seed)
+}
 
 /// Replays the trajectory in a fresh scene: no step collides; at the end every can stands on the
 /// box floor, inside its walls, released.
 fn check_packed(name: &str, solution: &Solution) {
-    let (spec, world, _) = &*PACKING;
+    let Learned { spec, world, .. } = &*PACKING;
     let problem = spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
     let mut scene = world.problem_scene(problem).expect("the scene loads");
     let steps = &solution.trajectory.steps;
@@ -81,7 +85,7 @@ fn the_same_seed_gives_the_same_trajectory() {
 
 #[test]
 fn a_stale_problem_file_is_refused() {
-    let (spec, world, artifacts) = &*PACKING;
+    let Learned { spec, world, artifacts, .. } = &*PACKING;
     let problem = spec.problems.iter().find(|p| p.name == "pack4_01").expect("exists");
     let mut scene = world.problem_scene(problem).expect("the scene loads");
     // Move can1 into the box after the problem file was written.

@@ -1,5 +1,6 @@
-//! The Packing set-up shared by the end-to-end tests and the solve benchmark: real demonstrations
-//! made in memory, learned with lamp-build, and a solve with the first-party plugins linked in.
+//! The set-ups shared by the end-to-end tests and the solve benchmark: a bundled domain's real
+//! demonstrations made in memory, learned with lamp-build, and a solve with the first-party
+//! plugins linked in, configured as the spec configures them.
 #![allow(dead_code)]
 
 use std::path::Path;
@@ -16,22 +17,43 @@ use lamp_tamp::execute::MotionSettings;
 use lamp_tamp::{Plugins, Solution, SolveError, SolveInput, SolveSettings, solve};
 use lamp_world::{MotionConfig, SpecWorld, trajectory_header};
 
-pub static PACKING: LazyLock<(Spec, SpecWorld, Artifacts)> = LazyLock::new(|| {
-    let (spec, world) = lamp_test_support::load(&lamp_test_support::spec_path("packing"));
-    let simulation = Simulation::from_spec(&spec).expect("the spec simulates Packing");
-    // The spec's own 200 demonstrations: the model a user's `lampc build` learns.
+/// A bundled domain learned from its own demonstrations.
+pub struct Learned {
+    pub spec: Spec,
+    pub world: SpecWorld,
+    pub artifacts: Artifacts,
+    /// The spec's `refiner gmm { … }` settings.
+    pub refiner: RefinerOptions,
+}
+
+/// Packing from the spec's own 200 demonstrations: the model a user's `lampc build` learns.
+pub static PACKING: LazyLock<Learned> =
+    LazyLock::new(|| learn("packing", None, RefinerOptions::default()));
+
+/// Café from the first 100 of the spec's demonstrations (long ones: thousands of steps each),
+/// which learn the same regions and actions as the 200 (`compiler/build/tests/learned_cafe.rs`).
+pub static CAFE: LazyLock<Learned> = LazyLock::new(|| {
+    learn("cafe", Some(100), RefinerOptions { draws: 300, ..RefinerOptions::default() })
+});
+
+fn learn(domain: &str, count: Option<u32>, refiner: RefinerOptions) -> Learned {
+    let (spec, world) = lamp_test_support::load(&lamp_test_support::spec_path(domain));
+    let mut simulation = Simulation::from_spec(&spec).expect("the spec simulates its domain");
+    if let Some(count) = count {
+        simulation.count = count;
+    }
     let files: Vec<DemoFile> = generate_all(&world, &simulation, |_| {})
         .expect("the demonstrator runs")
         .into_iter()
         .map(|demo| DemoFile {
-            name: file_name("packing", demo.index),
+            name: file_name(domain, demo.index),
             bytes: demo.to_bytes().expect("encodes"),
         })
         .collect();
-    let (_, artifacts) =
-        lamp_build::build(&spec, "packing.lamp", &world, &files).expect("the demonstrations build");
-    (spec, world, artifacts)
-});
+    let (_, artifacts) = lamp_build::build(&spec, &format!("{domain}.lamp"), &world, &files)
+        .expect("the demonstrations build");
+    Learned { spec, world, artifacts, refiner }
+}
 
 pub fn artifact<'a>(artifacts: &'a Artifacts, path: &str) -> &'a str {
     artifacts
@@ -42,8 +64,8 @@ pub fn artifact<'a>(artifacts: &'a Artifacts, path: &str) -> &'a str {
         .unwrap_or_else(|| panic!("no artifact {path}"))
 }
 
-pub fn solve_problem(name: &str, seed: u64) -> Result<Solution, SolveError> {
-    let (spec, world, artifacts) = &*PACKING;
+pub fn solve_problem(learned: &Learned, name: &str, seed: u64) -> Result<Solution, SolveError> {
+    let Learned { spec, world, artifacts, refiner } = learned;
     let problem = spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
     let scene = world.problem_scene(problem).expect("the scene loads");
     let adapter = Adapter::new(spec, &world.robots).expect("an adapter");
@@ -58,7 +80,11 @@ pub fn solve_problem(name: &str, seed: u64) -> Result<Solution, SolveError> {
         motion: MotionSettings {
             config: MotionConfig::default(),
             budget: MotionBudget { max_iterations: Some(4000), time_limit: None },
-            grab_ranges: vec![("gripper".to_string(), (0.207, 0.23))],
+            grab_ranges: spec
+                .robots
+                .iter()
+                .filter_map(|robot| robot.grab_distance.map(|range| (robot.name.clone(), range)))
+                .collect(),
             cancelled: &never,
         },
         relax_goal: false,
@@ -72,8 +98,7 @@ pub fn solve_problem(name: &str, seed: u64) -> Result<Solution, SolveError> {
         header: trajectory_header(spec, &scene, seed),
     };
     let mut planner = BuiltinPlanner::new(BuiltinAlgorithm::GbfsFf);
-    let mut refiner =
-        GmmRefiner::new(samplers.artifact.clone(), RefinerOptions::default()).expect("valid");
+    let mut refiner = GmmRefiner::new(samplers.artifact.clone(), *refiner).expect("valid");
     let mut motion = RrtConnectPlanner::new(RrtOptions::default());
     let mut plugins = Plugins { planner: &mut planner, refiner: &mut refiner, motion: &mut motion };
     solve(&input, &mut plugins, &settings, &|_| {})
