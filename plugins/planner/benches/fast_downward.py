@@ -19,6 +19,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 FIXTURES = os.path.join(HERE, "..", "tests", "fixtures")
 TASKS = [
     ("cafe-18", "cafe-domain.pddl", "cafe-18.pddl"),
+    ("cafe-learned-18", "cafe-learned-domain.pddl", "cafe-learned-18.pddl"),
     ("packing-4", "packing-domain.pddl", "packing-4.pddl"),
 ]
 
