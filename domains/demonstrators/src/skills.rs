@@ -20,6 +20,15 @@ pub(crate) fn motion_config() -> MotionConfig {
 /// Why one attempt at a demonstration failed; the demonstrator retries with fresh choices.
 pub(crate) type Attempt<T> = Result<T, String>;
 
+/// Where `robot` is now.
+fn configuration_of(scene: &Scene, robot: usize) -> Attempt<Vec<f64>> {
+    scene
+        .robots()
+        .get(robot)
+        .map(|r| r.configuration().to_vec())
+        .ok_or_else(|| "the robot is not in the scene".to_string())
+}
+
 /// Moves `group` of `robot` from where it is to `goal` along a planned path, recording it.
 pub(crate) fn move_to(
     scene: &mut Scene,
@@ -30,11 +39,7 @@ pub(crate) fn move_to(
     rng: &mut ChaCha8Rng,
 ) -> Attempt<()> {
     let config = motion_config();
-    let start = scene
-        .robots()
-        .get(robot)
-        .map(|r| r.configuration().to_vec())
-        .ok_or_else(|| "the robot is not in the scene".to_string())?;
+    let start = configuration_of(scene, robot)?;
     let plan =
         plan_motion(scene, robot, group, &start, goal, &config, rng).map_err(
             |error| match scene.first_contact(robot, goal) {
@@ -59,11 +64,7 @@ pub(crate) fn move_straight(
     ik: &IkConfig,
 ) -> Attempt<()> {
     let config = motion_config();
-    let start = scene
-        .robots()
-        .get(robot)
-        .map(|r| r.configuration().to_vec())
-        .ok_or_else(|| "the robot is not in the scene".to_string())?;
+    let start = configuration_of(scene, robot)?;
     let path = straight_line(scene, robot, group, None, &start, target, &config, ik)
         .map_err(|error| format!("straight move ({group}): {error}"))?;
     let model = scene.robots()[robot].robot().clone();

@@ -7,28 +7,15 @@
 mod learned;
 
 use lamp_tamp::Solution;
-use learned::{CAFE, Learned, solve_problem};
+use learned::{CAFE, solve_problem};
 
 /// Replays the trajectory in a fresh scene: no step collides; at the end every can stands on the
 /// top its goal names, upright, its centre 5 cm inside the edges, at most 5 mm above it (the
 /// learned region's height), released.
 fn check_delivered(name: &str, solution: &Solution) {
-    let Learned { spec, world, .. } = &*CAFE;
-    let problem = spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
-    let mut scene = world.problem_scene(problem).expect("the scene loads");
+    let problem = CAFE.spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
+    let scene = learned::replay_collision_free(&CAFE, name, solution);
     let steps = &solution.trajectory.steps;
-    for (index, step) in steps.iter().enumerate() {
-        let held = step.robots[0].held.first().copied().flatten();
-        if scene.held(0).map(|h| h.body) != held {
-            scene.release(0);
-            if let Some(body) = held {
-                scene.grab(0, body).expect("a legal grab");
-            }
-        }
-        let q = &step.robots[0].positions;
-        scene.set_configuration(0, q);
-        assert!(scene.first_contact(0, q).is_none(), "{name}: step {index} collides");
-    }
     let last = steps.last().expect("a trajectory");
     assert_eq!(last.robots[0].held, vec![None], "{name}: the gripper ends empty");
     for atom in &problem.goal.atoms {

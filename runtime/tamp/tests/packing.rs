@@ -24,22 +24,8 @@ fn solve_problem(name: &str, seed: u64) -> Result<Solution, SolveError> {
 /// Replays the trajectory in a fresh scene: no step collides; at the end every can stands on the
 /// box floor, inside its walls, released.
 fn check_packed(name: &str, solution: &Solution) {
-    let Learned { spec, world, .. } = &*PACKING;
-    let problem = spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
-    let mut scene = world.problem_scene(problem).expect("the scene loads");
+    let scene = learned::replay_collision_free(&PACKING, name, solution);
     let steps = &solution.trajectory.steps;
-    for (index, step) in steps.iter().enumerate() {
-        let held = step.robots[0].held.first().copied().flatten();
-        if scene.held(0).map(|h| h.body) != held {
-            scene.release(0);
-            if let Some(body) = held {
-                scene.grab(0, body).expect("a legal grab");
-            }
-        }
-        let q = &step.robots[0].positions;
-        scene.set_configuration(0, q);
-        assert!(scene.first_contact(0, q).is_none(), "step {index} collides");
-    }
     let last = steps.last().expect("a trajectory");
     assert_eq!(last.robots[0].held, vec![None], "the last can is released");
     let box_index = scene.body_index("box1").expect("the box");

@@ -15,7 +15,7 @@ use lamp_refiner_gmm::{GmmRefiner, RefinerOptions};
 use lamp_spec::Spec;
 use lamp_tamp::execute::MotionSettings;
 use lamp_tamp::{Plugins, Solution, SolveError, SolveInput, SolveSettings, solve};
-use lamp_world::{MotionConfig, SpecWorld, trajectory_header};
+use lamp_world::{MotionConfig, Scene, SpecWorld, trajectory_header};
 
 /// A bundled domain learned from its own demonstrations.
 pub struct Learned {
@@ -53,6 +53,27 @@ fn learn(domain: &str, count: Option<u32>, refiner: RefinerOptions) -> Learned {
     let (_, artifacts) = lamp_build::build(&spec, &format!("{domain}.lamp"), &world, &files)
         .expect("the demonstrations build");
     Learned { spec, world, artifacts, refiner }
+}
+
+/// Replays `solution` of problem `name` in a fresh scene, asserting that no step collides (the
+/// held object included); returns the scene.
+pub fn replay_collision_free(learned: &Learned, name: &str, solution: &Solution) -> Scene {
+    let problem =
+        learned.spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
+    let mut scene = learned.world.problem_scene(problem).expect("the scene loads");
+    for (index, step) in solution.trajectory.steps.iter().enumerate() {
+        let held = step.robots[0].held.first().copied().flatten();
+        if scene.held(0).map(|h| h.body) != held {
+            scene.release(0);
+            if let Some(body) = held {
+                scene.grab(0, body).expect("a legal grab");
+            }
+        }
+        let q = &step.robots[0].positions;
+        scene.set_configuration(0, q);
+        assert!(scene.first_contact(0, q).is_none(), "{name}: step {index} collides");
+    }
+    scene
 }
 
 pub fn artifact<'a>(artifacts: &'a Artifacts, path: &str) -> &'a str {
