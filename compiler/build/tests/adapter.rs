@@ -132,7 +132,7 @@ fn robot_parts_are_posed_by_forward_kinematics_of_their_links() {
         provenance: BTreeMap::new(),
         bodies: vec![
             BodyDescription { name: "floor1".into(), type_name: "floor".into() },
-            BodyDescription { name: "table1".into(), type_name: "table".into() },
+            BodyDescription { name: "table1".into(), type_name: "surface".into() },
             BodyDescription { name: "can1".into(), type_name: "can".into() },
         ],
         robots: vec![RobotDescription {
