@@ -23,9 +23,12 @@ use support::{actions_changing, artifact, has, regions};
 /// the same five regions as the 200.
 const DEMOS: u32 = 100;
 
+/// The surfaces a full demonstration carries its can from and to.
+type Journey = (String, String);
+
 /// The first [`DEMOS`] demonstrations of the Café spec's own `simulate` source, built once, with
 /// the surfaces each full one carries its can between.
-static CAFE_BUILD: LazyLock<(Model, Artifacts, Vec<(String, String)>)> = LazyLock::new(|| {
+static CAFE_BUILD: LazyLock<(Model, Artifacts, Vec<Journey>)> = LazyLock::new(|| {
     let (spec, world) = lamp_test_support::domain("cafe");
     let mut simulation = Simulation::from_spec(&spec).expect("the spec simulates Café");
     simulation.count = DEMOS;
@@ -37,7 +40,8 @@ static CAFE_BUILD: LazyLock<(Model, Artifacts, Vec<(String, String)>)> = LazyLoc
         .map(|demonstration| {
             let steps = &demonstration.trajectory.steps;
             let header = &demonstration.trajectory.header;
-            (surface_under(header, &steps[0]), surface_under(header, steps.last().unwrap()))
+            let last = steps.last().expect("a demonstration has steps");
+            (surface_under(header, &steps[0]), surface_under(header, last))
         })
         .collect();
     let files: Vec<DemoFile> = demonstrations
