@@ -4,10 +4,10 @@
 //! For each action it works out the driving effect and the link that moves
 //! ([`realise`](crate::realise)), then streams candidates: first "stay where you are" (a grab or a
 //! release changes the relations without moving), then region samples placed in the world,
-//! solved by the host's collision-free IK. A candidate is kept only if the learned abstraction of
-//! the state it leads to is exactly the state the plan expects (the action's deletes removed, its
-//! adds added, nothing else changed), so the rest of the plan stays applicable. Mixture draws
-//! that fall outside the region's threshold (about one in ten) are rejected by that same test.
+//! solved by the host's collision-free IK. A candidate is kept only if the action's effects hold
+//! in the learned abstraction of the state it leads to (its adds true, its deletes false); what
+//! else changed is for the solver to judge, which knows the rest of the plan. Mixture draws that
+//! fall outside the region's threshold (about one in ten) are rejected by that same test.
 //!
 //! Linked statically, construct [`GmmRefiner::new`]; built as a shared library, the configuration
 //! bytes are a JSON object `{"artifact": <sampler artifact>, "samples": n, "draws": n,

@@ -1,6 +1,6 @@
 //! The candidate stream of one action: staying put first (grasp changes alone may realise the
 //! effects), then region samples turned into link targets by the host's IK, each kept only if the
-//! learned abstraction of the resulting state is exactly the state the plan expects.
+//! action's effects hold in the learned abstraction of the resulting state.
 
 use std::collections::BTreeSet;
 use std::sync::Arc;

@@ -3,8 +3,8 @@
 //! [`solve`] plans with the planner plugin (k plans), refines each plan's actions in order with the
 //! refiner plugin's candidate streams and chronological backtracking ([`refine`]), moves the robot
 //! with the motion-planner plugin for every configuration change ([`execute`]), and checks after
-//! every step that the learned abstraction of the reached state is exactly the state the plan
-//! expects. When no plan refines, the next of the k plans is tried, then all of them again with
+//! every step that the step's effects hold in the learned abstraction of the reached state and
+//! that the rest of the plan still runs from there to the goal. When no plan refines, the next of the k plans is tried, then all of them again with
 //! fresh samples; when the planner proves the goal unreachable, the goal is relaxed (the relation
 //! used least in action preconditions dropped first) and the summary says so. The finished
 //! trajectory is replayed from the initial scene ([`validate`]) before it is returned.
