@@ -90,6 +90,13 @@ pub struct PlanResponse {
     pub plans: Vec<Plan>,
 }
 
+impl PlanResponse {
+    /// A failed call with its reason, and no plans.
+    pub fn failed(message: impl Into<String>) -> PlanResponse {
+        PlanResponse { status: PlanStatus::Failed { message: message.into() }, plans: Vec::new() }
+    }
+}
+
 /// A task planner.
 ///
 /// # Example

@@ -7,8 +7,7 @@
 //! Both planners are deterministic, so the request's seed is not used. Cancellation is polled
 //! before the search starts; a running search stops on its budget, not on cancellation.
 
-use lamp_pddl::{PddlErrors, parse_domain, parse_problem};
-use lamp_planner::{Algorithm, Budget, Status, Unsolvable};
+use lamp_planner::{Algorithm, Budget, Status, Unsolvable, parse_task};
 use lamp_plugin_api::{
     HostServices, Plan, PlanRequest, PlanResponse, PlanStatus, PlanStep, Planner, PluginError,
 };
@@ -76,15 +75,6 @@ impl PluginFactory for BuiltinPlanner {
     }
 }
 
-fn pddl_message(what: &str, errors: &PddlErrors) -> String {
-    let details: Vec<String> = errors.errors.iter().map(ToString::to_string).collect();
-    format!("the {what} is not valid PDDL: {}", details.join("; "))
-}
-
-fn failed(message: String) -> PlanResponse {
-    PlanResponse { status: PlanStatus::Failed { message }, plans: Vec::new() }
-}
-
 impl Planner for BuiltinPlanner {
     fn plan(
         &mut self,
@@ -94,13 +84,9 @@ impl Planner for BuiltinPlanner {
         if host.is_cancelled() {
             return Err(PluginError::Cancelled);
         }
-        let domain = match parse_domain(&request.domain) {
-            Ok(domain) => domain,
-            Err(errors) => return Ok(failed(pddl_message("domain", &errors))),
-        };
-        let problem = match parse_problem(&request.problem, &domain) {
-            Ok(problem) => problem,
-            Err(errors) => return Ok(failed(pddl_message("problem", &errors))),
+        let (domain, problem) = match parse_task(&request.domain, &request.problem) {
+            Ok(task) => task,
+            Err(message) => return Ok(PlanResponse::failed(message)),
         };
         let algorithm = match self.algorithm {
             BuiltinAlgorithm::GbfsFf => Algorithm::GbfsFf,
@@ -121,7 +107,7 @@ impl Planner for BuiltinPlanner {
                 let cause = std::error::Error::source(&error)
                     .map(|source| format!(": {source}"))
                     .unwrap_or_default();
-                return Ok(failed(format!("{error}{cause}")));
+                return Ok(PlanResponse::failed(format!("{error}{cause}")));
             }
         };
         host.report_progress(1.0, "done");

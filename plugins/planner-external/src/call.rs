@@ -3,7 +3,8 @@
 
 use std::path::Path;
 
-use lamp_pddl::{Domain, PddlErrors, Problem, parse_domain, parse_problem};
+use lamp_pddl::{Domain, Problem};
+use lamp_planner::parse_task;
 use lamp_plugin_api::{HostServices, Plan, PlanRequest, PlanResponse, PlanStatus, PlanStep};
 
 use crate::error::ExternalError;
@@ -33,13 +34,9 @@ pub fn plan_with(
     request: &PlanRequest,
     host: &dyn HostServices,
 ) -> Result<PlanResponse, ExternalError> {
-    let domain = match parse_domain(&request.domain) {
-        Ok(domain) => domain,
-        Err(errors) => return Ok(failed(pddl_message("domain", &errors))),
-    };
-    let problem = match parse_problem(&request.problem, &domain) {
-        Ok(problem) => problem,
-        Err(errors) => return Ok(failed(pddl_message("problem", &errors))),
+    let (domain, problem) = match parse_task(&request.domain, &request.problem) {
+        Ok(task) => task,
+        Err(message) => return Ok(PlanResponse::failed(message)),
     };
     let scratch = tempfile::Builder::new()
         .prefix("lamp-external-planner-")
@@ -80,7 +77,7 @@ pub fn plan_with(
             }
             Verdict::Refused(reason) => {
                 let message = format!("{}: {reason}\n{}", engine.name(), log_tail(folder));
-                return Ok(failed(message));
+                return Ok(PlanResponse::failed(message));
             }
             Verdict::Failure(reason) => return Err(failure(format!("exit code {code}: {reason}"))),
         },
@@ -167,13 +164,4 @@ fn validated(domain: &Domain, problem: &Problem, file: &PlanFile) -> Result<Plan
         .map(|step| PlanStep { action: step.action.clone(), arguments: step.arguments.clone() })
         .collect();
     Ok(Plan { steps })
-}
-
-fn pddl_message(what: &str, errors: &PddlErrors) -> String {
-    let details: Vec<String> = errors.errors.iter().map(ToString::to_string).collect();
-    format!("the {what} is not valid PDDL: {}", details.join("; "))
-}
-
-fn failed(message: String) -> PlanResponse {
-    PlanResponse { status: PlanStatus::Failed { message }, plans: Vec::new() }
 }

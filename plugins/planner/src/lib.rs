@@ -32,6 +32,19 @@ pub use task::{FactId, GroundAtom, GroundTask, GroundingVerdict, Operator, Opera
 pub use topk::top_k;
 pub use validate::{Validated, ValidationError, validate};
 
+/// A domain and a problem parsed from PDDL text; on bad text, a one-line message naming which
+/// file is wrong and every error in it (what a planner plugin answers with).
+pub fn parse_task(domain: &str, problem: &str) -> Result<(Domain, Problem), String> {
+    let one_line = |what: &str, errors: &PddlErrors| {
+        let details: Vec<String> = errors.errors.iter().map(ToString::to_string).collect();
+        format!("the {what} is not valid PDDL: {}", details.join("; "))
+    };
+    let domain = lamp_pddl::parse_domain(domain).map_err(|errors| one_line("domain", &errors))?;
+    let problem = lamp_pddl::parse_problem(problem, &domain)
+        .map_err(|errors| one_line("problem", &errors))?;
+    Ok((domain, problem))
+}
+
 /// Which planner to run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Algorithm {
