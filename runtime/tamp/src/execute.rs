@@ -22,6 +22,14 @@ pub struct MotionSettings<'a> {
     pub cancelled: &'a dyn Fn() -> bool,
 }
 
+/// The grab distance range of every robot whose spec gives one, for [`MotionSettings`].
+pub fn grab_ranges(spec: &lamp_spec::Spec) -> Vec<(String, (f64, f64))> {
+    spec.robots
+        .iter()
+        .filter_map(|robot| robot.grab_distance.map(|range| (robot.name.clone(), range)))
+        .collect()
+}
+
 /// Why a candidate was rejected (the search tries another), or a hard error.
 pub enum Rejection {
     /// Try the next candidate; the message says why this one failed.

@@ -149,11 +149,7 @@ fn solve(args: &Args, colour: bool) -> Result<(), String> {
     }
     let interrupted = AtomicBool::new(false);
     let cancelled = || interrupted.load(Ordering::Relaxed);
-    let grab_ranges = spec
-        .robots
-        .iter()
-        .filter_map(|robot| robot.grab_distance.map(|range| (robot.name.clone(), range)))
-        .collect();
+    let grab_ranges = lamp_tamp::execute::grab_ranges(spec);
     let settings = SolveSettings {
         seed,
         plan_count: args.plans.or(runtime.plan_count).unwrap_or(3),

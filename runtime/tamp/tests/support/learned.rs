@@ -101,11 +101,7 @@ pub fn solve_problem(learned: &Learned, name: &str, seed: u64) -> Result<Solutio
         motion: MotionSettings {
             config: MotionConfig::default(),
             budget: MotionBudget { max_iterations: Some(4000), time_limit: None },
-            grab_ranges: spec
-                .robots
-                .iter()
-                .filter_map(|robot| robot.grab_distance.map(|range| (robot.name.clone(), range)))
-                .collect(),
+            grab_ranges: lamp_tamp::execute::grab_ranges(spec),
             cancelled: &never,
         },
         relax_goal: false,
