@@ -77,22 +77,36 @@ pub fn effects_hold(state: &BTreeSet<GroundAtom>, action: &GroundedAction) -> bo
         && !action.delete_effects.iter().any(|atom| state.contains(&learned_atom(atom)))
 }
 
-/// The first of `rest` (by index) whose preconditions do not hold when the actions are applied
-/// in order from `state`, or `rest.len()` if none and the goal then fails; `None` when the rest
-/// of the plan still runs from `state` and reaches `goal`.
+/// Where the rest of a plan breaks when run from `state`: the index in `rest` of the first
+/// action whose preconditions do not hold (`rest.len()` for the goal), with the atoms missing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Broken {
+    pub index: usize,
+    pub missing: Vec<GroundAtom>,
+}
+
+/// Where `rest` breaks when its actions are applied in order from `state` and then `goal` is
+/// required; `None` when the rest of the plan still runs from `state` and reaches `goal`.
 pub fn first_broken(
     state: &BTreeSet<GroundAtom>,
     rest: &[GroundedAction],
     goal: &BTreeSet<GroundAtom>,
-) -> Option<usize> {
+) -> Option<Broken> {
     let mut state = state.clone();
     for (index, action) in rest.iter().enumerate() {
-        if !action.preconditions.iter().all(|atom| state.contains(&learned_atom(atom))) {
-            return Some(index);
+        let missing: Vec<GroundAtom> = action
+            .preconditions
+            .iter()
+            .map(learned_atom)
+            .filter(|atom| !state.contains(atom))
+            .collect();
+        if !missing.is_empty() {
+            return Some(Broken { index, missing });
         }
         state = progress(&state, action);
     }
-    (!goal.is_subset(&state)).then_some(rest.len())
+    let missing: Vec<GroundAtom> = goal.difference(&state).cloned().collect();
+    (!missing.is_empty()).then_some(Broken { index: rest.len(), missing })
 }
 
 /// A ground atom of the plugin contract as the learner's.
@@ -117,4 +131,54 @@ pub fn step_text(step: &PlanStep) -> String {
     }
     text.push(')');
     text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wire(predicate: &str, arguments: &[&str]) -> WireAtom {
+        WireAtom {
+            predicate: predicate.to_string(),
+            arguments: arguments.iter().map(ToString::to_string).collect(),
+        }
+    }
+
+    fn action(
+        name: &str,
+        pre: &[&WireAtom],
+        add: &[&WireAtom],
+        delete: &[&WireAtom],
+    ) -> GroundedAction {
+        let owned = |atoms: &[&WireAtom]| atoms.iter().map(|atom| (*atom).clone()).collect();
+        GroundedAction {
+            name: name.to_string(),
+            arguments: Vec::new(),
+            preconditions: owned(pre),
+            add_effects: owned(add),
+            delete_effects: owned(delete),
+        }
+    }
+
+    /// A can lifted off table1 by a tuck the plan did not expect: picking it up again from
+    /// table1 is broken (and says what it misses); putting it on table2 is not.
+    #[test]
+    fn the_rest_of_a_plan_breaks_where_a_precondition_is_missing() {
+        let on1 = wire("on", &["can1", "table1"]);
+        let on2 = wire("on", &["can1", "table2"]);
+        let held = wire("held", &["can1"]);
+        let reached: BTreeSet<GroundAtom> = [learned_atom(&held)].into_iter().collect();
+        let put = action("put", &[&held], &[&on2], &[&held]);
+        let goal: BTreeSet<GroundAtom> = [learned_atom(&on2)].into_iter().collect();
+        assert_eq!(first_broken(&reached, std::slice::from_ref(&put), &goal), None);
+
+        let pick = action("pick", &[&on1], &[&held], &[&on1]);
+        let broken = first_broken(&reached, &[put.clone(), pick], &goal).expect("broken");
+        assert_eq!(broken, Broken { index: 1, missing: vec![learned_atom(&on1)] });
+
+        let elsewhere: BTreeSet<GroundAtom> = [learned_atom(&on1)].into_iter().collect();
+        let broken = first_broken(&reached, &[put], &elsewhere).expect("the goal fails");
+        assert_eq!(broken, Broken { index: 1, missing: vec![learned_atom(&on1)] });
+        assert!(effects_hold(&reached, &action("none", &[], &[&held], &[&on1])));
+    }
 }

@@ -125,14 +125,18 @@ pub fn refine_plan(
                     }
                     let why = match broken {
                         None => "its effects do not hold in the state reached".to_string(),
-                        Some(later) if at + 1 + later == actions.len() => {
-                            "the state reached no longer leads to the goal".to_string()
+                        Some(broken) => {
+                            let what = match actions.get(at + 1 + broken.index) {
+                                Some(later) => {
+                                    format!("step {} ({})", at + 2 + broken.index, later.name)
+                                }
+                                None => "the goal".to_string(),
+                            };
+                            format!(
+                                "the state reached breaks {what}, which needs {}",
+                                atom_list(&broken.missing)
+                            )
                         }
-                        Some(later) => format!(
-                            "the state reached breaks step {} ({})",
-                            at + 2 + later,
-                            actions[at + 1 + later].name
-                        ),
                     };
                     counts.last_failure = format!("step {} ({}): {why}", at + 1, actions[at].name);
                 }
@@ -160,6 +164,10 @@ pub fn difference(reached: &BTreeSet<GroundAtom>, expected: &BTreeSet<GroundAtom
     let extra: Vec<String> = reached.difference(expected).map(ToString::to_string).collect();
     let missing: Vec<String> = expected.difference(reached).map(ToString::to_string).collect();
     format!("unexpected: {}; missing: {}", list(&extra), list(&missing))
+}
+
+fn atom_list(atoms: &[GroundAtom]) -> String {
+    list(&atoms.iter().map(ToString::to_string).collect::<Vec<_>>())
 }
 
 fn list(atoms: &[String]) -> String {
