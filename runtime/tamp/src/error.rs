@@ -40,28 +40,20 @@ pub enum SolveError {
     )]
     NoPlan { reason: String },
     /// Plans exist but none could be refined into motion within the budget.
-    #[error(
-        "no plan could be refined into motion ({plans} plan(s) tried, {candidates} candidates, deepest step {deepest} of {length}); the last failure: {last_failure}"
-    )]
+    #[error("no plan could be refined into motion ({0})")]
     #[diagnostic(
         code(lamp::solve::refinement_failed),
         help("raise the refiner's `samples` or the motion budget, or try `--planner topk`")
     )]
-    RefinementFailed {
-        plans: usize,
-        candidates: usize,
-        deepest: usize,
-        length: usize,
-        last_failure: String,
-    },
+    RefinementFailed(Progress),
     /// The final trajectory failed its replay check: a bug, never a user error.
     #[error("the solution failed validation at step {step}: {reason}")]
     #[diagnostic(code(lamp::solve::invalid_solution))]
     InvalidSolution { step: usize, reason: String },
-    /// Cancelled by the user.
-    #[error("cancelled")]
+    /// Cancelled by the host (an interrupt, a time limit), with how far the refinement got.
+    #[error("cancelled ({0})")]
     #[diagnostic(code(lamp::solve::cancelled))]
-    Cancelled,
+    Cancelled(Progress),
     /// A broken invariant inside the solver.
     #[error("internal error: {0}")]
     #[diagnostic(code(lamp::solve::internal))]
@@ -71,5 +63,41 @@ pub enum SolveError {
 impl SolveError {
     pub(crate) fn internal(reason: impl Into<String>) -> Self {
         SolveError::Internal(reason.into())
+    }
+
+    /// A cancellation seen inside a call, before the solve fills in its progress.
+    pub(crate) fn cancelled() -> Self {
+        SolveError::Cancelled(Progress::default())
+    }
+}
+
+/// How far the refinement got before it failed or was cancelled.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Progress {
+    /// Plans tried (every round counts every plan it tries).
+    pub plans: usize,
+    /// Refiner candidates tried.
+    pub candidates: usize,
+    /// The deepest step any refinement reached (1-based), and the length of that plan.
+    pub deepest: usize,
+    pub length: usize,
+    /// The last candidate refused, and why.
+    pub last_failure: String,
+}
+
+impl std::fmt::Display for Progress {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.plans == 0 {
+            return f.write_str("before any plan was refined");
+        }
+        write!(
+            f,
+            "{} plan(s) tried, {} candidates, deepest step {} of {}",
+            self.plans, self.candidates, self.deepest, self.length
+        )?;
+        if !self.last_failure.is_empty() {
+            write!(f, "; the last failure: {}", self.last_failure)?;
+        }
+        Ok(())
     }
 }

@@ -123,7 +123,7 @@ pub fn execute(
                     if message.is_empty() { "" } else { ": " }
                 )));
             }
-            Err(PluginError::Cancelled) => return Err(Rejection::Fatal(SolveError::Cancelled)),
+            Err(PluginError::Cancelled) => return Err(Rejection::Fatal(SolveError::cancelled())),
             Err(error) => {
                 return Err(Rejection::Fatal(SolveError::Plugin {
                     kind: "motion",

@@ -124,8 +124,13 @@ pub fn pddl_atom(atom: &Atom) -> GroundAtom {
 
 /// `(action a b)`.
 pub fn step_text(step: &PlanStep) -> String {
-    let mut text = format!("({}", step.action);
-    for argument in &step.arguments {
+    call_text(&step.action, &step.arguments)
+}
+
+/// `(name a b)`.
+pub fn call_text(name: &str, arguments: &[String]) -> String {
+    let mut text = format!("({name}");
+    for argument in arguments {
         text.push(' ');
         text.push_str(argument);
     }

@@ -26,12 +26,14 @@ use crate::poses::{from_wire, to_wire};
 pub struct SceneHost<'a> {
     scene: &'a Scene,
     rng: RefCell<ChaCha8Rng>,
+    cancelled: &'a dyn Fn() -> bool,
 }
 
 impl<'a> SceneHost<'a> {
-    /// Services over `scene`; IK restarts draw from a generator seeded with `seed`.
-    pub fn new(scene: &'a Scene, seed: u64) -> Self {
-        SceneHost { scene, rng: RefCell::new(ChaCha8Rng::seed_from_u64(seed)) }
+    /// Services over `scene`; IK restarts draw from a generator seeded with `seed`; the refiner
+    /// polls `cancelled` between its draws.
+    pub fn new(scene: &'a Scene, seed: u64, cancelled: &'a dyn Fn() -> bool) -> Self {
+        SceneHost { scene, rng: RefCell::new(ChaCha8Rng::seed_from_u64(seed)), cancelled }
     }
 
     fn robot(&self, name: &str) -> Result<(usize, &Robot), HostError> {
@@ -72,6 +74,10 @@ fn rigid_on_mount(robot: &Robot, link: LinkId) -> bool {
 }
 
 impl HostServices for SceneHost<'_> {
+    fn is_cancelled(&self) -> bool {
+        (self.cancelled)()
+    }
+
     fn configuration_is_valid(&self, robot: &str, q: &[f64]) -> Result<bool, HostError> {
         let (index, model) = self.robot(robot)?;
         Ok(self.scene.is_valid(index, self.checked(model, q)?))

@@ -23,9 +23,10 @@ pub mod state;
 pub mod summary;
 pub mod validate;
 
+mod planning;
 mod solve;
 
-pub use error::SolveError;
+pub use error::{Progress, SolveError};
 pub use plugins::Plugins;
 pub use solve::{Context, Solution, SolveInput, SolveSettings, solve};
 pub use summary::Summary;

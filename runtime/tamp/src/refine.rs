@@ -6,6 +6,9 @@
 //! one the plan predicted: a learned action says what it changes, not everything that changes
 //! with it (lifting a can off a table happens while the arm tucks; the tuck action does not say
 //! so), and such a side effect is harmless unless a later step or the goal needs what it undid.
+//! When it does, the planner is asked for a new rest of the plan from the reached state
+//! (replanning), and the candidate is kept if there is one; backtracking into that step puts the
+//! old rest back.
 
 use std::collections::BTreeSet;
 
@@ -16,8 +19,9 @@ use lamp_world::{Recorder, Scene};
 use crate::Context;
 use crate::error::SolveError;
 use crate::execute::{MotionCounts, Rejection, execute};
-use crate::ground::{effects_hold, first_broken};
+use crate::ground::{Broken, effects_hold, first_broken};
 use crate::host::SceneHost;
+use crate::planning::plan_from;
 use crate::plugins::Plugins;
 use crate::state::{abstraction, world_state};
 
@@ -26,6 +30,9 @@ struct Level {
     scene: Scene,
     recorded: usize,
     stream: Box<dyn CandidateStream>,
+    /// The steps after this one as they were when the level was opened, kept while a candidate
+    /// of this level has replaced them by a replan.
+    replaced_rest: Option<Vec<GroundedAction>>,
 }
 
 /// The counts of one refinement.
@@ -33,20 +40,26 @@ struct Level {
 pub struct RefineCounts {
     pub candidates: usize,
     pub backtracks: usize,
+    pub replans: usize,
+    /// The deepest step reached (1-based), and the length of the plan it was reached in.
     pub deepest: usize,
+    pub deepest_of: usize,
     pub motion: MotionCounts,
     pub last_failure: String,
 }
 
 /// How one plan's refinement ended.
 pub enum Refined {
-    /// Every step refined; the recorder holds the whole trajectory and this is the final scene.
-    Done(Scene),
-    /// The streams ran dry or the candidate budget ran out.
+    /// Every step refined: the steps (changed by replanning where a side effect broke the rest)
+    /// and the final scene; the recorder holds the whole trajectory.
+    Done { steps: Vec<GroundedAction>, scene: Scene },
+    /// The streams ran dry or the refusal budget ran out.
     Failed,
 }
 
 /// Refines `actions` from `initial` so that they reach `goal`, recording into `recorder`.
+/// The plan is given up after `max_refused` wasted candidates: refused ones, accepted ones
+/// backtracked over, and those whose side effect needed a replan.
 #[allow(clippy::too_many_arguments)] // the loop's inputs are distinct and all needed
 pub fn refine_plan(
     context: &Context<'_>,
@@ -59,16 +72,17 @@ pub fn refine_plan(
     counts: &mut RefineCounts,
 ) -> Result<Refined, SolveError> {
     let start_len = recorder.len();
-    let budget_end = counts.candidates + context.settings.max_candidates;
+    let mut actions = actions.to_vec();
+    let mut refused = 0;
     let mut levels: Vec<Level> = Vec::new();
     let mut scene = initial.clone();
-    while levels.len() <= actions.len() {
+    loop {
         let index = levels.len();
         if index == actions.len() {
-            return Ok(Refined::Done(scene));
+            return Ok(Refined::Done { steps: actions, scene });
         }
         if (context.cancelled)() {
-            return Err(SolveError::Cancelled);
+            return Err(SolveError::cancelled());
         }
         let stream_seed = mix(seed, index as u64, counts.candidates as u64);
         let request = RefineRequest {
@@ -76,10 +90,18 @@ pub fn refine_plan(
             world: world_state(context.adapter, &scene)?,
             seed: stream_seed,
         };
-        let host = SceneHost::new(&scene, stream_seed);
+        let host = SceneHost::new(&scene, stream_seed, context.cancelled);
         let stream = plugins.refiner.refine(&request, &host).map_err(plugin_error)?;
-        levels.push(Level { scene: scene.clone(), recorded: recorder.len(), stream });
-        counts.deepest = counts.deepest.max(index + 1);
+        levels.push(Level {
+            scene: scene.clone(),
+            recorded: recorder.len(),
+            stream,
+            replaced_rest: None,
+        });
+        if index + 1 > counts.deepest {
+            counts.deepest = index + 1;
+            counts.deepest_of = actions.len();
+        }
         // Find a candidate for the top level, backtracking while levels run dry.
         loop {
             let at = levels.len().wrapping_sub(1);
@@ -87,15 +109,22 @@ pub fn refine_plan(
                 recorder.steps.truncate(start_len);
                 return Ok(Refined::Failed);
             };
-            if counts.candidates >= budget_end {
+            if refused >= context.settings.max_refused {
                 recorder.steps.truncate(start_len);
                 return Ok(Refined::Failed);
             }
-            let host = SceneHost::new(&level.scene, mix(seed, at as u64, counts.candidates as u64));
+            if let Some(rest) = level.replaced_rest.take() {
+                actions.truncate(at + 1);
+                actions.extend(rest);
+            }
+            let host_seed = mix(seed, at as u64, counts.candidates as u64);
+            let host = SceneHost::new(&level.scene, host_seed, context.cancelled);
             let next = level.stream.next(&host).map_err(plugin_error)?;
             let Some(candidate) = next else {
+                // The step below gives up its accepted candidate: that one is wasted too.
                 levels.pop();
                 counts.backtracks += 1;
+                refused += 1;
                 continue;
             };
             counts.candidates += 1;
@@ -110,51 +139,60 @@ pub fn refine_plan(
                 mix(seed, at as u64, counts.candidates as u64 + 7),
                 &mut counts.motion,
             );
-            match attempt {
+            refused += 1;
+            let why = match attempt {
                 Ok(()) => {
                     let reached = abstraction(context.artifact, context.adapter, &trial)?;
-                    let effects = effects_hold(&reached, &actions[at]);
-                    let broken = if effects {
-                        first_broken(&reached, &actions[at + 1..], goal)
+                    if !effects_hold(&reached, &actions[at]) {
+                        "its effects do not hold in the state reached".to_string()
+                    } else if let Some(broken) = first_broken(&reached, &actions[at + 1..], goal) {
+                        counts.replans += 1;
+                        match plan_from(
+                            plugins,
+                            context.domain,
+                            context.problem,
+                            &reached,
+                            context.settings,
+                        )? {
+                            Some(rest) => {
+                                let old = actions.split_off(at + 1);
+                                actions.extend(rest);
+                                level.replaced_rest = Some(old);
+                                scene = trial;
+                                break;
+                            }
+                            None => format!(
+                                "{}, and no plan reaches the goal from there",
+                                broken_text(&broken, &actions, at)
+                            ),
+                        }
                     } else {
-                        None
-                    };
-                    if effects && broken.is_none() {
+                        refused -= 1;
                         scene = trial;
                         break;
                     }
-                    let why = match broken {
-                        None => "its effects do not hold in the state reached".to_string(),
-                        Some(broken) => {
-                            let what = match actions.get(at + 1 + broken.index) {
-                                Some(later) => {
-                                    format!("step {} ({})", at + 2 + broken.index, later.name)
-                                }
-                                None => "the goal".to_string(),
-                            };
-                            format!(
-                                "the state reached breaks {what}, which needs {}",
-                                atom_list(&broken.missing)
-                            )
-                        }
-                    };
-                    counts.last_failure = format!("step {} ({}): {why}", at + 1, actions[at].name);
                 }
-                Err(Rejection::Candidate(reason)) => {
-                    counts.last_failure =
-                        format!("step {} ({}): {reason}", at + 1, actions[at].name);
-                }
+                Err(Rejection::Candidate(reason)) => reason,
                 Err(Rejection::Fatal(error)) => return Err(error),
-            }
+            };
+            counts.last_failure = format!("step {} ({}): {why}", at + 1, actions[at].name);
             recorder.steps.truncate(level.recorded);
         }
     }
-    Ok(Refined::Done(scene))
+}
+
+/// What a broken rest of the plan misses, for messages.
+fn broken_text(broken: &Broken, actions: &[GroundedAction], at: usize) -> String {
+    let what = match actions.get(at + 1 + broken.index) {
+        Some(later) => format!("step {} ({})", at + 2 + broken.index, later.name),
+        None => "the goal".to_string(),
+    };
+    format!("the state reached breaks {what}, which needs {}", atom_list(&broken.missing))
 }
 
 fn plugin_error(error: PluginError) -> SolveError {
     match error {
-        PluginError::Cancelled => SolveError::Cancelled,
+        PluginError::Cancelled => SolveError::cancelled(),
         other => SolveError::Plugin { kind: "refiner", reason: other.to_string() },
     }
 }

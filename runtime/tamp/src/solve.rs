@@ -5,16 +5,15 @@ use std::time::Instant;
 
 use lamp_build::Adapter;
 use lamp_learn::{GroundAtom, SamplerArtifact};
-use lamp_pddl::{Condition, Domain, Problem, parse_domain, parse_problem, write_problem};
-use lamp_plugin_api::{
-    GroundedAction, HostServices, Plan, PlanBudget, PlanRequest, PlanStatus, PluginError,
-};
+use lamp_pddl::{Domain, Problem, parse_domain, parse_problem};
+use lamp_plugin_api::{GroundedAction, PlanBudget};
 use lamp_trajectory::{Trajectory, TrajectoryHeader};
 use lamp_world::{Recorder, Scene};
 
-use crate::error::SolveError;
+use crate::error::{Progress, SolveError};
 use crate::execute::MotionSettings;
-use crate::ground::{ground_step, pddl_atom, step_text};
+use crate::ground::{call_text, ground_step, pddl_atom};
+use crate::planning::{plans, relax};
 use crate::plugins::Plugins;
 use crate::refine::{RefineCounts, Refined, difference, mix, refine_plan};
 use crate::state::abstraction;
@@ -31,8 +30,10 @@ pub struct SolveSettings<'a> {
     pub planner_budget: PlanBudget,
     /// Rounds over the plans, each with fresh samples.
     pub rounds: usize,
-    /// Refiner candidates per plan before it is given up.
-    pub max_candidates: usize,
+    /// Wasted candidates per plan before it is given up: refused, backtracked over, or needing a
+    /// replan (the steps of the plan being refined do not count, so long plans get the same
+    /// slack as short ones).
+    pub max_refused: usize,
     /// Motion settings.
     pub motion: MotionSettings<'a>,
     /// Whether to drop goal atoms when no plan reaches the whole goal.
@@ -56,6 +57,9 @@ pub struct SolveInput<'a> {
 
 /// What the refinement loop shares.
 pub struct Context<'a> {
+    /// The domain, and the problem as planned (its goal possibly relaxed), for replanning.
+    pub domain: &'a Domain,
+    pub problem: &'a Problem,
     pub artifact: &'a SamplerArtifact,
     pub adapter: &'a Adapter,
     pub settings: &'a SolveSettings<'a>,
@@ -91,53 +95,79 @@ pub fn solve(
             difference: difference(&initial_state, &init),
         });
     }
-    let context = Context {
-        artifact: input.artifact,
-        adapter: input.adapter,
-        settings,
-        cancelled: settings.motion.cancelled,
-    };
     let mut summary = Summary { problem: problem.name.clone(), ..Summary::default() };
     let mut counts = RefineCounts::default();
+    let outcome = solve_with(
+        input,
+        plugins,
+        settings,
+        progress,
+        &domain,
+        &mut problem,
+        &mut summary,
+        &mut counts,
+    );
+    outcome.map_err(|error| match error {
+        SolveError::Cancelled(_) => SolveError::Cancelled(progress_of(&summary, &counts)),
+        other => other,
+    })
+}
+
+/// The loop of [`solve`], which fills `summary` and `counts` as it goes.
+#[allow(clippy::too_many_arguments)] // the loop's inputs and its running counts
+fn solve_with(
+    input: &SolveInput<'_>,
+    plugins: &mut Plugins<'_>,
+    settings: &SolveSettings<'_>,
+    progress: &dyn Fn(&str),
+    domain: &Domain,
+    problem: &mut Problem,
+    summary: &mut Summary,
+    counts: &mut RefineCounts,
+) -> Result<Solution, SolveError> {
     let mut attempts = 0;
     loop {
         progress("planning");
         let started = Instant::now();
-        let plans = plan(plugins, &domain, &problem, settings)?;
+        let found = plans(plugins, domain, problem, settings.plan_count, settings)?;
         summary.seconds_planning += started.elapsed().as_secs_f64();
-        let plans = match plans {
-            Ok(plans) => plans,
+        let found = match found {
+            Ok(found) => found,
             Err(reason) => {
-                let Some(dropped) = relax(&domain, &mut problem).filter(|_| settings.relax_goal)
-                else {
+                let Some(dropped) = relax(domain, problem).filter(|_| settings.relax_goal) else {
                     return Err(SolveError::NoPlan { reason });
                 };
                 summary.relaxed_goal.push(dropped);
                 continue;
             }
         };
+        let problem = &*problem;
+        let context = Context {
+            domain,
+            problem,
+            artifact: input.artifact,
+            adapter: input.adapter,
+            settings,
+            cancelled: settings.motion.cancelled,
+        };
+        let goal: BTreeSet<GroundAtom> =
+            problem.goal.iter().filter(|l| l.positive).map(|l| pddl_atom(&l.atom)).collect();
         let started = Instant::now();
         for round in 0..settings.rounds {
-            for (index, plan) in plans.iter().enumerate() {
+            for (index, plan) in found.iter().enumerate() {
                 attempts += 1;
                 summary.plans_tried += 1;
                 progress(&format!(
                     "refining plan {} of {} (round {})",
                     index + 1,
-                    plans.len(),
+                    found.len(),
                     round + 1
                 ));
                 let actions = plan
                     .steps
                     .iter()
-                    .map(|step| ground_step(&domain, step))
+                    .map(|step| ground_step(domain, step))
                     .collect::<Result<Vec<GroundedAction>, _>>()?;
-                let goal: BTreeSet<GroundAtom> = problem
-                    .goal
-                    .iter()
-                    .filter(|l| l.positive)
-                    .map(|l| pddl_atom(&l.atom))
-                    .collect();
                 let mut recorder = Recorder::default();
                 recorder.record(input.scene);
                 let seed = mix(settings.seed, attempts, 0);
@@ -149,9 +179,9 @@ pub fn solve(
                     &goal,
                     seed,
                     &mut recorder,
-                    &mut counts,
+                    counts,
                 )?;
-                if let Refined::Done(_) = outcome {
+                if let Refined::Done { steps, .. } = outcome {
                     summary.seconds_refining += started.elapsed().as_secs_f64();
                     progress("validating");
                     let started = Instant::now();
@@ -165,23 +195,27 @@ pub fn solve(
                     )?;
                     summary.seconds_validating = started.elapsed().as_secs_f64();
                     summary.success = true;
-                    summary.plan = plan.steps.iter().map(step_text).collect();
-                    fill(&mut summary, &counts, recorder.len());
+                    summary.plan =
+                        steps.iter().map(|step| call_text(&step.name, &step.arguments)).collect();
+                    fill(summary, counts, recorder.len());
                     let trajectory =
                         Trajectory { header: input.header.clone(), steps: recorder.steps };
-                    return Ok(Solution { trajectory, summary });
+                    return Ok(Solution { trajectory, summary: summary.clone() });
                 }
             }
         }
-        fill(&mut summary, &counts, 0);
-        let length = plans.iter().map(|plan| plan.steps.len()).max().unwrap_or(0);
-        return Err(SolveError::RefinementFailed {
-            plans: summary.plans_tried,
-            candidates: counts.candidates,
-            deepest: counts.deepest,
-            length,
-            last_failure: counts.last_failure,
-        });
+        fill(summary, counts, 0);
+        return Err(SolveError::RefinementFailed(progress_of(summary, counts)));
+    }
+}
+
+fn progress_of(summary: &Summary, counts: &RefineCounts) -> Progress {
+    Progress {
+        plans: summary.plans_tried,
+        candidates: counts.candidates,
+        deepest: counts.deepest,
+        length: counts.deepest_of,
+        last_failure: counts.last_failure.clone(),
     }
 }
 
@@ -190,69 +224,6 @@ fn fill(summary: &mut Summary, counts: &RefineCounts, steps: usize) {
     summary.backtracks = counts.backtracks;
     summary.motion_calls = counts.motion.calls;
     summary.motion_failures = counts.motion.failures;
+    summary.replans = counts.replans;
     summary.trajectory_steps = steps;
-}
-
-/// Plans, or why there is no plan (`Err` inside `Ok`), or a planner failure.
-fn plan(
-    plugins: &mut Plugins<'_>,
-    domain: &Domain,
-    problem: &Problem,
-    settings: &SolveSettings<'_>,
-) -> Result<Result<Vec<Plan>, String>, SolveError> {
-    let mut request = PlanRequest::new(lamp_pddl::write_domain(domain), write_problem(problem));
-    request.plan_count = settings.plan_count.max(1);
-    request.budget = settings.planner_budget;
-    request.seed = settings.seed;
-    let host = Cancellation(settings.motion.cancelled);
-    let response = plugins.planner.plan(&request, &host).map_err(|error| match error {
-        PluginError::Cancelled => SolveError::Cancelled,
-        other => SolveError::Plugin { kind: "planner", reason: other.to_string() },
-    })?;
-    if !response.plans.is_empty() {
-        return Ok(Ok(response.plans));
-    }
-    Ok(Err(match response.status {
-        PlanStatus::Unsolvable { reason } => reason,
-        PlanStatus::BudgetExhausted => "the planner's budget ran out".to_string(),
-        PlanStatus::Failed { message } => {
-            return Err(SolveError::Plugin { kind: "planner", reason: message });
-        }
-        PlanStatus::Solved => "the planner returned no plan".to_string(),
-    }))
-}
-
-/// Drops the goal atom whose predicate appears least often in action preconditions (ties: the
-/// last in goal order); returns it, or `None` when at most one atom is left.
-fn relax(domain: &Domain, problem: &mut Problem) -> Option<String> {
-    if problem.goal.len() <= 1 {
-        return None;
-    }
-    let uses = |predicate: &str| {
-        domain
-            .actions
-            .iter()
-            .flat_map(|action| &action.precondition)
-            .filter(|condition| {
-                matches!(condition, Condition::Atom { atom, .. } if atom.predicate == predicate)
-            })
-            .count()
-    };
-    let (index, _) = problem
-        .goal
-        .iter()
-        .enumerate()
-        .map(|(index, literal)| (index, uses(&literal.atom.predicate)))
-        .min_by_key(|&(index, count)| (count, std::cmp::Reverse(index)))?;
-    let dropped = problem.goal.remove(index);
-    Some(pddl_atom(&dropped.atom).to_string())
-}
-
-/// Host services for the planner: cancellation only.
-struct Cancellation<'a>(&'a dyn Fn() -> bool);
-
-impl HostServices for Cancellation<'_> {
-    fn is_cancelled(&self) -> bool {
-        (self.0)()
-    }
 }

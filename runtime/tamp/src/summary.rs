@@ -20,6 +20,9 @@ pub struct Summary {
     pub candidates: usize,
     /// Times the refinement went back to an earlier step.
     pub backtracks: usize,
+    /// Times a step's side effect broke the rest of the plan and the planner was asked again
+    /// from the reached state.
+    pub replans: usize,
     /// Motion-planner calls, and how many found no path.
     pub motion_calls: usize,
     pub motion_failures: usize,

@@ -10,7 +10,9 @@ mod learned;
 use lamp_build::{Adapter, SamplersFile};
 use lamp_motion_rrt::{RrtConnectPlanner, RrtOptions};
 use lamp_planner_builtin::{BuiltinAlgorithm, BuiltinPlanner};
-use lamp_plugin_api::{MotionBudget, PlanBudget};
+use lamp_plugin_api::{
+    HostServices, MotionBudget, PlanBudget, PlanRequest, PlanResponse, Planner, PluginError,
+};
 use lamp_refiner_gmm::{GmmRefiner, RefinerOptions};
 use lamp_tamp::execute::MotionSettings;
 use lamp_tamp::{Plugins, Solution, SolveError, SolveInput, SolveSettings, solve};
@@ -59,6 +61,40 @@ fn four_cans_are_packed_and_the_trajectory_is_collision_free() {
     }
 }
 
+/// The built-in planner, except that its first plan lacks its second step: once the first step
+/// is refined, the rest of that plan does not run from the reached state.
+struct SkipsTheSecondStep {
+    inner: BuiltinPlanner,
+    calls: usize,
+}
+
+impl Planner for SkipsTheSecondStep {
+    fn plan(
+        &mut self,
+        request: &PlanRequest,
+        host: &dyn HostServices,
+    ) -> Result<PlanResponse, PluginError> {
+        self.calls += 1;
+        let mut response = self.inner.plan(request, host)?;
+        if self.calls == 1 {
+            response.plans[0].steps.remove(1);
+        }
+        Ok(response)
+    }
+}
+
+#[test]
+fn a_plan_whose_rest_breaks_is_replanned_from_the_reached_state() {
+    let mut planner =
+        SkipsTheSecondStep { inner: BuiltinPlanner::new(BuiltinAlgorithm::GbfsFf), calls: 0 };
+    let solution = learned::solve_with_planner(&PACKING, "pack4_01", 1, &mut planner)
+        .unwrap_or_else(|error| panic!("{error}"));
+    assert!(solution.summary.replans >= 1, "{:?}", solution.summary);
+    assert_eq!(planner.calls, 1 + solution.summary.replans, "one call per replan");
+    assert_eq!(solution.summary.plan.len(), 19, "the plan refined is the replanned one");
+    check_packed("pack4_01", &solution);
+}
+
 #[test]
 fn the_same_seed_gives_the_same_trajectory() {
     let first = solve_problem("pack4_04", 7).expect("solved");
@@ -86,7 +122,7 @@ fn a_stale_problem_file_is_refused() {
         plan_count: 1,
         planner_budget: PlanBudget::default(),
         rounds: 1,
-        max_candidates: 10,
+        max_refused: 10,
         motion: MotionSettings {
             config: MotionConfig::default(),
             budget: MotionBudget::default(),

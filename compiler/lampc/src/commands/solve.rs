@@ -10,13 +10,13 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use indicatif::ProgressBar;
 use lamp_build::{Adapter, SamplersFile};
 use lamp_plugin_api::{MotionBudget, PlanBudget};
 use lamp_tamp::execute::MotionSettings;
-use lamp_tamp::{Plugins, SolveInput, SolveSettings};
+use lamp_tamp::{Plugins, SolveError, SolveInput, SolveSettings};
 use lamp_world::{MotionConfig, SpecWorld, trajectory_header};
 
 use crate::plugin_setup::{self, RuntimeOptions};
@@ -53,26 +53,59 @@ pub(crate) struct Args {
     /// Fail instead of dropping goal atoms no plan reaches.
     #[arg(long)]
     pub(crate) no_relax: bool,
+    /// Stop after this many seconds of wall time and report how far the search got
+    /// [default: no limit; Ctrl-C stops it the same way].
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    pub(crate) timeout: Option<f64>,
 }
 
-/// Refiner candidates per plan before it is given up.
-const MAX_CANDIDATES: usize = 100;
+/// Wasted candidates (refused, backtracked over, needing a replan) per plan before it is given up.
+const MAX_REFUSED: usize = 100;
 /// RRT-Connect iterations per motion call (deterministic; the time limit is a safety net only).
 const MOTION_ITERATIONS: u64 = 4000;
 /// Rounds over the plans with fresh samples.
 const ROUNDS: usize = 20;
+/// The exit code after Ctrl-C, as shells report a process ended by SIGINT.
+const EXIT_INTERRUPTED: u8 = 130;
+
+/// Set by the first Ctrl-C; the solver polls it through its cancellation check.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 pub(crate) fn run(args: &Args) -> ExitCode {
     let colour = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+    watch_interrupts();
     match solve(args, colour) {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
             if !message.is_empty() {
                 eprintln!("{message}");
             }
+            if INTERRUPTED.load(Ordering::Relaxed) {
+                eprintln!("lampc solve: interrupted; no solution files were written");
+                return ExitCode::from(EXIT_INTERRUPTED);
+            }
             eprintln!("lampc solve: failed; no solution files were written");
             ExitCode::from(crate::EXIT_DIAGNOSTICS)
         }
+    }
+}
+
+/// The first Ctrl-C asks the search to stop at its next check (it then reports how far it got
+/// and writes nothing); a second one ends the process at once.
+fn watch_interrupts() {
+    // Without a handler (one was already set) Ctrl-C keeps its default, ending the process;
+    // nothing half-written is left either way, since files are renamed into place at the end.
+    let _ = ctrlc::set_handler(|| {
+        if INTERRUPTED.swap(true, Ordering::Relaxed) {
+            std::process::exit(i32::from(EXIT_INTERRUPTED));
+        }
+    });
+}
+
+fn parse_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(seconds) if seconds.is_finite() && seconds > 0.0 => Ok(seconds),
+        _ => Err(format!("`{text}` is not a positive number of seconds")),
     }
 }
 
@@ -147,8 +180,9 @@ fn solve(args: &Args, colour: bool) -> Result<(), String> {
     if let Some(resolution) = runtime.angular_resolution {
         config.angular_resolution = resolution;
     }
-    let interrupted = AtomicBool::new(false);
-    let cancelled = || interrupted.load(Ordering::Relaxed);
+    let deadline = args.timeout.map(|seconds| Instant::now() + Duration::from_secs_f64(seconds));
+    let out_of_time = || deadline.is_some_and(|deadline| Instant::now() >= deadline);
+    let cancelled = || INTERRUPTED.load(Ordering::Relaxed) || out_of_time();
     let grab_ranges = lamp_tamp::execute::grab_ranges(spec);
     let settings = SolveSettings {
         seed,
@@ -158,7 +192,7 @@ fn solve(args: &Args, colour: bool) -> Result<(), String> {
             ..PlanBudget::default()
         },
         rounds: ROUNDS,
-        max_candidates: MAX_CANDIDATES,
+        max_refused: MAX_REFUSED,
         motion: MotionSettings {
             config,
             budget: MotionBudget {
@@ -187,7 +221,15 @@ fn solve(args: &Args, colour: bool) -> Result<(), String> {
         Plugins { planner: planner.as_mut(), refiner: refiner.as_mut(), motion: motion.as_mut() };
     let outcome = lamp_tamp::solve(&input, &mut plugins, &settings, &report);
     spinner.finish_and_clear();
-    let solution = outcome.map_err(|error| crate::diagnostics::render_error(&error, colour))?;
+    let solution = outcome.map_err(|error| {
+        let rendered = crate::diagnostics::render_error(&error, colour);
+        match (&error, args.timeout) {
+            (SolveError::Cancelled(_), Some(seconds)) if out_of_time() => format!(
+                "{rendered}\nlampc solve: the time limit of {seconds} s (`--timeout`) ran out"
+            ),
+            _ => rendered,
+        }
+    })?;
 
     let picture =
         lamp_render::render_trajectory(&world, &solution.trajectory, None, &Default::default())
@@ -228,8 +270,12 @@ fn print_summary(summary: &lamp_tamp::Summary, out: &Path) {
         summary.plans_tried
     );
     println!(
-        "  refinement      {} candidates, {} backtracks, {} motion calls ({} without a path)",
-        summary.candidates, summary.backtracks, summary.motion_calls, summary.motion_failures
+        "  refinement      {} candidates, {} backtracks, {} replans, {} motion calls ({} without a path)",
+        summary.candidates,
+        summary.backtracks,
+        summary.replans,
+        summary.motion_calls,
+        summary.motion_failures
     );
     println!("  trajectory      {} steps, validated by replay", summary.trajectory_steps);
     println!(

@@ -10,7 +10,7 @@ use lamp_build::{Adapter, Artifacts, DemoFile, SamplersFile};
 use lamp_demonstrators::{Simulation, file_name, generate_all};
 use lamp_motion_rrt::{RrtConnectPlanner, RrtOptions};
 use lamp_planner_builtin::{BuiltinAlgorithm, BuiltinPlanner};
-use lamp_plugin_api::{MotionBudget, PlanBudget};
+use lamp_plugin_api::{MotionBudget, PlanBudget, Planner};
 use lamp_refiner_gmm::{GmmRefiner, RefinerOptions};
 use lamp_spec::Spec;
 use lamp_tamp::execute::MotionSettings;
@@ -86,6 +86,16 @@ pub fn artifact<'a>(artifacts: &'a Artifacts, path: &str) -> &'a str {
 }
 
 pub fn solve_problem(learned: &Learned, name: &str, seed: u64) -> Result<Solution, SolveError> {
+    solve_with_planner(learned, name, seed, &mut BuiltinPlanner::new(BuiltinAlgorithm::GbfsFf))
+}
+
+/// [`solve_problem`] with another planner.
+pub fn solve_with_planner(
+    learned: &Learned,
+    name: &str,
+    seed: u64,
+    planner: &mut dyn Planner,
+) -> Result<Solution, SolveError> {
     let Learned { spec, world, artifacts, refiner } = learned;
     let problem = spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
     let scene = world.problem_scene(problem).expect("the scene loads");
@@ -97,7 +107,7 @@ pub fn solve_problem(learned: &Learned, name: &str, seed: u64) -> Result<Solutio
         plan_count: 1,
         planner_budget: PlanBudget::default(),
         rounds: 20,
-        max_candidates: 100,
+        max_refused: 100,
         motion: MotionSettings {
             config: MotionConfig::default(),
             budget: MotionBudget { max_iterations: Some(4000), time_limit: None },
@@ -114,9 +124,8 @@ pub fn solve_problem(learned: &Learned, name: &str, seed: u64) -> Result<Solutio
         adapter: &adapter,
         header: trajectory_header(spec, &scene, seed),
     };
-    let mut planner = BuiltinPlanner::new(BuiltinAlgorithm::GbfsFf);
     let mut refiner = GmmRefiner::new(samplers.artifact.clone(), *refiner).expect("valid");
     let mut motion = RrtConnectPlanner::new(RrtOptions::default());
-    let mut plugins = Plugins { planner: &mut planner, refiner: &mut refiner, motion: &mut motion };
+    let mut plugins = Plugins { planner, refiner: &mut refiner, motion: &mut motion };
     solve(&input, &mut plugins, &settings, &|_| {})
 }

@@ -1,0 +1,104 @@
+//! Calls to the planner plugin: the plans for a problem, the plan from a state reached during
+//! refinement, and relaxing a goal no plan reaches.
+
+use std::collections::BTreeSet;
+
+use lamp_learn::GroundAtom;
+use lamp_pddl::{Atom, Condition, Domain, Problem, Term, write_domain, write_problem};
+use lamp_plugin_api::{GroundedAction, HostServices, Plan, PlanRequest, PlanStatus, PluginError};
+
+use crate::error::SolveError;
+use crate::ground::{ground_step, pddl_atom};
+use crate::plugins::Plugins;
+use crate::solve::SolveSettings;
+
+/// Plans for `problem` (at most `plan_count`), or why there is none (`Err` inside `Ok`), or a
+/// planner failure.
+pub fn plans(
+    plugins: &mut Plugins<'_>,
+    domain: &Domain,
+    problem: &Problem,
+    plan_count: usize,
+    settings: &SolveSettings<'_>,
+) -> Result<Result<Vec<Plan>, String>, SolveError> {
+    let mut request = PlanRequest::new(write_domain(domain), write_problem(problem));
+    request.plan_count = plan_count.max(1);
+    request.budget = settings.planner_budget;
+    request.seed = settings.seed;
+    let host = Cancellation(settings.motion.cancelled);
+    let response = plugins.planner.plan(&request, &host).map_err(|error| match error {
+        PluginError::Cancelled => SolveError::cancelled(),
+        other => SolveError::Plugin { kind: "planner", reason: other.to_string() },
+    })?;
+    if !response.plans.is_empty() {
+        return Ok(Ok(response.plans));
+    }
+    Ok(Err(match response.status {
+        PlanStatus::Unsolvable { reason } => reason,
+        PlanStatus::BudgetExhausted => "the planner's budget ran out".to_string(),
+        PlanStatus::Failed { message } => {
+            return Err(SolveError::Plugin { kind: "planner", reason: message });
+        }
+        PlanStatus::Solved => "the planner returned no plan".to_string(),
+    }))
+}
+
+/// One plan from `state` to `problem`'s goal, grounded; `None` when the planner finds none.
+pub fn plan_from(
+    plugins: &mut Plugins<'_>,
+    domain: &Domain,
+    problem: &Problem,
+    state: &BTreeSet<GroundAtom>,
+    settings: &SolveSettings<'_>,
+) -> Result<Option<Vec<GroundedAction>>, SolveError> {
+    let mut from = problem.clone();
+    from.init = state
+        .iter()
+        .map(|atom| {
+            Atom::new(
+                atom.predicate.clone(),
+                atom.arguments.iter().map(|name| Term::Constant(name.clone())).collect(),
+            )
+        })
+        .collect();
+    let Ok(found) = plans(plugins, domain, &from, 1, settings)? else {
+        return Ok(None);
+    };
+    let Some(plan) = found.into_iter().next() else { return Ok(None) };
+    plan.steps.iter().map(|step| ground_step(domain, step)).collect::<Result<Vec<_>, _>>().map(Some)
+}
+
+/// Drops the goal atom whose predicate appears least often in action preconditions (ties: the
+/// last in goal order); returns it, or `None` when at most one atom is left.
+pub fn relax(domain: &Domain, problem: &mut Problem) -> Option<String> {
+    if problem.goal.len() <= 1 {
+        return None;
+    }
+    let uses = |predicate: &str| {
+        domain
+            .actions
+            .iter()
+            .flat_map(|action| &action.precondition)
+            .filter(|condition| {
+                matches!(condition, Condition::Atom { atom, .. } if atom.predicate == predicate)
+            })
+            .count()
+    };
+    let (index, _) = problem
+        .goal
+        .iter()
+        .enumerate()
+        .map(|(index, literal)| (index, uses(&literal.atom.predicate)))
+        .min_by_key(|&(index, count)| (count, std::cmp::Reverse(index)))?;
+    let dropped = problem.goal.remove(index);
+    Some(pddl_atom(&dropped.atom).to_string())
+}
+
+/// Host services for the planner: cancellation only.
+struct Cancellation<'a>(&'a dyn Fn() -> bool);
+
+impl HostServices for Cancellation<'_> {
+    fn is_cancelled(&self) -> bool {
+        (self.0)()
+    }
+}
