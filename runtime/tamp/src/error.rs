@@ -81,8 +81,8 @@ pub struct Progress {
     /// The deepest step any refinement reached (1-based), and the length of that plan.
     pub deepest: usize,
     pub length: usize,
-    /// The last candidate refused, and why.
-    pub last_failure: String,
+    /// The deepest step that refused a candidate, and why.
+    pub failure: String,
 }
 
 impl std::fmt::Display for Progress {
@@ -95,8 +95,8 @@ impl std::fmt::Display for Progress {
             "{} plan(s) tried, {} candidates, deepest step {} of {}",
             self.plans, self.candidates, self.deepest, self.length
         )?;
-        if !self.last_failure.is_empty() {
-            write!(f, "; the last failure: {}", self.last_failure)?;
+        if !self.failure.is_empty() {
+            write!(f, "; the deepest refusal: {}", self.failure)?;
         }
         Ok(())
     }

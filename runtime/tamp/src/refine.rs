@@ -45,7 +45,9 @@ pub struct RefineCounts {
     pub deepest: usize,
     pub deepest_of: usize,
     pub motion: MotionCounts,
-    pub last_failure: String,
+    /// Why a candidate of the deepest step that failed was refused (the latest such).
+    pub deepest_failure: String,
+    deepest_failed: usize,
 }
 
 /// How one plan's refinement ended.
@@ -74,6 +76,9 @@ pub fn refine_plan(
     let start_len = recorder.len();
     let mut actions = actions.to_vec();
     let mut refused = 0;
+    // The states replanned from: reaching one again means the planner repeats a plan whose
+    // step has a side effect the model does not predict, and replanning again would loop.
+    let mut replanned_from: BTreeSet<BTreeSet<GroundAtom>> = BTreeSet::new();
     let mut levels: Vec<Level> = Vec::new();
     let mut scene = initial.clone();
     loop {
@@ -146,25 +151,25 @@ pub fn refine_plan(
                     if !effects_hold(&reached, &actions[at]) {
                         "its effects do not hold in the state reached".to_string()
                     } else if let Some(broken) = first_broken(&reached, &actions[at + 1..], goal) {
-                        counts.replans += 1;
-                        match plan_from(
-                            plugins,
-                            context.domain,
-                            context.problem,
-                            &reached,
-                            context.settings,
-                        )? {
-                            Some(rest) => {
+                        let broken = broken_text(&broken, &actions, at);
+                        let rest = if replanned_from.insert(reached.clone()) {
+                            counts.replans += 1;
+                            let settings = context.settings;
+                            plan_from(plugins, context.domain, context.problem, &reached, settings)?
+                                .ok_or("no plan reaches the goal from there")
+                        } else {
+                            Err("replanning from there again would repeat a plan whose side \
+                                 effects the model does not predict")
+                        };
+                        match rest {
+                            Ok(rest) => {
                                 let old = actions.split_off(at + 1);
                                 actions.extend(rest);
                                 level.replaced_rest = Some(old);
                                 scene = trial;
                                 break;
                             }
-                            None => format!(
-                                "{}, and no plan reaches the goal from there",
-                                broken_text(&broken, &actions, at)
-                            ),
+                            Err(why) => format!("{broken}, and {why}"),
                         }
                     } else {
                         refused -= 1;
@@ -175,7 +180,10 @@ pub fn refine_plan(
                 Err(Rejection::Candidate(reason)) => reason,
                 Err(Rejection::Fatal(error)) => return Err(error),
             };
-            counts.last_failure = format!("step {} ({}): {why}", at + 1, actions[at].name);
+            if at + 1 >= counts.deepest_failed {
+                counts.deepest_failed = at + 1;
+                counts.deepest_failure = format!("step {} ({}): {why}", at + 1, actions[at].name);
+            }
             recorder.steps.truncate(level.recorded);
         }
     }

@@ -215,7 +215,7 @@ fn progress_of(summary: &Summary, counts: &RefineCounts) -> Progress {
         candidates: counts.candidates,
         deepest: counts.deepest,
         length: counts.deepest_of,
-        last_failure: counts.last_failure.clone(),
+        failure: counts.deepest_failure.clone(),
     }
 }
 
