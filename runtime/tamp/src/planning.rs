@@ -3,8 +3,8 @@
 
 use std::collections::BTreeSet;
 
-use lamp_learn::GroundAtom;
-use lamp_pddl::{Atom, Condition, Domain, Problem, Term, write_domain, write_problem};
+use lamp_learn::{GroundAtom, ground_atoms};
+use lamp_pddl::{Condition, Domain, Problem, write_domain, write_problem};
 use lamp_plugin_api::{GroundedAction, HostServices, Plan, PlanRequest, PlanStatus, PluginError};
 
 use crate::error::SolveError;
@@ -52,15 +52,7 @@ pub fn plan_from(
     settings: &SolveSettings<'_>,
 ) -> Result<Option<Vec<GroundedAction>>, SolveError> {
     let mut from = problem.clone();
-    from.init = state
-        .iter()
-        .map(|atom| {
-            Atom::new(
-                atom.predicate.clone(),
-                atom.arguments.iter().map(|name| Term::Constant(name.clone())).collect(),
-            )
-        })
-        .collect();
+    from.init = ground_atoms(state);
     let Ok(found) = plans(plugins, domain, &from, 1, settings)? else {
         return Ok(None);
     };

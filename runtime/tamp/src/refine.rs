@@ -86,7 +86,7 @@ pub fn refine_plan(
         if index == actions.len() {
             return Ok(Refined::Done { steps: actions, scene });
         }
-        if (context.cancelled)() {
+        if (context.settings.motion.cancelled)() {
             return Err(SolveError::cancelled());
         }
         let stream_seed = mix(seed, index as u64, counts.candidates as u64);
@@ -95,7 +95,7 @@ pub fn refine_plan(
             world: world_state(context.adapter, &scene)?,
             seed: stream_seed,
         };
-        let host = SceneHost::new(&scene, stream_seed, context.cancelled);
+        let host = SceneHost::new(&scene, stream_seed, context.settings.motion.cancelled);
         let stream = plugins.refiner.refine(&request, &host).map_err(plugin_error)?;
         levels.push(Level {
             scene: scene.clone(),
@@ -123,7 +123,7 @@ pub fn refine_plan(
                 actions.extend(rest);
             }
             let host_seed = mix(seed, at as u64, counts.candidates as u64);
-            let host = SceneHost::new(&level.scene, host_seed, context.cancelled);
+            let host = SceneHost::new(&level.scene, host_seed, context.settings.motion.cancelled);
             let next = level.stream.next(&host).map_err(plugin_error)?;
             let Some(candidate) = next else {
                 // The step below gives up its accepted candidate: that one is wasted too.

@@ -63,7 +63,6 @@ pub struct Context<'a> {
     pub artifact: &'a SamplerArtifact,
     pub adapter: &'a Adapter,
     pub settings: &'a SolveSettings<'a>,
-    pub cancelled: &'a dyn Fn() -> bool,
 }
 
 /// A solved problem.
@@ -142,14 +141,8 @@ fn solve_with(
             }
         };
         let problem = &*problem;
-        let context = Context {
-            domain,
-            problem,
-            artifact: input.artifact,
-            adapter: input.adapter,
-            settings,
-            cancelled: settings.motion.cancelled,
-        };
+        let context =
+            Context { domain, problem, artifact: input.artifact, adapter: input.adapter, settings };
         let goal: BTreeSet<GroundAtom> =
             problem.goal.iter().filter(|l| l.positive).map(|l| pddl_atom(&l.atom)).collect();
         let started = Instant::now();
