@@ -7,6 +7,7 @@ mod commands;
 mod diagnostics;
 mod files;
 mod plugin_setup;
+mod solve_setup;
 mod spec_input;
 
 use std::io::IsTerminal;

@@ -14,12 +14,10 @@ use std::time::{Duration, Instant};
 
 use indicatif::ProgressBar;
 use lamp_build::{Adapter, SamplersFile};
-use lamp_plugin_api::{MotionBudget, PlanBudget};
-use lamp_tamp::execute::MotionSettings;
-use lamp_tamp::{Plugins, SolveError, SolveInput, SolveSettings};
-use lamp_world::{MotionConfig, SpecWorld, trajectory_header};
+use lamp_tamp::{SolveError, SolveInput};
+use lamp_world::{SpecWorld, trajectory_header};
 
-use crate::plugin_setup::{self, RuntimeOptions};
+use crate::solve_setup::{self, Overrides};
 
 /// Arguments of `lampc solve`.
 #[derive(clap::Args)]
@@ -59,12 +57,6 @@ pub(crate) struct Args {
     pub(crate) timeout: Option<f64>,
 }
 
-/// Wasted candidates (refused, backtracked over, needing a replan) per plan before it is given up.
-const MAX_REFUSED: usize = 100;
-/// RRT-Connect iterations per motion call (deterministic; the time limit is a safety net only).
-const MOTION_ITERATIONS: u64 = 4000;
-/// Rounds over the plans with fresh samples.
-const ROUNDS: usize = 20;
 /// The exit code after Ctrl-C, as shells report a process ended by SIGINT.
 const EXIT_INTERRUPTED: u8 = 130;
 
@@ -151,59 +143,26 @@ fn solve(args: &Args, colour: bool) -> Result<(), String> {
         .problem_scene(problem)
         .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
 
-    let plugins_spec = &spec.plugins;
-    let mut runtime = RuntimeOptions::default();
-    let plugin_error = |kind: &str, message: String| {
-        format!("{}: the {kind} plugin: {message}", checked.file_name)
+    let overrides = Overrides {
+        planner: args.planner.as_deref(),
+        refiner: args.refiner.as_deref(),
+        motion: args.motion.as_deref(),
+        plans: args.plans,
+        seed: args.seed,
+        no_relax: args.no_relax,
     };
-    let mut planner = plugin_setup::planner(
-        &plugin_setup::chosen(&plugins_spec.planner, spec_dir, args.planner.as_deref()),
-        &mut runtime,
-    )
-    .map_err(|m| plugin_error("planner", m))?;
-    let mut refiner = plugin_setup::refiner(
-        &plugin_setup::chosen(&plugins_spec.refiner, spec_dir, args.refiner.as_deref()),
+    let mut plugins = solve_setup::plugins(
+        spec,
+        spec_dir,
+        &checked.file_name,
+        &overrides,
         &samplers.artifact,
-    )
-    .map_err(|m| plugin_error("refiner", m))?;
-    let mut motion = plugin_setup::motion(
-        &plugin_setup::chosen(&plugins_spec.motion, spec_dir, args.motion.as_deref()),
-        &mut runtime,
-    )
-    .map_err(|m| plugin_error("motion", m))?;
-
-    let seed = args.seed.unwrap_or(spec.seed);
-    let mut config = MotionConfig::default();
-    if let Some(resolution) = runtime.linear_resolution {
-        config.linear_resolution = resolution;
-    }
-    if let Some(resolution) = runtime.angular_resolution {
-        config.angular_resolution = resolution;
-    }
+    )?;
     let deadline = args.timeout.map(|seconds| Instant::now() + Duration::from_secs_f64(seconds));
     let out_of_time = || deadline.is_some_and(|deadline| Instant::now() >= deadline);
     let cancelled = || INTERRUPTED.load(Ordering::Relaxed) || out_of_time();
-    let grab_ranges = lamp_tamp::execute::grab_ranges(spec);
-    let settings = SolveSettings {
-        seed,
-        plan_count: args.plans.or(runtime.plan_count).unwrap_or(3),
-        planner_budget: PlanBudget {
-            time_limit: runtime.planner_timeout.map(Duration::from_secs_f64),
-            ..PlanBudget::default()
-        },
-        rounds: ROUNDS,
-        max_refused: MAX_REFUSED,
-        motion: MotionSettings {
-            config,
-            budget: MotionBudget {
-                max_iterations: Some(MOTION_ITERATIONS),
-                time_limit: runtime.motion_timeout.map(Duration::from_secs_f64),
-            },
-            grab_ranges,
-            cancelled: &cancelled,
-        },
-        relax_goal: !args.no_relax,
-    };
+    let settings = solve_setup::settings(spec, &plugins.runtime, &overrides, &cancelled);
+    let seed = settings.seed;
     let mut header = trajectory_header(spec, &scene, seed);
     header.provenance.insert("problem".to_string(), problem.name.clone());
     header.provenance.insert("samplers".to_string(), samplers.provenance.digest.clone());
@@ -217,9 +176,7 @@ fn solve(args: &Args, colour: bool) -> Result<(), String> {
     };
     let spinner = spinner();
     let report = |phase: &str| spinner.set_message(format!("{}: {phase}", problem.name));
-    let mut plugins =
-        Plugins { planner: planner.as_mut(), refiner: refiner.as_mut(), motion: motion.as_mut() };
-    let outcome = lamp_tamp::solve(&input, &mut plugins, &settings, &report);
+    let outcome = lamp_tamp::solve(&input, &mut plugins.as_plugins(), &settings, &report);
     spinner.finish_and_clear();
     let solution = outcome.map_err(|error| {
         let rendered = crate::diagnostics::render_error(&error, colour);
