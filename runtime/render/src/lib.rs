@@ -17,7 +17,7 @@ mod outline;
 mod region;
 mod replay;
 mod scene;
-mod svg;
+pub mod svg;
 mod trajectory;
 mod view;
 

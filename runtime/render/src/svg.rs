@@ -1,4 +1,5 @@
 //! Writing SVG text: fixed number formatting and escaping, so the same drawing is the same bytes.
+//! Public so that other drawings (the evaluation's plots) share the conventions.
 
 use std::fmt::Write as _;
 
@@ -6,7 +7,7 @@ use std::fmt::Write as _;
 ///
 /// Two decimals are a hundredth of a pixel: finer than any screen, coarse enough that float noise
 /// from a different evaluation order does not change the text.
-pub(crate) fn num(value: f64) -> String {
+pub fn num(value: f64) -> String {
     if !value.is_finite() {
         return "0".to_string();
     }
@@ -26,7 +27,7 @@ pub(crate) fn num(value: f64) -> String {
 }
 
 /// Escapes text for an SVG text node or attribute value.
-pub(crate) fn escape(text: &str) -> String {
+pub fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
@@ -43,7 +44,7 @@ pub(crate) fn escape(text: &str) -> String {
 }
 
 /// The `points` attribute value of a polygon or polyline.
-pub(crate) fn points(points: &[(f64, f64)]) -> String {
+pub fn points(points: &[(f64, f64)]) -> String {
     let mut out = String::new();
     for (index, (x, y)) in points.iter().enumerate() {
         if index > 0 {
@@ -55,13 +56,13 @@ pub(crate) fn points(points: &[(f64, f64)]) -> String {
 }
 
 /// An SVG document being written, element by element.
-pub(crate) struct Svg {
+pub struct Svg {
     out: String,
 }
 
 impl Svg {
     /// Starts a document of `width` × `height` pixels on a white background.
-    pub(crate) fn new(width: f64, height: f64) -> Svg {
+    pub fn new(width: f64, height: f64) -> Svg {
         let mut out = String::new();
         let (w, h) = (num(width), num(height));
         let _ = writeln!(
@@ -74,13 +75,13 @@ impl Svg {
     }
 
     /// Appends one raw line of markup (already escaped).
-    pub(crate) fn line(&mut self, markup: &str) {
+    pub fn line(&mut self, markup: &str) {
         self.out.push_str(markup);
         self.out.push('\n');
     }
 
     /// A text element; `anchor` is `start`, `middle` or `end`.
-    pub(crate) fn text(&mut self, x: f64, y: f64, size: f64, anchor: &str, fill: &str, text: &str) {
+    pub fn text(&mut self, x: f64, y: f64, size: f64, anchor: &str, fill: &str, text: &str) {
         let _ = writeln!(
             self.out,
             "<text x=\"{}\" y=\"{}\" font-size=\"{}\" text-anchor=\"{anchor}\" fill=\"{fill}\">{}</text>",
@@ -92,7 +93,7 @@ impl Svg {
     }
 
     /// A straight line.
-    pub(crate) fn segment(&mut self, from: (f64, f64), to: (f64, f64), stroke: &str, width: f64) {
+    pub fn segment(&mut self, from: (f64, f64), to: (f64, f64), stroke: &str, width: f64) {
         let _ = writeln!(
             self.out,
             "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"{stroke}\" stroke-width=\"{}\"/>",
@@ -105,7 +106,7 @@ impl Svg {
     }
 
     /// Ends the document and returns its text.
-    pub(crate) fn finish(mut self) -> String {
+    pub fn finish(mut self) -> String {
         self.out.push_str("</svg>\n");
         self.out
     }
