@@ -84,7 +84,7 @@ impl PluginLibrary {
         // caller extends to the file (see "Trust" above).
         let library = unsafe { Library::new(path) }.map_err(|error| LoadError::Load {
             path: path.to_path_buf(),
-            message: error.to_string(),
+            message: loader_message(&error),
         })?;
         // Never unloaded: every table pointer below then lives for the process.
         let library: &'static Library = Box::leak(Box::new(library));
@@ -195,4 +195,17 @@ impl PluginLibrary {
             code => Err(LoadError::Create { name, source: status_to_error(code, message) }),
         }
     }
+}
+
+/// libloading's error with the dynamic loader's own reason: its message alone is "dlopen
+/// failed", and the reason ("…: cannot open shared object file: No such file or directory",
+/// "…: invalid ELF header") is its source.
+fn loader_message(error: &libloading::Error) -> String {
+    let mut message = error.to_string();
+    let mut cause = std::error::Error::source(error);
+    while let Some(inner) = cause {
+        message.push_str(&format!(": {inner}"));
+        cause = inner.source();
+    }
+    message
 }

@@ -163,6 +163,26 @@ fn a_file_that_is_no_library_is_a_load_error() {
     assert!(matches!(missing, LoadError::Load { .. }));
 }
 
+/// The dynamic loader's reason, not only libloading's "dlopen failed" (the wording is glibc's).
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[test]
+fn a_load_error_carries_the_loader_reason() {
+    let folder = Path::new(env!("CARGO_TARGET_TMPDIR"));
+    let text = folder.join("libtext.so");
+    // Longer than an ELF header, so that the loader reads one and finds text.
+    std::fs::write(&text, "this is text, not a shared library\n".repeat(4)).unwrap();
+    let message = PluginLibrary::open(&text).unwrap_err().to_string();
+    assert!(message.contains("dlopen failed: "), "{message}");
+    assert!(message.contains("libtext.so") && message.contains("invalid ELF header"), "{message}");
+
+    let missing = folder.join("libmissing.so");
+    let message = PluginLibrary::open(&missing).unwrap_err().to_string();
+    assert!(
+        message.contains("cannot open shared object file: No such file or directory"),
+        "{message}"
+    );
+}
+
 #[test]
 fn loading_the_same_library_twice_shares_one_mapping() {
     let first = PluginLibrary::open(&support::echo_planner()).unwrap();
