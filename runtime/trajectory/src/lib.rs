@@ -25,6 +25,7 @@
 //! ```
 
 mod cdr;
+mod chunk;
 mod codec;
 mod error;
 mod model;

@@ -1,8 +1,11 @@
 //! The streaming reader: finds the header, then yields one checked step per `/lamp/world`
 //! message, in file order.
 //!
-//! It pulls bytes from any [`Read`] through the MCAP crate's sans-IO reader, so memory holds one
-//! chunk at a time (about [`crate::CHUNK_SIZE`] for our files), never the whole file.
+//! It pulls bytes from any [`Read`] through the MCAP crate's sans-IO reader, which hands over
+//! chunks whole for [`crate::chunk`] to open, so memory holds one chunk at a time (about
+//! [`crate::CHUNK_SIZE`] for our files), never the whole file.
+//! Only the records lamp reads (schemas, channels, messages, metadata) are parsed; others are
+//! skipped unparsed.
 //! Every checksum the file carries is verified (chunk CRCs before any of the chunk's steps are
 //! returned, and the data and summary section CRCs), so damage is reported, not decoded.
 //! Messages on other topics are skipped, so a lamp topic may live in a bag with other data.
@@ -12,9 +15,10 @@ use std::fs::File;
 use std::io::{self, BufReader, Read};
 use std::path::Path;
 
-use mcap::records::Record;
+use mcap::records::{Record, op};
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
+use crate::chunk::{ChunkRecords, parse_used_record};
 use crate::codec::{BodyLookup, decode_step};
 use crate::error::TrajectoryError;
 use crate::model::{Step, Trajectory, TrajectoryHeader};
@@ -34,20 +38,52 @@ struct RecordSource<R> {
     file: String,
     /// Records returned so far (inside chunks included); the index of the next one.
     records: u64,
+    /// The chunk whose records are being returned.
+    chunk: Option<ChunkRecords>,
 }
 
 impl<R: Read> RecordSource<R> {
     fn new(source: R, file: String) -> Self {
         let options = LinearReaderOptions::default()
-            .with_prevalidate_chunk_crcs(true)
             .with_validate_data_section_crc(true)
             .with_validate_summary_section_crc(true)
-            .with_record_length_limit(MAXIMUM_RECORD_BYTES);
-        Self { source, linear: LinearReader::new_with_options(options), file, records: 0 }
+            .with_record_length_limit(MAXIMUM_RECORD_BYTES)
+            // Chunks come whole and `ChunkRecords` opens them (see the `chunk` module for why).
+            .with_emit_chunks(true);
+        let linear = LinearReader::new_with_options(options);
+        Self { source, linear, file, records: 0, chunk: None }
     }
 
     /// The next record, `None` at the clean end of the file. `steps` is only for error messages.
     fn next_record(&mut self, steps: u64) -> Result<Option<Record<'static>>, TrajectoryError> {
+        loop {
+            if let Some(chunk) = &mut self.chunk {
+                match chunk.next_record() {
+                    Some(Ok(record)) => {
+                        self.records += 1;
+                        return Ok(Some(record));
+                    }
+                    Some(Err(reason)) => return Err(self.corrupt(steps, reason)),
+                    None => self.chunk = None,
+                }
+            }
+            match self.next_file_record(steps)? {
+                None => return Ok(None),
+                Some(FileRecord::Record(record)) => {
+                    self.records += 1;
+                    return Ok(Some(record));
+                }
+                Some(FileRecord::Chunk(chunk)) => self.chunk = Some(chunk),
+            }
+        }
+    }
+
+    fn corrupt(&self, steps: u64, reason: String) -> TrajectoryError {
+        TrajectoryError::Corrupt { file: self.file.clone(), record: self.records, steps, reason }
+    }
+
+    /// The next record outside chunks, with a chunk opened; `None` at the clean end of the file.
+    fn next_file_record(&mut self, steps: u64) -> Result<Option<FileRecord>, TrajectoryError> {
         while let Some(event) = self.linear.next_event() {
             match event {
                 Ok(LinearReadEvent::ReadRequest(need)) => {
@@ -71,16 +107,25 @@ impl<R: Read> RecordSource<R> {
                     self.linear.notify_read(read);
                 }
                 Ok(LinearReadEvent::Record { data, opcode }) => {
-                    let record = mcap::parse_record(opcode, data).map_err(|error| {
-                        TrajectoryError::Corrupt {
-                            file: self.file.clone(),
-                            record: self.records,
-                            steps,
-                            reason: error_chain(&error),
+                    let record = if opcode == op::CHUNK {
+                        match mcap::parse_record(opcode, data) {
+                            Ok(Record::Chunk { header, data }) => {
+                                ChunkRecords::open(&header, &data).map(FileRecord::Chunk)
+                            }
+                            Ok(_) => Err("a chunk record does not parse as a chunk".to_string()),
+                            Err(error) => Err(error_chain(&error)),
                         }
-                    })?;
-                    self.records += 1;
-                    return Ok(Some(record.into_owned()));
+                    } else {
+                        parse_used_record(opcode, data).map(FileRecord::Record)
+                    };
+                    let file = &self.file;
+                    let records = self.records;
+                    return record.map(Some).map_err(|reason| TrajectoryError::Corrupt {
+                        file: file.clone(),
+                        record: records,
+                        steps,
+                        reason,
+                    });
                 }
                 Err(mcap::McapError::UnexpectedEof) => {
                     return Err(TrajectoryError::Truncated {
@@ -103,8 +148,14 @@ impl<R: Read> RecordSource<R> {
     }
 }
 
+/// A record outside chunks: a record, or a chunk ready to return its records.
+enum FileRecord {
+    Record(Record<'static>),
+    Chunk(ChunkRecords),
+}
+
 /// An error and its sources on one line.
-fn error_chain(error: &dyn std::error::Error) -> String {
+pub(crate) fn error_chain(error: &dyn std::error::Error) -> String {
     let mut text = error.to_string();
     let mut source = error.source();
     while let Some(cause) = source {

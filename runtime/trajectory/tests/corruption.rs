@@ -66,3 +66,67 @@ fn the_first_steps_of_a_file_damaged_late_are_still_returned() {
     assert!(matches!(error, TrajectoryError::Corrupt { steps: 40, .. }), "{error:?}");
     assert!(reader.next().is_none());
 }
+
+/// A file made of the MCAP magic and the given records (opcode, content), without an end.
+fn records(list: &[(u8, Vec<u8>)]) -> Vec<u8> {
+    let mut bytes = mcap::MAGIC.to_vec();
+    for (opcode, content) in list {
+        bytes.push(*opcode);
+        bytes.extend_from_slice(&(content.len() as u64).to_le_bytes());
+        bytes.extend_from_slice(content);
+    }
+    bytes
+}
+
+/// An uncompressed chunk (no CRC) around `data`.
+fn uncompressed_chunk(data: &[u8]) -> Vec<u8> {
+    let mut content = Vec::new();
+    content.extend_from_slice(&0u64.to_le_bytes()); // message start time
+    content.extend_from_slice(&0u64.to_le_bytes()); // message end time
+    content.extend_from_slice(&(data.len() as u64).to_le_bytes()); // uncompressed size
+    content.extend_from_slice(&0u32.to_le_bytes()); // uncompressed CRC: none
+    content.extend_from_slice(&0u32.to_le_bytes()); // compression: "" (none)
+    content.extend_from_slice(&(data.len() as u64).to_le_bytes()); // compressed size
+    content.extend_from_slice(data);
+    content
+}
+
+#[test]
+fn a_record_longer_than_its_uncompressed_chunk_is_corrupt() {
+    // A metadata record that claims 100 bytes in a chunk of 12 (found by the `trajectory` fuzz
+    // target: the MCAP crate's own chunk reading subtracted past zero).
+    let mut inner = vec![mcap::records::op::METADATA];
+    inner.extend_from_slice(&100u64.to_le_bytes());
+    inner.extend_from_slice(b"abc");
+    // What follows the chunk (here a record of an unknown kind) is what an overrun would read.
+    let after = (0x80, vec![0; 120]);
+    let bytes = records(&[(mcap::records::op::CHUNK, uncompressed_chunk(&inner)), after.clone()]);
+    let error = Trajectory::from_bytes(&bytes, "overrun.mcap").unwrap_err();
+    assert!(matches!(error, TrajectoryError::Corrupt { record: 0, .. }), "{error:?}");
+    assert!(error.to_string().contains("of 100 bytes overruns its chunk"), "{error}");
+    // A record header cut off by the chunk's end.
+    let bytes = records(&[(mcap::records::op::CHUNK, uncompressed_chunk(&inner[..5])), after]);
+    let error = Trajectory::from_bytes(&bytes, "cut.mcap").unwrap_err();
+    assert!(error.to_string().contains("cut off at the end of a chunk"), "{error}");
+}
+
+#[test]
+fn records_lamp_does_not_read_are_not_parsed() {
+    // An attachment without its CRC: the MCAP crate's attachment parser slices past its end.
+    let mut attachment = Vec::new();
+    attachment.extend_from_slice(&0u64.to_le_bytes()); // log time
+    attachment.extend_from_slice(&0u64.to_le_bytes()); // create time
+    attachment.extend_from_slice(&0u32.to_le_bytes()); // name: ""
+    attachment.extend_from_slice(&0u32.to_le_bytes()); // media type: ""
+    attachment.extend_from_slice(&0u64.to_le_bytes()); // data length; no data, no CRC
+    for bytes in [
+        records(&[(mcap::records::op::ATTACHMENT, attachment.clone())]),
+        records(&[(
+            mcap::records::op::CHUNK,
+            uncompressed_chunk(&records(&[(mcap::records::op::ATTACHMENT, attachment)])[8..]),
+        )]),
+    ] {
+        let error = Trajectory::from_bytes(&bytes, "attachment.mcap").unwrap_err();
+        assert!(matches!(error, TrajectoryError::Truncated { .. }), "{error:?}");
+    }
+}

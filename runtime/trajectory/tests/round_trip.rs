@@ -234,3 +234,32 @@ fn a_world_topic_with_another_schema_is_a_schema_error() {
     assert!(matches!(error, TrajectoryError::Schema { .. }), "{error:?}");
     assert!(error.to_string().contains("std_msgs/msg/String"), "{error}");
 }
+
+#[test]
+fn uncompressed_chunks_read_like_compressed_ones() {
+    // Other writers may leave chunks uncompressed: copy a lamp file with the MCAP crate's writer
+    // and no compression (metadata first, as lamp requires), then read both.
+    let original = common::trajectory(3, 20, 15);
+    let bytes = original.to_bytes().unwrap();
+    let mut copy = Cursor::new(Vec::new());
+    let mut writer = mcap::WriteOptions::new()
+        .compression(None)
+        .profile(lamp_trajectory::PROFILE)
+        .create(&mut copy)
+        .unwrap();
+    for record in mcap::read::ChunkFlattener::new(&bytes).unwrap() {
+        if let mcap::records::Record::Metadata(metadata) = record.unwrap() {
+            writer.write_metadata(&metadata).unwrap();
+        }
+    }
+    for message in mcap::MessageStream::new(&bytes).unwrap() {
+        writer.write(&message.unwrap()).unwrap();
+    }
+    writer.finish().unwrap();
+    drop(writer);
+    let copy = copy.into_inner();
+    let summary = mcap::Summary::read(&copy).unwrap().expect("a summary section");
+    assert!(!summary.chunk_indexes.is_empty(), "the copy has chunks");
+    assert!(summary.chunk_indexes.iter().all(|index| index.compression.is_empty()));
+    assert_eq!(Trajectory::from_bytes(&copy, "uncompressed").unwrap(), original);
+}
