@@ -1,7 +1,7 @@
 //! Every problem the front end can report, with its stable code, wording and help.
 //!
 //! Diagnostics are data: they hold spans, never source text. The binary attaches the source
-//! file when it renders them (`SourceMap::named_source`).
+//! file when it renders them (`Diagnostic::with_source`).
 
 use miette::SourceSpan;
 
@@ -139,7 +139,7 @@ pub enum SpecError {
     #[diagnostic(code(lamp::check::out_of_range), help("The value must be {expected}."))]
     OutOfRange {
         what: String,
-        expected: &'static str,
+        expected: String,
         #[label("this value")]
         at: SourceSpan,
     },
@@ -300,9 +300,12 @@ pub(crate) fn did_you_mean<'a>(
     word: &str,
     candidates: impl IntoIterator<Item = &'a str>,
 ) -> Option<String> {
-    let limit = (word.chars().count() / 3).max(1);
+    let length = word.chars().count();
+    let limit = (length / 3).max(1);
     candidates
         .into_iter()
+        // The distance is at least the difference in length: skip the sure misses unmeasured.
+        .filter(|candidate| candidate.chars().count().abs_diff(length) <= limit)
         .map(|candidate| (edit_distance(word, candidate), candidate))
         .filter(|(distance, _)| *distance <= limit)
         .min()
@@ -340,13 +343,14 @@ mod tests {
 #[derive(Debug)]
 pub struct WithSource<'a> {
     diagnostic: &'a Diagnostic,
-    source: miette::NamedSource<String>,
+    /// Borrowed: a report reads only the lines it shows, and copies nothing.
+    source: &'a crate::source_file::SourceFile,
 }
 
 impl Diagnostic {
     /// Attaches the diagnostic's file from `sources`, so a handler can show the code.
-    pub fn with_source(&self, sources: &crate::source::SourceMap) -> WithSource<'_> {
-        WithSource { diagnostic: self, source: sources.named_source(self.file) }
+    pub fn with_source<'a>(&'a self, sources: &'a crate::source::SourceMap) -> WithSource<'a> {
+        WithSource { diagnostic: self, source: sources.source_file(self.file) }
     }
 }
 
@@ -372,6 +376,6 @@ impl miette::Diagnostic for WithSource<'_> {
     }
 
     fn source_code(&self) -> Option<&dyn miette::SourceCode> {
-        Some(&self.source)
+        Some(self.source)
     }
 }

@@ -9,6 +9,7 @@ mod check;
 mod diagnostics;
 mod parse;
 mod source;
+mod source_file;
 
 use std::path::Path;
 

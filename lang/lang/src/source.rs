@@ -6,6 +6,8 @@
 use std::collections::BTreeMap;
 use std::path::{Component, Path, PathBuf};
 
+use crate::source_file::SourceFile;
+
 /// Index of a file in a [`SourceMap`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct FileId(pub u32);
@@ -105,24 +107,29 @@ pub fn normalize(path: &Path) -> PathBuf {
 /// The files read while checking a spec, for rendering diagnostics.
 #[derive(Clone, Debug, Default)]
 pub struct SourceMap {
-    files: Vec<(String, String)>,
+    files: Vec<SourceFile>,
 }
 
 impl SourceMap {
     /// Adds a file (display name, text) and returns its id.
     pub fn add(&mut self, name: String, text: String) -> FileId {
-        self.files.push((name, text));
+        self.files.push(SourceFile::new(name, text));
         FileId(u32::try_from(self.files.len() - 1).expect("fewer than 2^32 source files"))
     }
 
     /// The display name of a file.
     pub fn name(&self, file: FileId) -> &str {
-        &self.files[file.0 as usize].0
+        self.files[file.0 as usize].name()
     }
 
     /// The text of a file.
     pub fn text(&self, file: FileId) -> &str {
-        &self.files[file.0 as usize].1
+        self.files[file.0 as usize].text()
+    }
+
+    /// The file as miette reads it for a report, without copying its text.
+    pub(crate) fn source_file(&self, file: FileId) -> &SourceFile {
+        &self.files[file.0 as usize]
     }
 
     /// The text a span covers.

@@ -6,13 +6,16 @@
 //! Lists keep declaration order; maps are ordered by key.
 
 mod learning;
+pub mod limits;
 mod plugins;
 mod problem;
 mod robot;
 mod world;
 
 pub use learning::{Learning, PairSettings, TypePair};
-pub use plugins::{OptionValue, PluginChoice, PluginKind, PluginSource, Plugins};
+pub use plugins::{
+    OptionKind, OptionRule, OptionValue, PluginChoice, PluginKind, PluginSource, Plugins,
+};
 pub use problem::{
     AtGoal, Goal, GoalAtom, ObjectInstance, Problem, RobotPlacement, Scene, StructureGoal,
 };

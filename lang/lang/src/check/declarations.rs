@@ -6,6 +6,7 @@ use super::{Checker, Declared};
 use crate::ast::{DemoSource, Item, LearnItem, TypeItem, Value};
 use crate::diagnostics::{SpecError, at, did_you_mean};
 use crate::source::Span;
+use lamp_spec::limits;
 
 /// The simulated demonstrators that ship with lamp.
 pub(crate) const DEMONSTRATORS: [&str; 5] = ["cafe", "dinner", "jenga", "keva", "packing"];
@@ -190,7 +191,10 @@ impl Checker<'_> {
                 _ => None,
             };
             match (option.key.text.as_str(), number) {
-                ("count", Some(q)) => count = self.count(q, "the demonstration count", 1),
+                ("count", Some(q)) => {
+                    count =
+                        self.limited_count(q, "the demonstration count", &limits::DEMONSTRATIONS)
+                }
                 ("cut", Some(q)) => {
                     cut_fraction =
                         self.fraction_closed(q, "the cut fraction").unwrap_or(cut_fraction)
@@ -204,7 +208,7 @@ impl Checker<'_> {
                 ("count" | "cut" | "objects" | "seed", None) => {
                     self.report(at(option.key.span, |at| SpecError::OutOfRange {
                         what: format!("`{}`", option.key.text),
-                        expected: "a number",
+                        expected: "a number".to_string(),
                         at,
                     }));
                 }
@@ -485,7 +489,9 @@ impl Checker<'_> {
             Value::Word(word) => lamp_spec::OptionValue::Word(word.text.clone()),
             Value::Quantity(quantity) => {
                 match quantity.unit.map(|(unit, _)| super::units::unit_info(unit).0) {
-                    None => lamp_spec::OptionValue::Number(quantity.value),
+                    None => {
+                        lamp_spec::OptionValue::Number(self.finite(quantity.value, quantity.span)?)
+                    }
                     Some(Dimension::Length) => {
                         lamp_spec::OptionValue::Length(self.measure(quantity, Dimension::Length)?)
                     }

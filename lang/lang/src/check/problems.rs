@@ -124,11 +124,15 @@ impl Checker<'_> {
                     if !known {
                         objects.insert(placement.object.text.clone(), None);
                     }
-                    if let (true, true, Some(pose)) = (known, new, pose) {
+                    if known && new {
+                        // Known even when its pose has an error (reported already): the goals
+                        // that name it are still checked, and not reported again.
                         objects.insert(
                             placement.object.text.clone(),
                             Some(placement.type_name.text.clone()),
                         );
+                    }
+                    if let (true, true, Some(pose)) = (known, new, pose) {
                         scene.objects.push(lamp_spec::ObjectInstance {
                             name: placement.object.text.clone(),
                             type_name: placement.type_name.text.clone(),

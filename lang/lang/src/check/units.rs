@@ -6,6 +6,7 @@ use super::Checker;
 use crate::ast::{Pose, Quantity, Unit, Vector};
 use crate::diagnostics::{SpecError, at};
 use crate::source::Span;
+use lamp_spec::limits::{Limit, Problem};
 
 /// What a number measures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -97,7 +98,20 @@ impl Checker<'_> {
 
     /// A quantity of the given dimension, in SI units.
     pub(crate) fn measure(&mut self, quantity: &Quantity, dimension: Dimension) -> Option<f64> {
-        self.factor(quantity.unit, dimension, quantity.span).map(|factor| quantity.value * factor)
+        let factor = self.factor(quantity.unit, dimension, quantity.span)?;
+        self.finite(quantity.value * factor, quantity.span)
+    }
+
+    /// `value` unless it is infinite or not a number (a literal too large for a float), which
+    /// is reported: nothing downstream can compute with it.
+    pub(crate) fn finite(&mut self, value: f64, span: Span) -> Option<f64> {
+        self.require(
+            value.is_finite(),
+            span,
+            "the number",
+            "a finite number (at most about 1.8e308)",
+        )
+        .then_some(value)
     }
 
     /// A length that must be strictly positive.
@@ -110,7 +124,20 @@ impl Checker<'_> {
     /// A vector of lengths, in metres.
     pub(crate) fn length_vector(&mut self, vector: &Vector) -> Option<[f64; 3]> {
         let factor = self.factor(vector.unit, Dimension::Length, vector.span)?;
-        Some(vector.values.map(|value| value * factor))
+        self.finite_vector(vector, factor)
+    }
+
+    /// A vector's values times `factor`, each checked to be finite.
+    fn finite_vector(&mut self, vector: &Vector, factor: f64) -> Option<[f64; 3]> {
+        let mut values = [0.0; 3];
+        let mut all_finite = true;
+        for ((out, value), span) in values.iter_mut().zip(vector.values).zip(vector.number_spans) {
+            match self.finite(value * factor, span) {
+                Some(value) => *out = value,
+                None => all_finite = false,
+            }
+        }
+        all_finite.then_some(values)
     }
 
     /// A pose: position with a length unit, optional roll-pitch-yaw with an angle unit.
@@ -119,9 +146,9 @@ impl Checker<'_> {
         let position = self.length_vector(&pose.position);
         let rotation = match &pose.rotation {
             None => Some(UnitQuaternion::identity()),
-            Some(rpy) => self.factor(rpy.unit, Dimension::Angle, rpy.span).map(|factor| {
-                let [roll, pitch, yaw] = rpy.values.map(|value| value * factor);
-                UnitQuaternion::from_euler_angles(roll, pitch, yaw)
+            Some(rpy) => self.factor(rpy.unit, Dimension::Angle, rpy.span).and_then(|factor| {
+                let [roll, pitch, yaw] = self.finite_vector(rpy, factor)?;
+                Some(UnitQuaternion::from_euler_angles(roll, pitch, yaw))
             }),
         };
         let [x, y, z] = position?;
@@ -162,7 +189,7 @@ impl Checker<'_> {
         if value < f64::from(minimum) || value > f64::from(u32::MAX) {
             self.report(at(span, |at| SpecError::OutOfRange {
                 what: what.to_string(),
-                expected,
+                expected: expected.to_string(),
                 at,
             }));
             return None;
@@ -191,20 +218,50 @@ impl Checker<'_> {
     }
 
     /// Reports `what` out of range unless `ok`.
-    pub(crate) fn require(
-        &mut self,
-        ok: bool,
-        span: Span,
-        what: &str,
-        expected: &'static str,
-    ) -> bool {
+    pub(crate) fn require(&mut self, ok: bool, span: Span, what: &str, expected: &str) -> bool {
         if !ok {
             self.report(at(span, |at| SpecError::OutOfRange {
                 what: what.to_string(),
-                expected,
+                expected: expected.to_string(),
                 at,
             }));
         }
         ok
+    }
+
+    /// `value` (in SI units) if `limit` allows it; else reports it as not whole or out of range,
+    /// with the range the limit allows (the same words `lampc`'s flags use).
+    pub(crate) fn limited(
+        &mut self,
+        value: f64,
+        span: Span,
+        what: &str,
+        limit: &Limit,
+    ) -> Option<f64> {
+        let error = match limit.check(value) {
+            Ok(value) => return Some(value),
+            Err(error) => error,
+        };
+        let what = what.to_string();
+        self.report(at(span, |at| match error.problem {
+            Problem::NotWhole => SpecError::NotInteger { what, at },
+            Problem::NotFinite | Problem::OutOfRange => {
+                SpecError::OutOfRange { what, expected: error.expected, at }
+            }
+        }));
+        None
+    }
+
+    /// A whole number `limit` allows.
+    pub(crate) fn limited_count(
+        &mut self,
+        quantity: &Quantity,
+        what: &str,
+        limit: &Limit,
+    ) -> Option<u32> {
+        let value = self.plain(quantity, what)?;
+        let value = self.limited(value, quantity.span, what, limit)?;
+        // The limit allows only whole numbers up to a u32 maximum.
+        u32::try_from(value as u64).ok()
     }
 }

@@ -1,0 +1,184 @@
+//! Every number a user writes in a plugin block or as a demonstration count is range-checked by
+//! `lampc check`, with a span and the allowed range, by the same rules `lampc`'s flags use
+//! (`lamp_spec::limits`); built-in plugins' options are known by name, a library's pass through.
+
+mod common;
+
+use std::path::Path;
+
+use common::{VALID, check, codes, render};
+use lamp_lang::{CheckOutcome, MemoryLoader};
+
+/// `VALID` with a `plugins` block holding `block`.
+fn with_plugins(block: &str) -> String {
+    format!("{VALID}\nplugins {{\n{block}\n}}\n")
+}
+
+/// The codes and the text each diagnostic points at.
+fn found(source: &str, outcome: &CheckOutcome) -> Vec<(String, String)> {
+    outcome.diagnostics.iter().map(|d| (d.code(), source[d.range()].to_string())).collect()
+}
+
+/// Checks `block` and asserts one diagnostic with `code` at `text`; returns the rendering.
+fn refused(block: &str, code: &str, text: &str) -> String {
+    let source = with_plugins(block);
+    let outcome = check(&source);
+    assert_eq!(
+        found(&source, &outcome),
+        [(code.to_string(), text.to_string())],
+        "{block}:\n{}",
+        render(&outcome)
+    );
+    assert!(outcome.spec.is_none());
+    render(&outcome)
+}
+
+#[test]
+fn time_limits_are_positive_finite_and_at_most_a_week() {
+    let rendered =
+        refused("  planner gbfs-ff { timeout -30 s }", "lamp::check::out_of_range", "-30 s");
+    assert!(rendered.contains("`timeout` of the planner is out of range"), "{rendered}");
+    assert!(
+        rendered.contains("greater than 0 s and at most 604800 s (one week)"),
+        "the help names the range: {rendered}"
+    );
+    refused("  planner gbfs-ff { timeout 1e308 s }", "lamp::check::out_of_range", "1e308 s");
+    refused("  planner gbfs-ff { timeout 1e400 s }", "lamp::check::out_of_range", "1e400 s");
+    refused("  planner gbfs-ff { timeout 0 ms }", "lamp::check::out_of_range", "0 ms");
+    refused("  motion rrt-connect { timeout -1 s }", "lamp::check::out_of_range", "-1 s");
+    refused("  motion rrt-connect { timeout 30 }", "lamp::check::unit_required", "30");
+    refused("  planner topk { timeout 3 m }", "lamp::check::wrong_unit", "m");
+    refused("  planner topk { timeout \"long\" }", "lamp::check::out_of_range", "timeout");
+    let outcome = check(&with_plugins("  planner topk { timeout 500 ms }"));
+    assert!(outcome.diagnostics.is_empty(), "{}", render(&outcome));
+    let spec = outcome.spec.expect("a clean spec");
+    assert_eq!(
+        spec.plugins.planner.options.get("timeout"),
+        Some(&lamp_spec::OptionValue::Duration(0.5))
+    );
+}
+
+#[test]
+fn resolutions_are_lengths_or_angles_within_their_ranges() {
+    let rendered =
+        refused("  motion rrt-connect { resolution 0 rad }", "lamp::check::out_of_range", "0 rad");
+    assert!(rendered.contains("from 0.001 rad to 0.1 rad"), "{rendered}");
+    refused("  motion rrt-connect { resolution -0.01 m }", "lamp::check::out_of_range", "-0.01 m");
+    refused(
+        "  motion rrt-connect { resolution 0.001 mm }",
+        "lamp::check::out_of_range",
+        "0.001 mm",
+    );
+    refused(
+        "  motion rrt-connect { resolution 1e308 deg }",
+        "lamp::check::out_of_range",
+        "1e308 deg",
+    );
+    refused("  motion rrt-connect { resolution 0.01 }", "lamp::check::unit_required", "0.01");
+    refused("  motion rrt-connect { resolution 2 s }", "lamp::check::wrong_unit", "s");
+    for fine in ["resolution 0.01 rad", "resolution 5 mm", "resolution 0.5 deg"] {
+        let outcome = check(&with_plugins(&format!("  motion rrt-connect {{ {fine} }}")));
+        assert!(outcome.diagnostics.is_empty(), "{fine}: {}", render(&outcome));
+    }
+}
+
+#[test]
+fn counts_are_whole_plain_numbers_within_their_ranges() {
+    refused("  planner topk { plans 0 }", "lamp::check::out_of_range", "0");
+    refused("  planner topk { plans 1001 }", "lamp::check::out_of_range", "1001");
+    refused("  refiner gmm { samples 0 }", "lamp::check::out_of_range", "0");
+    refused("  refiner gmm { samples 2.5 }", "lamp::check::not_integer", "2.5");
+    refused("  refiner gmm { samples 4 s }", "lamp::check::unexpected_unit", "s");
+    refused("  refiner gmm { draws -5 }", "lamp::check::out_of_range", "-5");
+    refused("  motion rrt-connect { iterations 0 }", "lamp::check::out_of_range", "0");
+    refused("  motion rrt-connect { step 0 }", "lamp::check::out_of_range", "0");
+    let outcome = check(&with_plugins(
+        "  planner topk { plans 50  timeout 30 s }\n  refiner gmm { samples 4  draws 300  displacement 25 cm }\n  motion rrt-connect { step 0.3  shortcuts 0  iterations 2000 }",
+    ));
+    assert!(outcome.diagnostics.is_empty(), "{}", render(&outcome));
+    let spec = outcome.spec.expect("a clean spec");
+    assert_eq!(
+        spec.plugins.refiner.options.get("displacement"),
+        Some(&lamp_spec::OptionValue::Length(0.25))
+    );
+}
+
+#[test]
+fn lengths_have_their_unit_and_range() {
+    refused("  refiner gmm { displacement -1 m }", "lamp::check::out_of_range", "-1 m");
+    refused("  refiner gmm { displacement 1 }", "lamp::check::unit_required", "1");
+    refused("  refiner gmm { displacement 1 rad }", "lamp::check::wrong_unit", "rad");
+}
+
+#[test]
+fn an_option_a_built_in_plugin_does_not_read_is_named_with_a_suggestion() {
+    let rendered = refused("  refiner gmm { sample 4 }", "lamp::check::unknown_word", "sample");
+    assert!(rendered.contains("unknown plugin option `sample`"), "{rendered}");
+    assert!(rendered.contains("Did you mean `samples`?"), "{rendered}");
+    assert!(rendered.contains("samples, draws, displacement"), "{rendered}");
+    let rendered = refused("  planner topk { k 50 }", "lamp::check::unknown_word", "k");
+    assert!(rendered.contains("timeout, plans"), "{rendered}");
+    refused("  motion rrt-connect { shortcut 5 }", "lamp::check::unknown_word", "shortcut");
+}
+
+/// A spec whose planner is a library in the loader's files.
+fn check_library(block: &str) -> (String, CheckOutcome) {
+    let source = with_plugins(block);
+    let loader = MemoryLoader::new([
+        ("robots/gripper.urdf", "<robot name=\"g\"/>"),
+        ("demos/a.mcap", ""),
+        ("plugins/libmine.so", ""),
+    ]);
+    let outcome = lamp_lang::check_source("spec.lamp", &source, Path::new(""), &loader);
+    (source, outcome)
+}
+
+#[test]
+fn a_library_plugin_gets_any_option_but_the_runtimes_are_checked() {
+    let (_, outcome) = check_library("  planner \"plugins/libmine.so\" { k 10  beam \"wide\" }");
+    assert!(outcome.diagnostics.is_empty(), "{}", render(&outcome));
+    let (source, outcome) =
+        check_library("  planner \"plugins/libmine.so\" { k 10  timeout -1 s }");
+    assert_eq!(
+        found(&source, &outcome),
+        [("lamp::check::out_of_range".to_string(), "-1 s".to_string())],
+        "{}",
+        render(&outcome)
+    );
+    let (source, outcome) = check_library("  motion \"plugins/libmine.so\" { resolution 0 rad }");
+    assert_eq!(codes(&outcome), ["lamp::check::out_of_range"], "{source}");
+}
+
+#[test]
+fn numbers_too_large_for_a_float_are_refused_wherever_they_stand() {
+    let source = VALID.replacen("can c1 at (-0.2, 0, 0) m", "can c1 at (-0.2, 1e999, 0) m", 1);
+    let outcome = check(&source);
+    assert_eq!(
+        found(&source, &outcome),
+        [("lamp::check::out_of_range".to_string(), "1e999".to_string())],
+        "{}",
+        render(&outcome)
+    );
+    let source = VALID.replacen("rpy (0, 0, 30) deg", "rpy (0, 0, -1e999) deg", 1);
+    assert_eq!(codes(&check(&source)), ["lamp::check::out_of_range"]);
+}
+
+#[test]
+fn the_demonstration_count_is_at_least_one_and_at_most_ten_thousand() {
+    for (count, code) in [
+        ("0", "lamp::check::out_of_range"),
+        ("10001", "lamp::check::out_of_range"),
+        ("2.5", "lamp::check::not_integer"),
+    ] {
+        let source = VALID.replacen("count 20", &format!("count {count}"), 1);
+        let outcome = check(&source);
+        assert_eq!(
+            found(&source, &outcome),
+            [(code.to_string(), count.to_string())],
+            "{}",
+            render(&outcome)
+        );
+    }
+    let rendered = render(&check(&VALID.replacen("count 20", "count 0", 1)));
+    assert!(rendered.contains("a whole number from 1 to 10000"), "{rendered}");
+}
