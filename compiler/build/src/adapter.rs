@@ -27,6 +27,8 @@ pub fn part_participant_name(robot: &str, part_type: &str) -> String {
 /// Turns demonstration files into demonstrations, checking them against the spec.
 #[derive(Debug, Clone)]
 pub struct Adapter {
+    /// The spec's domain, which every demonstration's header must name.
+    domain: String,
     robots: BTreeMap<String, RobotParts>,
     /// Object type → `None` for the static world, else whether it is movable.
     types: BTreeMap<String, Option<bool>>,
@@ -123,7 +125,7 @@ impl Adapter {
                 (ty.name.clone(), role)
             })
             .collect();
-        Ok(Adapter { robots, types })
+        Ok(Adapter { domain: spec.domain.clone(), robots, types })
     }
 
     /// The parts of a spec robot.
@@ -131,10 +133,18 @@ impl Adapter {
         self.robots.get(robot)
     }
 
-    /// Reads one file and turns it into a demonstration whose id is the file's name.
+    /// Reads one file and turns it into a demonstration whose id is the file's name; a file of
+    /// another domain than the spec's, or without a step, is refused.
     pub fn demonstration(&self, file: &DemoFile) -> Result<Demonstration, BuildError> {
         let reader = TrajectoryReader::from_bytes(&file.bytes, file.name.as_str())?;
         let header = reader.header().clone();
+        if header.domain != self.domain {
+            return Err(BuildError::OtherDomain {
+                file: file.name.clone(),
+                found: header.domain,
+                expected: self.domain.clone(),
+            });
+        }
         let mut participants = Vec::new();
         let mut robots = Vec::new();
         for description in &header.robots {
@@ -177,6 +187,9 @@ impl Adapter {
                     .map(|(pose, _)| *pose),
             );
             steps.push(Snapshot { poses, held });
+        }
+        if steps.is_empty() {
+            return Err(BuildError::EmptyDemonstration { file: file.name.clone() });
         }
         Ok(Demonstration { id: file.name.clone(), participants, steps })
     }

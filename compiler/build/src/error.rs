@@ -25,6 +25,25 @@ pub enum BuildError {
     #[diagnostic(code(lamp::build::read), help("Check that the file exists and is readable."))]
     Read { file: String, reason: String },
 
+    /// A demonstration file holds no step: nothing to learn from, and most likely a recording
+    /// that was cut off before it began.
+    #[error("{file}: the demonstration has no steps")]
+    #[diagnostic(
+        code(lamp::build::empty_demonstration),
+        help("Record or generate it again, or move it out of the demonstration folder.")
+    )]
+    EmptyDemonstration { file: String },
+
+    /// A demonstration file was recorded for another spec's domain.
+    #[error("{file}: the demonstration is of domain `{found}`, but the spec's domain is `{expected}`")]
+    #[diagnostic(
+        code(lamp::build::other_domain),
+        help(
+            "Point `--demos` or the spec's `files` pattern at demonstrations of `{expected}`, or generate them with `lampc demos` on this spec."
+        )
+    )]
+    OtherDomain { file: String, found: String, expected: String },
+
     /// The file is not a readable lamp trajectory (corrupt, truncated, wrong schema, …).
     #[error(transparent)]
     #[diagnostic(transparent)]

@@ -241,3 +241,21 @@ fn a_truncated_file_is_refused_with_its_name() {
     );
     assert_eq!(code(&error), "lamp::trajectory::truncated");
 }
+
+#[test]
+fn a_demonstration_of_another_domain_is_refused_naming_both() {
+    let (error, message) = error_of(packing_file(|header, _| header.domain = "cafe".into()));
+    assert_eq!(code(&error), "lamp::build::other_domain");
+    assert!(message.contains("`cafe`") && message.contains("`packing`"), "{message}");
+}
+
+#[test]
+fn a_demonstration_without_steps_is_refused() {
+    let file = packing_file(|_, _| {});
+    let mut trajectory = Trajectory::from_bytes(&file.bytes, &file.name).expect("reads back");
+    trajectory.steps.clear();
+    let bytes = trajectory.to_bytes().expect("encodes");
+    let (error, message) = error_of(DemoFile { name: file.name, bytes });
+    assert_eq!(code(&error), "lamp::build::empty_demonstration");
+    assert!(message.contains("no steps"), "{message}");
+}
