@@ -39,6 +39,22 @@ pub enum SolveError {
         )
     )]
     NoPlan { reason: String },
+    /// Relaxing the goal left nothing to achieve: every atom still in it holds initially.
+    #[error(
+        "no plan reaches any goal atom that does not already hold: relaxing the goal dropped {dropped} ({reason})"
+    )]
+    #[diagnostic(
+        code(lamp::solve::goal_relaxed_away),
+        help(
+            "The learned model has no way to this goal: check the goal against the vocabulary report, and the domain if it was edited; more demonstrations may teach the missing action."
+        )
+    )]
+    GoalRelaxedAway {
+        /// The dropped atoms, in the order they were dropped.
+        dropped: String,
+        /// Why the planner found no plan for the last goal it was given.
+        reason: String,
+    },
     /// Plans exist but none could be refined into motion within the budget.
     #[error("no plan could be refined into motion ({0})")]
     #[diagnostic(

@@ -86,6 +86,13 @@ pub fn relax(domain: &Domain, problem: &mut Problem) -> Option<String> {
     Some(pddl_atom(&dropped.atom).to_string())
 }
 
+/// Whether every goal literal of `problem` already holds in its initial state, so that a plan has
+/// nothing to achieve (what is left of a goal relaxed too far).
+pub fn goal_holds_initially(problem: &Problem) -> bool {
+    let init: BTreeSet<GroundAtom> = problem.init.iter().map(pddl_atom).collect();
+    problem.goal.iter().all(|literal| init.contains(&pddl_atom(&literal.atom)) == literal.positive)
+}
+
 /// Host services for the planner: cancellation only.
 struct Cancellation<'a>(&'a dyn Fn() -> bool);
 

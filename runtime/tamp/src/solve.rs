@@ -1,4 +1,7 @@
 //! The top of the loop: plan, refine, try the next plan, relax the goal, validate.
+//!
+//! A trajectory to a relaxed goal is a partial result (`Summary::success` false); relaxing until
+//! nothing is left to achieve is a failure ([`SolveError::GoalRelaxedAway`]).
 
 use std::collections::BTreeSet;
 use std::time::Instant;
@@ -13,7 +16,7 @@ use lamp_world::{Recorder, Scene};
 use crate::error::{Progress, SolveError};
 use crate::execute::MotionSettings;
 use crate::ground::{call_text, ground_step, pddl_atom};
-use crate::planning::{plans, relax};
+use crate::planning::{goal_holds_initially, plans, relax};
 use crate::plugins::Plugins;
 use crate::refine::{RefineCounts, Refined, difference, mix, refine_plan};
 use crate::state::abstraction;
@@ -133,10 +136,22 @@ fn solve_with(
         let found = match found {
             Ok(found) => found,
             Err(reason) => {
-                let Some(dropped) = relax(domain, problem).filter(|_| settings.relax_goal) else {
+                let relaxed = if settings.relax_goal { relax(domain, problem) } else { None };
+                let Some(dropped) = relaxed else {
+                    let reason = match summary.relaxed_goal.is_empty() {
+                        true => reason,
+                        false => {
+                            format!("{reason} (after dropping {})", summary.relaxed_goal.join(", "))
+                        }
+                    };
                     return Err(SolveError::NoPlan { reason });
                 };
                 summary.relaxed_goal.push(dropped);
+                if goal_holds_initially(problem) {
+                    // Nothing the problem asks for would be achieved: a failure, not a result.
+                    let dropped = summary.relaxed_goal.join(", ");
+                    return Err(SolveError::GoalRelaxedAway { dropped, reason });
+                }
                 continue;
             }
         };
@@ -187,7 +202,7 @@ fn solve_with(
                         &goal,
                     )?;
                     summary.seconds_validating = started.elapsed().as_secs_f64();
-                    summary.success = true;
+                    summary.success = !summary.is_partial();
                     summary.plan =
                         steps.iter().map(|step| call_text(&step.name, &step.arguments)).collect();
                     fill(summary, counts, recorder.len());

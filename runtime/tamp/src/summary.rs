@@ -1,5 +1,8 @@
 //! The run summary written next to the trajectory: what was solved, how, and how long each phase
 //! took.
+//!
+//! A summary exists only for a validated trajectory. It is a success when the trajectory reaches
+//! the whole goal, and a partial result when goal atoms had to be dropped (`relaxed_goal`).
 
 use serde::Serialize;
 
@@ -8,9 +11,11 @@ use serde::Serialize;
 pub struct Summary {
     /// The problem's name.
     pub problem: String,
-    /// Whether a validated trajectory was produced.
+    /// Whether the validated trajectory reaches the whole goal; false for a partial result, whose
+    /// trajectory reaches the goal without the atoms in `relaxed_goal`.
     pub success: bool,
-    /// Goal atoms dropped because no plan reaches them (empty when the goal was kept whole).
+    /// Goal atoms dropped because no plan reaches them, in the order they were dropped (empty when
+    /// the goal was kept whole).
     pub relaxed_goal: Vec<String>,
     /// The refined plan, one `(action args…)` per step.
     pub plan: Vec<String>,
@@ -32,4 +37,11 @@ pub struct Summary {
     pub seconds_planning: f64,
     pub seconds_refining: f64,
     pub seconds_validating: f64,
+}
+
+impl Summary {
+    /// Whether the trajectory reaches only a relaxed goal: some goal atoms were dropped.
+    pub fn is_partial(&self) -> bool {
+        !self.relaxed_goal.is_empty()
+    }
 }

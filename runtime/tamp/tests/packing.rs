@@ -95,6 +95,58 @@ fn a_plan_whose_rest_breaks_is_replanned_from_the_reached_state() {
     check_packed("pack4_01", &solution);
 }
 
+/// The learned domain and pack4_01's problem, the `in_box` atom of can1 and the "not in the box"
+/// relation the only placing action deletes (no action adds it back).
+fn placing() -> (String, String, lamp_pddl::Atom, String) {
+    let artifacts = &PACKING.artifacts;
+    let domain_text = artifact(artifacts, "domain.pddl").to_string();
+    let problem_text = artifact(artifacts, "problems/pack4_01.pddl").to_string();
+    let domain = lamp_pddl::parse_domain(&domain_text).expect("parses");
+    let problem = lamp_pddl::parse_problem(&problem_text, &domain).expect("parses");
+    let in_box = problem.goal.iter().find(|l| l.atom.arguments.len() == 2).expect("in_box");
+    let placing = domain
+        .actions
+        .iter()
+        .find(|action| action.add.iter().any(|atom| atom.predicate == in_box.atom.predicate))
+        .expect("an action puts a can into the box");
+    let outside = placing.delete.iter().find(|atom| atom.arguments.len() == 2).expect("deletes");
+    (domain_text, problem_text, in_box.atom.clone(), outside.predicate.clone())
+}
+
+#[test]
+fn a_goal_relaxed_to_reach_the_rest_is_a_partial_result_not_a_success() {
+    let (domain, problem, in_box, outside) = placing();
+    let can = in_box.arguments.iter().map(|a| a.name()).collect::<Vec<_>>().join(" ");
+    let unreachable = format!("({outside} {can})");
+    let problem = problem.replacen("\n  ))", &format!("\n    {unreachable}\n  ))"), 1);
+    let error = learned::solve_edited(&PACKING, "pack4_01", (&domain, &problem), false)
+        .err()
+        .expect("without relaxation, no plan");
+    assert!(matches!(error, SolveError::NoPlan { .. }), "{error}");
+    let solution = learned::solve_edited(&PACKING, "pack4_01", (&domain, &problem), true)
+        .unwrap_or_else(|error| panic!("{error}"));
+    let summary = &solution.summary;
+    assert!(!summary.success && summary.is_partial(), "{summary:?}");
+    assert_eq!(summary.relaxed_goal, [unreachable]);
+    assert_eq!(summary.plan.len(), 19, "the rest of the goal is reached");
+    check_packed("pack4_01", &solution);
+}
+
+#[test]
+fn a_goal_relaxed_until_nothing_is_left_to_achieve_is_a_failure() {
+    let (domain, problem, in_box, _) = placing();
+    let mut parsed = lamp_pddl::parse_domain(&domain).expect("parses");
+    parsed.actions.retain(|action| !action.add.iter().any(|a| a.predicate == in_box.predicate));
+    let domain = lamp_pddl::write_domain(&parsed);
+    let error = learned::solve_edited(&PACKING, "pack4_01", (&domain, &problem), true)
+        .err()
+        .expect("not a success with an empty plan");
+    let SolveError::GoalRelaxedAway { dropped, .. } = &error else { panic!("{error}") };
+    assert_eq!(dropped.matches(&format!("({} ", in_box.predicate)).count(), 4, "{dropped}");
+    let code = miette::Diagnostic::code(&error).map(|code| code.to_string());
+    assert_eq!(code.as_deref(), Some("lamp::solve::goal_relaxed_away"));
+}
+
 #[test]
 fn the_same_seed_gives_the_same_trajectory() {
     let first = solve_problem("pack4_04", 7).expect("solved");

@@ -96,6 +96,31 @@ pub fn solve_with_planner(
     seed: u64,
     planner: &mut dyn Planner,
 ) -> Result<Solution, SolveError> {
+    let artifacts = &learned.artifacts;
+    let domain = artifact(artifacts, "domain.pddl");
+    let problem = artifact(artifacts, &format!("problems/{name}.pddl"));
+    solve_texts(learned, name, seed, planner, (domain, problem), false)
+}
+
+/// [`solve_problem`] of PDDL edited by hand, with goal relaxation on or off.
+pub fn solve_edited(
+    learned: &Learned,
+    name: &str,
+    (domain, problem): (&str, &str),
+    relax_goal: bool,
+) -> Result<Solution, SolveError> {
+    let mut planner = BuiltinPlanner::new(BuiltinAlgorithm::GbfsFf);
+    solve_texts(learned, name, 1, &mut planner, (domain, problem), relax_goal)
+}
+
+fn solve_texts(
+    learned: &Learned,
+    name: &str,
+    seed: u64,
+    planner: &mut dyn Planner,
+    (domain, problem_text): (&str, &str),
+    relax_goal: bool,
+) -> Result<Solution, SolveError> {
     let Learned { spec, world, artifacts, refiner } = learned;
     let problem = spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
     let scene = world.problem_scene(problem).expect("the scene loads");
@@ -114,12 +139,12 @@ pub fn solve_with_planner(
             grab_ranges: lamp_tamp::execute::grab_ranges(spec),
             cancelled: &never,
         },
-        relax_goal: false,
+        relax_goal,
     };
     let input = SolveInput {
         scene: &scene,
-        domain: artifact(artifacts, "domain.pddl"),
-        problem: artifact(artifacts, &format!("problems/{name}.pddl")),
+        domain,
+        problem: problem_text,
         artifact: &samplers.artifact,
         adapter: &adapter,
         header: trajectory_header(spec, &scene, seed),
