@@ -1,8 +1,10 @@
-//! A stable digest of a demonstration set, written into every artifact's provenance so that an
-//! artifact can be traced to the exact files it was learned from.
+//! Stable digests: of a demonstration set, written into every artifact's provenance so that an
+//! artifact can be traced to the exact files it was learned from, and of one file's bytes, written
+//! into the build's manifest.
 //!
-//! FNV-1a (64 bit) over, per file in name order, the name, a NUL, the byte length (little-endian
-//! u64) and the bytes. It is not cryptographic: it detects changed inputs, it does not resist forgery.
+//! FNV-1a (64 bit): for a demonstration set over, per file in name order, the name, a NUL, the
+//! byte length (little-endian u64) and the bytes; for one file over its bytes alone. It is not
+//! cryptographic: it detects changed inputs and accidental edits, it does not resist forgery.
 
 use std::fmt;
 
@@ -30,6 +32,13 @@ impl Fnv {
             self.0 = self.0.wrapping_mul(PRIME);
         }
     }
+}
+
+/// The digest of one file's bytes.
+pub fn file_digest(bytes: &[u8]) -> Digest {
+    let mut hash = Fnv(OFFSET_BASIS);
+    hash.update(bytes);
+    Digest(hash.0)
 }
 
 /// The digest of `files`, independent of the order they are given in.
@@ -62,6 +71,8 @@ mod tests {
         let mut a = Fnv(OFFSET_BASIS);
         a.update(b"a");
         assert_eq!(a.0, 0xaf63_dc4c_8601_ec8c);
+        assert_eq!(file_digest(b"a"), Digest(0xaf63_dc4c_8601_ec8c));
+        assert_eq!(file_digest(b"foobar").to_string(), "fnv1a64:85944171f73967e8");
     }
 
     #[test]

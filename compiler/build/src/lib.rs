@@ -4,7 +4,9 @@
 //! the [`adapter`], checked against the spec; the spec's `learn` block becomes the learner's
 //! configuration ([`config`]); the learned model becomes the artifacts: the PDDL domain with
 //! provenance, one PDDL problem per spec problem whose goal can be written ([`problems`], with
-//! [`aliases`] bound to learned regions), the sampler file ([`samplers`]) and the vocabulary report.
+//! [`aliases`] bound to learned regions), the sampler file ([`samplers`]), the vocabulary report
+//! and the [`manifest`] with every artifact's digest, which the run time checks before it trusts
+//! the build folder.
 //!
 //! The crate is pure: it takes files already read into memory ([`DemoFile`]) and returns every
 //! artifact's text ([`Artifacts`]); reading, globbing, writing and printing are the caller's.
@@ -16,6 +18,7 @@ pub mod config;
 pub mod digest;
 pub mod error;
 pub mod input;
+pub mod manifest;
 pub mod pipeline;
 pub mod problems;
 pub mod provenance;
@@ -26,12 +29,16 @@ pub mod scene_state;
 pub use adapter::{Adapter, part_participant_name};
 pub use aliases::{ResolvedAlias, resolve_alias, resolve_aliases};
 pub use config::learn_config;
-pub use digest::{Digest, demonstration_digest};
+pub use digest::{Digest, demonstration_digest, file_digest};
 pub use error::BuildError;
 pub use input::{DEFAULT_BUILD_DIR, DemoFile, SIMULATED_DEMOS_DIR, demo_name, demo_patterns};
+pub use manifest::{
+    BuildFolderError, MANIFEST_DIGEST, MANIFEST_FILE, MANIFEST_FORMAT, MANIFEST_VERSION, Manifest,
+    ManifestEntry, check_same_demonstrations,
+};
 pub use pipeline::{
-    ArtifactFile, Artifacts, BuildContext, DOMAIN_FILE, PROBLEMS_DIR, SAMPLERS_FILE, Summary,
-    VOCABULARY_FILE, artifacts, build, learn_model,
+    ArtifactFile, Artifacts, BuildContext, DOMAIN_FILE, MODEL_DIR, PROBLEMS_DIR, SAMPLERS_FILE,
+    Summary, VOCABULARY_FILE, artifacts, build, learn_model,
 };
 pub use problems::{ProblemOutcome, problem_pddl};
 pub use provenance::Provenance;

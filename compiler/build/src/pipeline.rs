@@ -17,20 +17,24 @@ use crate::config::learn_config;
 use crate::digest::{Digest, demonstration_digest};
 use crate::error::BuildError;
 use crate::input::DemoFile;
+use crate::manifest::{MANIFEST_FILE, Manifest};
 use crate::problems::{ProblemContext, ProblemOutcome, problem_pddl};
 use crate::provenance::Provenance;
 use crate::samplers::SamplersFile;
 
-/// The domain file's path inside the build folder.
+/// The folder inside the build folder that holds every artifact (the model); `lampc build`
+/// replaces it as a whole, beside the `demos/` and `solutions/` folders it leaves alone.
+pub const MODEL_DIR: &str = "model";
+/// The domain file's path inside the model folder.
 pub const DOMAIN_FILE: &str = "domain.pddl";
-/// The folder of problem files inside the build folder.
+/// The folder of problem files inside the model folder.
 pub const PROBLEMS_DIR: &str = "problems";
-/// The sampler file's path inside the build folder.
+/// The sampler file's path inside the model folder.
 pub const SAMPLERS_FILE: &str = "samplers.json";
-/// The vocabulary report's path inside the build folder.
+/// The vocabulary report's path inside the model folder.
 pub const VOCABULARY_FILE: &str = "vocabulary.md";
 
-/// One artifact: where it goes (relative to the build folder) and its full text.
+/// One artifact: where it goes (relative to the model folder) and its full text.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ArtifactFile {
     pub path: PathBuf,
@@ -67,7 +71,7 @@ pub struct Summary {
 /// Every artifact in memory, and the summary.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Artifacts {
-    /// In write order: the domain, the problems, the samplers, the report.
+    /// Every artifact by path, the manifest of all the others included.
     pub files: Vec<ArtifactFile>,
     pub summary: Summary,
 }
@@ -146,6 +150,8 @@ pub fn artifacts(
         contents: vocabulary(&provenance, model, &plots),
     });
     files.extend(plots);
+    let manifest = Manifest::new(&provenance, &files);
+    files.push(ArtifactFile { path: MANIFEST_FILE.into(), contents: manifest.to_json()? });
     files.sort_by(|a, b| a.path.cmp(&b.path));
     Ok(Artifacts { files, summary })
 }

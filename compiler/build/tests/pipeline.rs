@@ -23,6 +23,7 @@ fn every_artifact_is_produced_with_a_summary() {
     let problems: Vec<String> = (1..=12).map(|k| format!("pack4_{k:02}")).collect();
     let mut expected: Vec<PathBuf> = [
         "domain.pddl",
+        "manifest.json",
         "samplers.json",
         "vocabulary.md",
         "regions/gripper_can.svg",
@@ -120,6 +121,25 @@ fn two_builds_are_byte_identical_and_the_digest_tracks_the_files() {
     files[0].name = "renamed.mcap".into();
     let (_, renamed) = lamp_build::build(&spec, "packing.lamp", &world, &files).expect("builds");
     assert_ne!(first.summary.digest, renamed.summary.digest);
+}
+
+#[test]
+fn the_manifest_lists_every_other_artifact_with_its_digest() {
+    let (_, artifacts) = &*PACKING_BUILD;
+    let manifest =
+        lamp_build::Manifest::from_json(artifact(artifacts, "manifest.json"), "manifest")
+            .expect("reads back");
+    let samplers = SamplersFile::from_json(artifact(artifacts, "samplers.json")).expect("samplers");
+    assert_eq!(manifest.provenance, samplers.provenance);
+    assert_eq!(manifest.files.len() + 1, artifacts.files.len(), "all but itself");
+    for file in &artifacts.files {
+        let path = lamp_build::manifest::slash_path(&file.path);
+        if path == "manifest.json" {
+            assert!(!manifest.lists(&path));
+            continue;
+        }
+        manifest.check(&path, file.contents.as_bytes()).expect("every artifact matches");
+    }
 }
 
 #[test]

@@ -22,23 +22,3 @@ impl lamp_lang::Loader for DiskLoader {
         found
     }
 }
-
-/// Writes each `(relative path, contents)` under `dir` through a temporary file renamed into
-/// place, so that a failure never leaves a partly written file behind.
-pub(crate) fn write_atomically(dir: &Path, files: &[(&Path, &[u8])]) -> Result<(), String> {
-    for (relative, contents) in files {
-        let path = dir.join(relative);
-        let folder = path.parent().unwrap_or(dir);
-        std::fs::create_dir_all(folder)
-            .map_err(|error| format!("cannot create {}: {error}", folder.display()))?;
-        let file_name = path.file_name().map(|name| name.to_string_lossy().into_owned());
-        let temporary = folder.join(format!(".{}.tmp", file_name.unwrap_or_default()));
-        std::fs::write(&temporary, contents)
-            .map_err(|error| format!("cannot write {}: {error}", temporary.display()))?;
-        std::fs::rename(&temporary, &path).map_err(|error| {
-            let _ = std::fs::remove_file(&temporary);
-            format!("cannot move {} to {}: {error}", temporary.display(), path.display())
-        })?;
-    }
-    Ok(())
-}

@@ -3,9 +3,11 @@
 // The binary is the one place that talks to the terminal.
 #![allow(clippy::print_stdout, clippy::print_stderr)]
 
+mod build_folder;
 mod commands;
 mod diagnostics;
 mod files;
+mod output;
 mod plugin_setup;
 mod solve_setup;
 mod spec_input;

@@ -1,6 +1,7 @@
 //! `lampc build` end to end on fixture demonstrations: files written, PDDL that parses, the alias
-//! resolved in the problem, byte-identical rebuilds, silence when stderr is not a terminal, and no
-//! output at all when the build fails.
+//! resolved in the problem, byte-identical rebuilds, silence when stderr is not a terminal, no
+//! output at all when the build fails, the previous model kept whole when writing fails half-way,
+//! and a second build into a locked folder refused.
 
 #[path = "../../build/tests/support/fixture.rs"]
 mod fixture;
@@ -11,13 +12,17 @@ use std::process::{Command, Output};
 
 const DEMOS: usize = 40;
 const SEED: u64 = 11;
-const ARTIFACTS: [&str; 5] = [
+/// The artifacts of the model folder, the problems aside.
+const ARTIFACTS: [&str; 6] = [
     "domain.pddl",
+    "manifest.json",
     "regions/gripper_can.svg",
     "regions/surface_can.svg",
     "samplers.json",
     "vocabulary.md",
 ];
+/// A problem name too long for a file name.
+const LONG: usize = 300;
 /// The bundled Packing spec has twelve four-can problems.
 const PROBLEMS: usize = 12;
 
@@ -26,6 +31,8 @@ fn lampc(args: &[&Path]) -> Output {
         .arg("build")
         .args(args)
         .env("NO_COLOR", "1")
+        // Long enough that no message is wrapped.
+        .env("COLUMNS", "10000")
         .output()
         .expect("lampc runs")
 }
@@ -36,6 +43,17 @@ fn build(spec: &Path, demos: &Path, out: &Path) -> Output {
 
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// The names in `dir`, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .expect("a folder")
+        .flatten()
+        .map(|entry| entry.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
 }
 
 /// Every file under `dir`, by path relative to it.
@@ -68,11 +86,16 @@ fn builds_the_packing_fixture_and_rebuilds_it_identically() {
     let (stdout, stderr) = (text(&output.stdout), text(&output.stderr));
     assert!(output.status.success(), "exit {:?}\n{stdout}\n{stderr}", output.status);
     assert_eq!(stderr, "", "nothing but the summary is printed when stderr is not a terminal");
+    assert_eq!(
+        listing(&out),
+        [".model.lock", "model"],
+        "the model folder and its lock, no leftovers"
+    );
     assert!(stdout.contains(&format!("demonstrations  {DEMOS} files")), "{stdout}");
     assert!(stdout.contains("alias           in_box = surface_can_"), "{stdout}");
     assert!(stdout.contains(&format!("problems        {PROBLEMS} written, 0 skipped")), "{stdout}");
 
-    let files = tree(&out);
+    let files = tree(&out.join("model"));
     let names: Vec<PathBuf> = files.keys().cloned().collect();
     let mut expected: Vec<PathBuf> = ARTIFACTS.iter().map(PathBuf::from).collect();
     expected.extend((1..=PROBLEMS).map(|k| PathBuf::from(format!("problems/pack4_{k:02}.pddl"))));
@@ -103,7 +126,7 @@ fn builds_the_packing_fixture_and_rebuilds_it_identically() {
     let again = scratch.path().join("again");
     let second = build(&spec, &demos, &again);
     assert!(second.status.success(), "{}", text(&second.stderr));
-    assert!(files == tree(&again), "a second build is byte-identical");
+    assert!(files == tree(&again.join("model")), "a second build is byte-identical");
 }
 
 #[test]
@@ -128,14 +151,15 @@ fn simulated_demonstrations_are_read_from_the_default_build_folder() {
     let stderr = text(&missing.stderr);
     assert!(stderr.contains("lamp::build::no_demonstrations"), "{stderr}");
     assert!(stderr.contains("lampc demos SPEC"), "the help says what to run: {stderr}");
-    assert!(!packing.join("build/domain.pddl").exists());
+    assert!(!packing.join("build").exists(), "nothing is written");
 
     fixture::write_packing_fixture(&packing.join("build/demos"), DEMOS, SEED);
     let output = lampc(&[&spec]);
     assert!(output.status.success(), "{}", text(&output.stderr));
     for artifact in ARTIFACTS {
-        assert!(packing.join("build").join(artifact).is_file(), "{artifact} is written");
+        assert!(packing.join("build/model").join(artifact).is_file(), "{artifact} is written");
     }
+    assert_eq!(listing(&packing.join("build")), [".model.lock", "demos", "model"]);
 }
 
 #[test]
@@ -166,5 +190,152 @@ fn a_truncated_demonstration_is_named_and_nothing_is_written() {
     let stderr = text(&output.stderr);
     assert!(stderr.contains("lamp::trajectory::truncated"), "{stderr}");
     assert!(stderr.contains("demo_003.mcap"), "the file is named: {stderr}");
-    assert!(tree(&out).is_empty(), "no output files");
+    assert!(stderr.contains("lampc build: failed; no model was written"), "{stderr}");
+    let left: Vec<PathBuf> = tree(&out).into_keys().collect();
+    assert_eq!(left, [PathBuf::from(".model.lock")], "no output files but the lock");
+}
+
+/// A copy of the Packing spec whose first problem has a name too long for a file name (300
+/// characters and `.pddl`; file systems allow 255 bytes), with the robot path made absolute so
+/// that it loads from anywhere.
+fn spec_with_a_long_problem_name(dir: &Path) -> PathBuf {
+    let robots = fixture::workspace_root().join("domains/robots/");
+    let text = std::fs::read_to_string(fixture::packing_spec_path())
+        .expect("the bundled spec")
+        .replace("\"../robots/", &format!("\"{}/", robots.display()))
+        .replace("problem pack4_01 {", &format!("problem {} {{", "p".repeat(LONG)));
+    let path = dir.join("packing.lamp");
+    std::fs::write(&path, text).expect("writes the spec");
+    path
+}
+
+/// A build that fails while writing (here: "File name too long" for one problem) leaves the
+/// previous model whole — no new artifact beside old ones — and says so.
+#[test]
+fn a_build_that_fails_half_way_leaves_the_previous_model_whole() {
+    let scratch = tempfile::tempdir().expect("scratch");
+    let demos = scratch.path().join("demos");
+    fixture::write_packing_fixture(&demos, DEMOS, SEED);
+    let out = scratch.path().join("out");
+    let first = build(&fixture::packing_spec_path(), &demos, &out);
+    assert!(first.status.success(), "{}", text(&first.stderr));
+    let before = tree(&out.join("model"));
+
+    // Another seed learns other artifacts, which must not reach the model folder.
+    let spec = spec_with_a_long_problem_name(scratch.path());
+    let text_with_seed =
+        std::fs::read_to_string(&spec).expect("spec").replace("\nseed 1\n", "\nseed 2\n");
+    std::fs::write(&spec, text_with_seed).expect("writes the spec");
+    let output = build(&spec, &demos, &out);
+    let stderr = text(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("lamp::output::write"), "{stderr}");
+    assert!(
+        stderr.contains(&format!("cannot write problems/{}.pddl", "p".repeat(LONG))),
+        "{stderr}"
+    );
+    assert!(stderr.contains("File name too long"), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "lampc build: failed; the model in {} is unchanged",
+            out.join("model").display()
+        )),
+        "{stderr}"
+    );
+    assert!(tree(&out.join("model")) == before, "the previous model, byte for byte");
+    assert_eq!(listing(&out), [".model.lock", "model"], "no staging folder is left");
+}
+
+/// While one build holds the folder's lock (here the test holds it), a second build is refused
+/// at once, naming the folder and saying what to do, and writes nothing.
+#[test]
+fn a_second_build_into_a_locked_folder_is_refused() {
+    let scratch = tempfile::tempdir().expect("scratch");
+    let demos = scratch.path().join("demos");
+    fixture::write_packing_fixture(&demos, DEMOS, SEED);
+    let out = scratch.path().join("out");
+    std::fs::create_dir_all(&out).expect("folder");
+    let lock = std::fs::File::create(out.join(".model.lock")).expect("a lock file");
+    lock.try_lock().expect("the test holds the lock");
+    let output = build(&fixture::packing_spec_path(), &demos, &out);
+    let stderr = text(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("lamp::output::locked"), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "{} is being written by another lampc",
+            out.join("model").display()
+        )),
+        "{stderr}"
+    );
+    assert!(stderr.contains("Wait for the other `lampc build` to finish"), "{stderr}");
+    assert_eq!(listing(&out), [".model.lock"], "nothing is written");
+    drop(lock);
+    let output = build(&fixture::packing_spec_path(), &demos, &out);
+    assert!(output.status.success(), "free again: {}", text(&output.stderr));
+}
+
+/// Two builds started together into one folder: one writes the model, the other is refused by
+/// the lock (or, if the first is done before the second starts, both succeed); never a mix and
+/// never a failure about files.
+#[test]
+fn two_builds_at_once_never_mix_files() {
+    let scratch = tempfile::tempdir().expect("scratch");
+    let demos = scratch.path().join("demos");
+    fixture::write_packing_fixture(&demos, 12, SEED);
+    let out = scratch.path().join("out");
+    let start = || {
+        Command::new(env!("CARGO_BIN_EXE_lampc"))
+            .arg("build")
+            .arg(fixture::packing_spec_path())
+            .arg("--demos")
+            .arg(&demos)
+            .arg("--out")
+            .arg(&out)
+            .env("NO_COLOR", "1")
+            .env("COLUMNS", "10000")
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("lampc starts")
+    };
+    let (first, second) = (start(), start());
+    let outputs =
+        [first.wait_with_output().expect("ends"), second.wait_with_output().expect("ends")];
+    let mut succeeded = 0;
+    for output in &outputs {
+        let stderr = text(&output.stderr);
+        if output.status.success() {
+            succeeded += 1;
+        } else {
+            assert!(stderr.contains("lamp::output::locked"), "only the lock refuses: {stderr}");
+        }
+    }
+    assert!(succeeded >= 1);
+    let model = tree(&out.join("model"));
+    let manifest =
+        lamp_build::Manifest::from_json(&text(&model[Path::new("manifest.json")]), "manifest.json")
+            .expect("a manifest");
+    for entry in &manifest.files {
+        manifest.check(&entry.path, &model[Path::new(&entry.path)]).expect("every file matches");
+    }
+    assert_eq!(manifest.files.len() + 1, model.len(), "nothing else in the model");
+    assert_eq!(listing(&out), [".model.lock", "model"], "no staging folder is left");
+}
+
+/// A `model` folder lampc did not write (no manifest in it) is not replaced.
+#[test]
+fn a_model_folder_without_a_manifest_is_not_replaced() {
+    let scratch = tempfile::tempdir().expect("scratch");
+    let demos = scratch.path().join("demos");
+    fixture::write_packing_fixture(&demos, 6, SEED);
+    let out = scratch.path().join("out");
+    std::fs::create_dir_all(out.join("model")).expect("folder");
+    std::fs::write(out.join("model/notes.txt"), "mine").expect("a user file");
+    let output = build(&fixture::packing_spec_path(), &demos, &out);
+    let stderr = text(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("lamp::output::occupied"), "{stderr}");
+    assert!(stderr.contains("it holds no manifest.json"), "{stderr}");
+    assert_eq!(std::fs::read_to_string(out.join("model/notes.txt")).expect("kept"), "mine");
 }

@@ -1,5 +1,7 @@
 //! `lampc solve` as a user runs it: demonstrations, a build, then a solve of a four-can Packing
-//! problem into a scratch folder; the files are there and say what happened.
+//! problem into a scratch folder; the files are there and say what happened. A build folder that
+//! was tampered with, mixed or interrupted is refused naming the file; a relaxed goal is a partial
+//! result, not a success; the solution folder is replaced whole, under a lock.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -40,11 +42,65 @@ fn built() -> &'static Path {
     build
 }
 
+/// The names in `dir`, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .expect("a folder")
+        .flatten()
+        .map(|entry| entry.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).expect("folder");
+    for entry in std::fs::read_dir(from).expect("a folder").flatten() {
+        let target = to.join(entry.file_name());
+        if entry.path().is_dir() {
+            copy_dir(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), &target).expect("copies");
+        }
+    }
+}
+
+/// A copy of the shared build folder's model in `scratch/build`, to tamper with.
+fn build_copy(scratch: &Path) -> PathBuf {
+    let build = scratch.join("build");
+    copy_dir(&built().join("model"), &build.join("model"));
+    build
+}
+
+/// `lampc solve SPEC --problem pack4_03 --build BUILD --out OUT` with more arguments.
+fn solve_into(build: &Path, out: &Path, more: &[&str]) -> Output {
+    lampc()
+        .arg("solve")
+        .arg(spec())
+        .args(["--problem", "pack4_03", "--build"])
+        .arg(build)
+        .arg("--out")
+        .arg(out)
+        .args(more)
+        .env("NO_COLOR", "1")
+        // Long enough that no message is wrapped.
+        .env("COLUMNS", "10000")
+        .output()
+        .expect("lampc runs")
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
 #[test]
 fn solve_writes_a_validated_trajectory_plan_summary_and_picture() {
     let scratch = tempfile::tempdir().expect("a scratch directory");
     let build = built();
     let out = scratch.path().join("solution");
+    // A previous solution's files are replaced as a whole, none left beside the new ones.
+    std::fs::create_dir_all(&out).expect("folder");
+    std::fs::write(out.join("plan.txt"), "(old)\n").expect("an old plan");
     let output = run(lampc()
         .arg("solve")
         .arg(spec())
@@ -54,6 +110,8 @@ fn solve_writes_a_validated_trajectory_plan_summary_and_picture() {
         .arg(&out));
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(stdout.contains("pack4_03: solved"), "{stdout}");
+    assert_eq!(listing(&out), ["plan.txt", "summary.json", "trajectory.mcap", "trajectory.svg"]);
+    assert_eq!(listing(scratch.path()), [".solution.lock", "solution"], "no staging folder left");
     assert!(stdout.contains("validated by replay"), "{stdout}");
     let summary = std::fs::read_to_string(out.join("summary.json")).expect("a summary");
     assert!(summary.contains("\"success\": true"), "{summary}");
@@ -164,5 +222,254 @@ fn ctrl_c_stops_the_search_and_writes_nothing() {
     assert!(stderr.contains("lamp::solve::cancelled"), "{stderr}");
     assert!(stderr.contains("candidates, deepest step"), "{stderr}");
     assert!(stderr.contains("lampc solve: interrupted"), "{stderr}");
+    assert!(!out.exists(), "nothing is written");
+}
+
+/// The model's domain and the problem pack4_03, parsed.
+fn parsed(build: &Path) -> (String, lamp_pddl::Domain, String, lamp_pddl::Problem) {
+    let model = build.join("model");
+    let text = std::fs::read_to_string(model.join("domain.pddl")).expect("a domain");
+    let domain = lamp_pddl::parse_domain(&text).expect("parses");
+    let problem_text =
+        std::fs::read_to_string(model.join("problems/pack4_03.pddl")).expect("a problem");
+    let problem = lamp_pddl::parse_problem(&problem_text, &domain).expect("parses");
+    (text, domain, problem_text, problem)
+}
+
+/// The first `in_box(can, box1)` goal atom: the goal's first atom of two arguments.
+fn in_box_atom(problem: &lamp_pddl::Problem) -> &lamp_pddl::Atom {
+    let literal = problem.goal.iter().find(|literal| literal.atom.arguments.len() == 2);
+    &literal.expect("an in_box atom").atom
+}
+
+/// The domain without every action that adds the `in_box` relation, its provenance comments
+/// kept: "an action deleted from domain.pddl by hand".
+fn domain_without_the_placing_action(build: &Path) -> String {
+    let (text, mut domain, _, problem) = parsed(build);
+    let in_box = in_box_atom(&problem).predicate.clone();
+    let before = domain.actions.len();
+    domain.actions.retain(|action| !action.add.iter().any(|atom| atom.predicate == in_box));
+    assert!(domain.actions.len() < before, "an action adds {in_box}");
+    let comments: String =
+        text.lines().take_while(|l| l.starts_with(';')).map(|l| format!("{l}\n")).collect();
+    comments + &lamp_pddl::write_domain(&domain)
+}
+
+/// A goal atom no plan reaches together with the rest of the goal: the "not in the box" relation
+/// of the first `in_box` atom's can, which holds initially and which the only action that puts a
+/// can into the box deletes (and none adds back).
+fn unreachable_atom(build: &Path) -> String {
+    let (_, domain, _, problem) = parsed(build);
+    let in_box = in_box_atom(&problem);
+    let placing: Vec<&lamp_pddl::Action> = domain
+        .actions
+        .iter()
+        .filter(|action| action.add.iter().any(|atom| atom.predicate == in_box.predicate))
+        .collect();
+    assert_eq!(placing.len(), 1, "one action puts a can into the box");
+    let outside = placing[0]
+        .delete
+        .iter()
+        .find(|atom| atom.arguments.len() == 2)
+        .map(|atom| atom.predicate.clone())
+        .expect("it deletes the can's not-in-the-box relation");
+    let added_back =
+        domain.actions.iter().any(|action| action.add.iter().any(|atom| atom.predicate == outside));
+    assert!(!added_back, "no action adds {outside}");
+    let arguments: Vec<String> =
+        in_box.arguments.iter().map(|argument| argument.name().to_string()).collect();
+    format!("({outside} {})", arguments.join(" "))
+}
+
+/// An action deleted from domain.pddl by hand: refused before anything is used, naming the file;
+/// with `--unchecked-build` the solve runs on the edited domain, and, since no plan reaches any
+/// goal atom that does not already hold, it fails instead of claiming success with an empty plan.
+#[test]
+fn an_action_deleted_from_the_domain_is_refused_and_never_a_success() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let build = build_copy(scratch.path());
+    let edited = domain_without_the_placing_action(&build);
+    std::fs::write(build.join("model/domain.pddl"), edited).expect("edits");
+    let out = scratch.path().join("solution");
+
+    let refused = solve_into(&build, &out, &[]);
+    let text = stderr(&refused);
+    assert_eq!(refused.status.code(), Some(1), "{text}");
+    assert!(text.contains("lamp::solve::tampered"), "{text}");
+    let file = build.join("model/domain.pddl");
+    assert!(
+        text.contains(&format!("{} does not match the build's manifest", file.display())),
+        "{text}"
+    );
+    assert!(text.contains("lampc build SPEC") && text.contains("--unchecked-build"), "{text}");
+    assert!(text.contains("lampc solve: failed; no solution files were written"), "{text}");
+    assert!(!out.exists(), "nothing is written");
+
+    let unchecked = solve_into(&build, &out, &["--unchecked-build"]);
+    let text = stderr(&unchecked);
+    let stdout = String::from_utf8_lossy(&unchecked.stdout);
+    assert_eq!(unchecked.status.code(), Some(1), "{stdout}\n{text}");
+    assert!(text.contains("warning: `--unchecked-build`"), "{text}");
+    assert!(
+        text.contains("does not match the build's manifest") && text.contains("(used as it is)"),
+        "{text}"
+    );
+    assert!(text.contains("lamp::solve::goal_relaxed_away"), "{text}");
+    assert!(!stdout.contains("solved"), "{stdout}");
+    assert!(!out.exists(), "nothing is written");
+}
+
+/// A goal atom no plan reaches, added to the problem by hand: the goal is relaxed, and the result
+/// is partial — exit code 3, "partially solved: dropped …", `"success": false` — not a success.
+#[test]
+fn an_unreachable_goal_atom_gives_a_partial_result() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let build = build_copy(scratch.path());
+    let path = build.join("model/problems/pack4_03.pddl");
+    let problem = std::fs::read_to_string(&path).expect("a problem");
+    let unreachable = unreachable_atom(&build);
+    // Last in goal order; relaxation drops the atom whose relation preconditions use least
+    // (ties: the last), which is this one.
+    let edited = problem.replacen("\n  ))", &format!("\n    {unreachable}\n  ))"), 1);
+    assert_ne!(edited, problem, "the goal is edited");
+    std::fs::write(&path, edited).expect("edits");
+    let out = scratch.path().join("solution");
+
+    let output = solve_into(&build, &out, &["--unchecked-build"]);
+    let (stdout, text) = (String::from_utf8_lossy(&output.stdout), stderr(&output));
+    assert_eq!(output.status.code(), Some(3), "{stdout}\n{text}");
+    assert!(
+        stdout.contains(&format!("pack4_03: partially solved: dropped {unreachable}; written to")),
+        "{stdout}"
+    );
+    let summary = std::fs::read_to_string(out.join("summary.json")).expect("a summary");
+    assert!(summary.contains("\"success\": false"), "{summary}");
+    let json: serde_json::Value = serde_json::from_str(&summary).expect("JSON");
+    assert_eq!(json["relaxed_goal"], serde_json::json!([unreachable]));
+    let plan = std::fs::read_to_string(out.join("plan.txt")).expect("a plan");
+    assert!(plan.lines().count() > 0, "the rest of the goal is reached: {plan}");
+}
+
+/// `samplers.json` learned from other demonstrations than `domain.pddl` (its provenance digest
+/// changed): refused naming the file, by the manifest and, with `--unchecked-build`, by the
+/// provenance of the PDDL.
+#[test]
+fn samplers_from_other_demonstrations_are_refused() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let build = build_copy(scratch.path());
+    let path = build.join("model/samplers.json");
+    let text = std::fs::read_to_string(&path).expect("samplers");
+    let json: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    let digest = json["provenance"]["digest"].as_str().expect("a digest").to_string();
+    let other = "fnv1a64:0123456789abcdef";
+    std::fs::write(&path, text.replace(&digest, other)).expect("edits");
+    let out = scratch.path().join("solution");
+
+    let refused = solve_into(&build, &out, &[]);
+    let text = stderr(&refused);
+    assert_eq!(refused.status.code(), Some(1), "{text}");
+    assert!(text.contains("lamp::solve::tampered"), "{text}");
+    assert!(text.contains(&format!("{} does not match", path.display())), "{text}");
+
+    let unchecked = solve_into(&build, &out, &["--unchecked-build"]);
+    let text = stderr(&unchecked);
+    assert_eq!(unchecked.status.code(), Some(1), "{text}");
+    assert!(text.contains("lamp::solve::mismatched_build"), "{text}");
+    assert!(
+        text.contains(&format!(
+            "samplers.json was learned from other demonstrations ({other}) than domain.pddl ({digest})"
+        )),
+        "{text}"
+    );
+    assert!(!out.exists(), "nothing is written");
+}
+
+/// `--out DIR` where `DIR/trajectory.svg` is a folder: refused before solving, with a last line
+/// that is true, and nothing written beside it.
+#[test]
+fn a_solution_folder_with_a_folder_in_the_way_is_refused_and_left_alone() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let out = scratch.path().join("solution");
+    std::fs::create_dir_all(out.join("trajectory.svg")).expect("a folder in the way");
+    let output = solve_into(built(), &out, &[]);
+    let text = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{text}");
+    assert!(text.contains("lamp::output::occupied"), "{text}");
+    let svg = out.join("trajectory.svg");
+    assert!(
+        text.contains(&format!("{} is a folder, not a solution file", svg.display())),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!(
+            "lampc solve: failed; no solution files were written; the previous solution in {} is unchanged",
+            out.display()
+        )),
+        "{text}"
+    );
+    assert_eq!(listing(&out), ["trajectory.svg"], "no mix of new files and the old folder");
+
+    std::fs::write(out.join("notes.txt"), "mine").expect("a user file");
+    let output = solve_into(built(), &out, &[]);
+    let text = stderr(&output);
+    assert!(text.contains("it holds notes.txt, which is not a solution file"), "{text}");
+}
+
+/// A solve is refused while another holds its solution folder's lock, and while a build holds
+/// the model's.
+#[test]
+fn a_locked_solution_folder_or_a_running_build_refuses_the_solve() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let out = scratch.path().join("solution");
+    let lock = std::fs::File::create(scratch.path().join(".solution.lock")).expect("a lock file");
+    lock.try_lock().expect("the test holds the lock");
+    let output = solve_into(built(), &out, &[]);
+    let text = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{text}");
+    assert!(text.contains("lamp::output::locked"), "{text}");
+    assert!(
+        text.contains(&format!("{} is being written by another lampc", out.display())),
+        "{text}"
+    );
+    assert!(text.contains("Wait for the other `lampc solve` to finish"), "{text}");
+    assert!(!out.exists());
+    drop(lock);
+
+    let build = build_copy(scratch.path());
+    let lock = std::fs::File::create(build.join(".model.lock")).expect("a lock file");
+    lock.try_lock().expect("the test holds the lock");
+    let output = solve_into(&build, &out, &[]);
+    let text = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{text}");
+    assert!(text.contains("lamp::output::building"), "{text}");
+    assert!(text.contains("Wait for the `lampc build` to finish"), "{text}");
+}
+
+/// A build folder without a whole model: a build interrupted between its two renames, the layout
+/// of an older lampc, and a file the manifest lists that is gone.
+#[test]
+fn an_interrupted_old_or_incomplete_build_is_refused_naming_what_is_wrong() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let out = scratch.path().join("solution");
+
+    let build = build_copy(scratch.path());
+    std::fs::rename(build.join("model"), build.join(".model.old-42-0-0")).expect("renames");
+    let text = stderr(&solve_into(&build, &out, &[]));
+    assert!(text.contains("lamp::solve::interrupted_build"), "{text}");
+    assert!(text.contains(".model.old-42-0-0"), "{text}");
+
+    let old = scratch.path().join("old");
+    copy_dir(&built().join("model"), &old);
+    std::fs::remove_file(old.join("manifest.json")).expect("removes");
+    let text = stderr(&solve_into(&old, &out, &[]));
+    assert!(text.contains("lamp::solve::old_build"), "{text}");
+
+    let incomplete = scratch.path().join("incomplete");
+    copy_dir(&built().join("model"), &incomplete.join("model"));
+    let gone = incomplete.join("model/problems/pack4_07.pddl");
+    std::fs::remove_file(&gone).expect("removes");
+    let text = stderr(&solve_into(&incomplete, &out, &[]));
+    assert!(text.contains("lamp::solve::unreadable_artifact"), "{text}");
+    assert!(text.contains(&format!("{} cannot be read", gone.display())), "{text}");
     assert!(!out.exists(), "nothing is written");
 }

@@ -1,9 +1,10 @@
 //! `lampc build`: learn regions, relations and actions from demonstration files; write the PDDL
 //! domain and problems, the sampler file and the vocabulary report into the build folder.
 //!
-//! The work is lamp-build's; this module finds and reads the files, shows progress, writes every
-//! artifact only once all of them are computed (each through a temporary file renamed into place),
-//! and prints the summary.
+//! The work is lamp-build's; this module finds and reads the files, shows progress, and prints the
+//! summary. The artifacts and their manifest make up the model folder `<build>/model/`, which is
+//! replaced as a whole once every artifact is computed (written into a staging folder beside it,
+//! then swapped in), under a lock that refuses a second build into the same folder.
 
 use std::collections::BTreeSet;
 use std::io::IsTerminal;
@@ -16,6 +17,7 @@ use lamp_build::{Adapter, ArtifactFile, Artifacts, BuildContext, BuildError, Dem
 use lamp_lang::Loader;
 
 use crate::files::DiskLoader;
+use crate::output::{FolderLock, OutputError, OutputFolder, Replaced};
 
 /// Arguments of `lampc build`.
 #[derive(clap::Args)]
@@ -36,8 +38,14 @@ enum Failure {
     Spec,
     /// A build error to render.
     Build(Box<BuildError>),
-    /// Writing an artifact failed.
-    Write(String),
+    /// The model folder is locked, in the way, or could not be written or swapped in.
+    Output(Box<OutputError>),
+}
+
+impl From<OutputError> for Failure {
+    fn from(error: OutputError) -> Self {
+        Failure::Output(Box::new(error))
+    }
 }
 
 impl From<BuildError> for Failure {
@@ -61,22 +69,31 @@ impl Timings {
 
 pub(crate) fn run(args: &Args) -> ExitCode {
     let colour = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
-    match build(args, colour) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(Failure::Spec) => ExitCode::from(crate::EXIT_DIAGNOSTICS),
-        Err(Failure::Build(error)) => {
-            eprint!("{}", crate::diagnostics::render_error(error.as_ref(), colour));
-            eprintln!("lampc build: failed; no files were written");
-            ExitCode::from(crate::EXIT_DIAGNOSTICS)
-        }
-        Err(Failure::Write(reason)) => {
-            eprintln!("lampc build: {reason}");
-            ExitCode::from(crate::EXIT_DIAGNOSTICS)
-        }
-    }
+    let mut model = None;
+    let failure = match build(args, colour, &mut model) {
+        Ok(()) => return ExitCode::SUCCESS,
+        Err(Failure::Spec) => return ExitCode::from(crate::EXIT_DIAGNOSTICS),
+        Err(failure) => failure,
+    };
+    let (error, outcome): (&dyn miette::Diagnostic, _) = match &failure {
+        Failure::Build(error) => (error.as_ref(), None),
+        Failure::Output(error) => match error.as_ref() {
+            OutputError::Swap { state, .. } => (error.as_ref(), Some(state.clone())),
+            _ => (error.as_ref(), None),
+        },
+        Failure::Spec => return ExitCode::from(crate::EXIT_DIAGNOSTICS),
+    };
+    eprint!("{}", crate::diagnostics::render_error(error, colour));
+    let outcome = outcome.unwrap_or_else(|| match model {
+        Some(model) if model.is_dir() => format!("the model in {} is unchanged", model.display()),
+        _ => "no model was written".to_string(),
+    });
+    eprintln!("lampc build: failed; {outcome}");
+    ExitCode::from(crate::EXIT_DIAGNOSTICS)
 }
 
-fn build(args: &Args, colour: bool) -> Result<(), Failure> {
+/// Runs the build; `model` is set to the model folder as soon as it is known, for the last message.
+fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), Failure> {
     let mut timings = Timings::default();
     let checked = timings.time("check", || crate::spec_input::check_spec(&args.spec, colour));
     let Some(crate::spec_input::CheckedSpec { spec, dir: spec_dir, file_name: spec_file }) =
@@ -91,6 +108,11 @@ fn build(args: &Args, colour: bool) -> Result<(), Failure> {
         .time("load", || lamp_world::SpecWorld::load(&spec_dir, &spec).map_err(BuildError::from))?;
     let adapter = Adapter::new(&spec, &world.robots)?;
     let paths = find_demonstrations(&spec, &spec_dir, &build_dir, args.demos.as_deref())?;
+    let folder = OutputFolder::new(&build_dir.join(lamp_build::MODEL_DIR))?;
+    *model = Some(folder.path().to_path_buf());
+    let lock = folder.lock("build")?;
+    replaceable(folder.path())?;
+    folder.remove_leftovers(&lock);
     let names_base = args.demos.clone().unwrap_or_else(|| spec_dir.clone());
 
     let (files, demonstrations) = timings.time("read", || {
@@ -125,8 +147,14 @@ fn build(args: &Args, colour: bool) -> Result<(), Failure> {
     let digest = lamp_build::demonstration_digest(&files);
     let artifacts = timings
         .time("emit", || lamp_build::artifacts(&context, &model, &demonstrations, digest))?;
-    timings.time("write", || write_all(&build_dir, &artifacts.files)).map_err(Failure::Write)?;
-    print_summary(&spec_file, &build_dir, &artifacts, &timings);
+    let replaced = timings.time("write", || write_all(&folder, &lock, &artifacts.files))?;
+    print_summary(&spec_file, folder.path(), &artifacts, &timings);
+    if let Some((kept, reason)) = replaced.kept {
+        eprintln!(
+            "lampc build: warning: the previous model, moved to {}, could not be removed: {reason}",
+            kept.display()
+        );
+    }
     Ok(())
 }
 
@@ -173,16 +201,33 @@ fn spinner(message: &'static str) -> ProgressBar {
     spinner
 }
 
-/// Writes every artifact through a temporary file renamed into place.
-fn write_all(build_dir: &Path, files: &[ArtifactFile]) -> Result<(), String> {
-    let files: Vec<(&Path, &[u8])> =
-        files.iter().map(|file| (file.path.as_path(), file.contents.as_bytes())).collect();
-    crate::files::write_atomically(build_dir, &files)
+/// Refuses to replace a `model` that is not a folder `lampc build` wrote (no manifest in it).
+fn replaceable(model: &Path) -> Result<(), OutputError> {
+    let Ok(metadata) = std::fs::symlink_metadata(model) else { return Ok(()) };
+    let reason = if !metadata.is_dir() {
+        format!("it is {}, not a model folder", crate::output::kind_of(&metadata))
+    } else if !model.join(lamp_build::MANIFEST_FILE).is_file() {
+        format!("it holds no {}, so `lampc build` did not write it", lamp_build::MANIFEST_FILE)
+    } else {
+        return Ok(());
+    };
+    Err(OutputError::Occupied { folder: model.display().to_string(), reason })
 }
 
-fn print_summary(spec_file: &str, build_dir: &Path, artifacts: &Artifacts, timings: &Timings) {
+/// Replaces the model folder with the artifacts.
+fn write_all(
+    folder: &OutputFolder,
+    lock: &FolderLock,
+    files: &[ArtifactFile],
+) -> Result<Replaced, OutputError> {
+    let files: Vec<(&Path, &[u8])> =
+        files.iter().map(|file| (file.path.as_path(), file.contents.as_bytes())).collect();
+    folder.replace(lock, &files)
+}
+
+fn print_summary(spec_file: &str, model: &Path, artifacts: &Artifacts, timings: &Timings) {
     let summary = &artifacts.summary;
-    println!("{spec_file}: built into {}", build_dir.display());
+    println!("{spec_file}: built into {}", model.display());
     println!(
         "  demonstrations  {} files, {} steps ({})",
         summary.demonstrations, summary.steps, summary.digest

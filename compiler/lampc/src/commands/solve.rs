@@ -1,10 +1,12 @@
 //! `lampc solve`: plan, refine and write a validated trajectory for one problem of a built spec.
 //!
-//! Reads the build folder (`domain.pddl`, `problems/<name>.pddl`, `samplers.json`), sets up the
-//! three plugins, runs lamp-tamp, and writes into `<build>/solutions/<problem>/` the trajectory
-//! (`trajectory.mcap`), the plan (`plan.txt`), the run summary (`summary.json`) and a picture
-//! (`trajectory.svg`) — only once the trajectory has passed its replay check, each through a
-//! temporary file renamed into place.
+//! Reads the build's model (`domain.pddl`, `problems/<name>.pddl`, `samplers.json`, each checked
+//! against the build's manifest first), sets up the three plugins, runs lamp-tamp, and writes into
+//! `<build>/solutions/<problem>/` the trajectory (`trajectory.mcap`), the plan (`plan.txt`), the
+//! run summary (`summary.json`) and a picture (`trajectory.svg`) — only once the trajectory has
+//! passed its replay check, as a whole folder swapped in for the previous one, under a lock that
+//! refuses a second solve into the same folder. A trajectory to a relaxed goal is written too, as
+//! a partial result with its own exit code.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -13,10 +15,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use indicatif::ProgressBar;
-use lamp_build::{Adapter, SamplersFile};
+use lamp_build::Adapter;
 use lamp_tamp::{SolveError, SolveInput};
 use lamp_world::{SpecWorld, trajectory_header};
 
+use crate::build_folder::{Check, ModelFiles};
+use crate::output::{OutputError, OutputFolder};
 use crate::solve_setup::{self, Overrides};
 
 /// Arguments of `lampc solve`.
@@ -55,7 +59,19 @@ pub(crate) struct Args {
     /// [default: no limit; Ctrl-C stops it the same way].
     #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
     pub(crate) timeout: Option<f64>,
+    /// Use the build's files as they are, even when they differ from the build's manifest (for
+    /// PDDL edited by hand on purpose); every difference is reported as a warning.
+    #[arg(long)]
+    pub(crate) unchecked_build: bool,
 }
+
+/// The files of a solution folder, which replaces only a folder holding nothing else.
+const SOLUTION_FILES: [&str; 4] = ["trajectory.mcap", "plan.txt", "summary.json", "trajectory.svg"];
+/// The folder of solutions inside the build folder.
+const SOLUTIONS_DIR: &str = "solutions";
+/// The exit code of a partial result: a validated trajectory to a goal with atoms dropped.
+/// Not 2, which is the exit code of a command line that does not parse.
+pub(crate) const EXIT_PARTIAL: u8 = 3;
 
 /// The exit code after Ctrl-C, as shells report a process ended by SIGINT.
 const EXIT_INTERRUPTED: u8 = 130;
@@ -66,17 +82,19 @@ static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 pub(crate) fn run(args: &Args) -> ExitCode {
     let colour = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
     watch_interrupts();
-    match solve(args, colour) {
-        Ok(()) => ExitCode::SUCCESS,
+    let mut left = NOTHING_WRITTEN.to_string();
+    match solve(args, colour, &mut left) {
+        Ok(summary) if summary.success => ExitCode::SUCCESS,
+        Ok(_) => ExitCode::from(EXIT_PARTIAL),
         Err(message) => {
             if !message.is_empty() {
                 eprintln!("{message}");
             }
             if INTERRUPTED.load(Ordering::Relaxed) {
-                eprintln!("lampc solve: interrupted; no solution files were written");
+                eprintln!("lampc solve: interrupted; {left}");
                 return ExitCode::from(EXIT_INTERRUPTED);
             }
-            eprintln!("lampc solve: failed; no solution files were written");
+            eprintln!("lampc solve: failed; {left}");
             ExitCode::from(crate::EXIT_DIAGNOSTICS)
         }
     }
@@ -94,23 +112,18 @@ fn watch_interrupts() {
     });
 }
 
-fn parse_seconds(text: &str) -> Result<f64, String> {
+pub(crate) fn parse_seconds(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
         Ok(seconds) if seconds.is_finite() && seconds > 0.0 => Ok(seconds),
         _ => Err(format!("`{text}` is not a positive number of seconds")),
     }
 }
 
-fn read(path: &Path, what: &str) -> Result<String, String> {
-    std::fs::read_to_string(path).map_err(|error| {
-        format!(
-            "cannot read the {what} {}: {error}\nhelp: run `lampc build` on the spec first",
-            path.display()
-        )
-    })
-}
+/// What a failed solve says it left, unless it learns more.
+const NOTHING_WRITTEN: &str = "no solution files were written";
 
-fn solve(args: &Args, colour: bool) -> Result<(), String> {
+/// Solves and writes the solution folder; `left` is kept true about what a failure leaves.
+fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summary, String> {
     let Some(checked) = crate::spec_input::check_spec(&args.spec, colour) else {
         return Err(String::new());
     };
@@ -127,13 +140,29 @@ fn solve(args: &Args, colour: bool) -> Result<(), String> {
         })?;
     let build_dir =
         args.build.clone().unwrap_or_else(|| spec_dir.join(lamp_build::DEFAULT_BUILD_DIR));
-    let domain = read(&build_dir.join(lamp_build::DOMAIN_FILE), "domain")?;
-    let problem_path =
-        build_dir.join(lamp_build::PROBLEMS_DIR).join(format!("{}.pddl", problem.name));
-    let problem_text = read(&problem_path, "problem")?;
-    let samplers =
-        SamplersFile::from_json(&read(&build_dir.join(lamp_build::SAMPLERS_FILE), "sampler file")?)
-            .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
+    let check = if args.unchecked_build { Check::Unchecked } else { Check::Manifest };
+    if args.unchecked_build {
+        eprintln!(
+            "lampc solve: warning: `--unchecked-build`: the model in {} is used without checking it against the build's manifest",
+            crate::build_folder::model_dir(&build_dir).display()
+        );
+    }
+    let ModelFiles { domain, problem: problem_text, samplers, warnings } =
+        crate::build_folder::read_model(&build_dir, &problem.name, &spec.domain, check)
+            .map_err(|error| crate::diagnostics::render_error(error.as_ref(), colour))?;
+    for warning in &warnings {
+        eprintln!("lampc solve: warning: {warning}");
+    }
+    let out = args.out.clone().unwrap_or_else(|| build_dir.join(SOLUTIONS_DIR).join(&problem.name));
+    let rendered = |error: OutputError| crate::diagnostics::render_error(&error, colour);
+    let folder = OutputFolder::new(&out).map_err(rendered)?;
+    let lock = folder.lock("solve").map_err(rendered)?;
+    if out.is_dir() {
+        *left =
+            format!("{NOTHING_WRITTEN}; the previous solution in {} is unchanged", out.display());
+    }
+    replaceable(&out).map_err(rendered)?;
+    folder.remove_leftovers(&lock);
 
     let world = SpecWorld::load(spec_dir, spec)
         .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
@@ -151,13 +180,8 @@ fn solve(args: &Args, colour: bool) -> Result<(), String> {
         seed: args.seed,
         no_relax: args.no_relax,
     };
-    let mut plugins = solve_setup::plugins(
-        spec,
-        spec_dir,
-        &checked.file_name,
-        &overrides,
-        &samplers.artifact,
-    )?;
+    let mut plugins =
+        solve_setup::plugins(spec, spec_dir, &checked.file_name, &overrides, &samplers.artifact)?;
     let deadline = args.timeout.map(|seconds| Instant::now() + Duration::from_secs_f64(seconds));
     let out_of_time = || deadline.is_some_and(|deadline| Instant::now() >= deadline);
     let cancelled = || INTERRUPTED.load(Ordering::Relaxed) || out_of_time();
@@ -204,22 +228,68 @@ fn solve(args: &Args, colour: bool) -> Result<(), String> {
         plan_text.push_str(step);
         plan_text.push('\n');
     }
-    let out = args.out.clone().unwrap_or_else(|| build_dir.join("solutions").join(&problem.name));
-    let files: [(&Path, &[u8]); 4] = [
-        (Path::new("trajectory.mcap"), &mcap),
-        (Path::new("plan.txt"), plan_text.as_bytes()),
-        (Path::new("summary.json"), summary_json.as_bytes()),
-        (Path::new("trajectory.svg"), picture.as_bytes()),
-    ];
-    crate::files::write_atomically(&out, &files)?;
+    let contents: [&[u8]; 4] =
+        [&mcap, plan_text.as_bytes(), summary_json.as_bytes(), picture.as_bytes()];
+    let files: Vec<(&Path, &[u8])> = SOLUTION_FILES.iter().map(Path::new).zip(contents).collect();
+    // Checked again: the folder may have changed while the solve ran.
+    replaceable(&out).map_err(rendered)?;
+    let replaced = folder.replace(&lock, &files).map_err(|error| {
+        if let OutputError::Swap { state, .. } = &error {
+            left.clone_from(state);
+        }
+        rendered(error)
+    })?;
     print_summary(summary, &out);
+    if let Some((kept, reason)) = replaced.kept {
+        eprintln!(
+            "lampc solve: warning: the previous solution, moved to {}, could not be removed: {reason}",
+            kept.display()
+        );
+    }
+    Ok(solution.summary)
+}
+
+/// Refuses to replace `out` unless it is missing or a folder of solution files only, so that no
+/// file lampc did not write is ever removed.
+fn replaceable(out: &Path) -> Result<(), OutputError> {
+    let occupied =
+        |reason: String| OutputError::Occupied { folder: out.display().to_string(), reason };
+    let Ok(metadata) = std::fs::symlink_metadata(out) else { return Ok(()) };
+    if !metadata.is_dir() {
+        let kind = crate::output::kind_of(&metadata);
+        return Err(occupied(format!("it is {kind}, not a solution folder")));
+    }
+    let entries = std::fs::read_dir(out).map_err(|error| occupied(error.to_string()))?;
+    let mut entries: Vec<_> = entries.flatten().collect();
+    entries.sort_by_key(|entry| entry.file_name());
+    for entry in entries {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let metadata = std::fs::symlink_metadata(entry.path())
+            .map_err(|error| occupied(format!("{}: {error}", entry.path().display())))?;
+        if !SOLUTION_FILES.contains(&name.as_str()) {
+            return Err(occupied(format!("it holds {name}, which is not a solution file")));
+        }
+        if !metadata.is_file() {
+            let kind = crate::output::kind_of(&metadata);
+            return Err(occupied(format!(
+                "{} is {kind}, not a solution file",
+                entry.path().display()
+            )));
+        }
+    }
     Ok(())
 }
 
 fn print_summary(summary: &lamp_tamp::Summary, out: &Path) {
-    println!("{}: solved, written to {}", summary.problem, out.display());
-    if !summary.relaxed_goal.is_empty() {
-        println!("  goal relaxed    dropped {}", summary.relaxed_goal.join(", "));
+    if summary.is_partial() {
+        println!(
+            "{}: partially solved: dropped {}; written to {}",
+            summary.problem,
+            summary.relaxed_goal.join(", "),
+            out.display()
+        );
+    } else {
+        println!("{}: solved, written to {}", summary.problem, out.display());
     }
     println!(
         "  plan            {} steps ({} plan(s) tried)",
