@@ -3,12 +3,15 @@
 //! output at all when the build fails, the previous model kept whole when writing fails half-way,
 //! and a second build into a locked folder refused.
 
+mod common;
 #[path = "../../build/tests/support/fixture.rs"]
 mod fixture;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+
+use common::listing;
 
 const DEMOS: usize = 40;
 const SEED: u64 = 11;
@@ -43,17 +46,6 @@ fn build(spec: &Path, demos: &Path, out: &Path) -> Output {
 
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
-}
-
-/// The names in `dir`, sorted.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .expect("a folder")
-        .flatten()
-        .map(|entry| entry.file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
 
 /// Every file under `dir`, by path relative to it.

@@ -3,10 +3,14 @@
 //! was tampered with, mixed or interrupted is refused naming the file; a relaxed goal is a partial
 //! result, not a success; the solution folder is replaced whole, under a lock.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::sync::OnceLock;
 use std::time::Duration;
+
+use common::listing;
 
 fn lampc() -> Command {
     Command::new(env!("CARGO_BIN_EXE_lampc"))
@@ -40,17 +44,6 @@ fn built() -> &'static Path {
         (scratch, build)
     });
     build
-}
-
-/// The names in `dir`, sorted.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .expect("a folder")
-        .flatten()
-        .map(|entry| entry.file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
 
 fn copy_dir(from: &Path, to: &Path) {
