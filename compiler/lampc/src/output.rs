@@ -236,19 +236,20 @@ impl OutputFolder {
             Err(_) => None,
         };
         if let Err(error) = std::fs::rename(&staging, &self.target) {
+            let target = self.target.display();
+            // Put the old folder back; only if that fails too are both kept, for the user.
+            let restored =
+                aside.as_ref().is_none_or(|aside| std::fs::rename(aside, &self.target).is_ok());
             let state = match &aside {
-                Some(aside) => match std::fs::rename(aside, &self.target) {
-                    Ok(()) => format!("{} is unchanged", self.target.display()),
-                    Err(_) => format!(
-                        "{} is missing: the previous one is in {}, the new one in {}",
-                        self.target.display(),
-                        aside.display(),
-                        staging.display()
-                    ),
-                },
-                None => format!("{} was not created", self.target.display()),
+                Some(_) if restored => format!("{target} is unchanged"),
+                Some(aside) => format!(
+                    "{target} is missing: the previous one is in {}, the new one in {}",
+                    aside.display(),
+                    staging.display()
+                ),
+                None => format!("{target} was not created"),
             };
-            if state.ends_with("unchanged") || aside.is_none() {
+            if restored {
                 let _ = std::fs::remove_dir_all(&staging);
             }
             return Err(OutputError::Swap {
