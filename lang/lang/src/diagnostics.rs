@@ -195,6 +195,55 @@ pub enum SpecError {
         help: String,
     },
 
+    #[error("`{path}` is {kind}, not a file")]
+    #[diagnostic(code(lamp::check::not_a_file))]
+    NotAFile {
+        path: String,
+        /// What is there instead: "a directory", "a character device", ….
+        kind: String,
+        #[label("not a regular file")]
+        at: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    #[error("robot file `{path}` does not load: {reason}")]
+    #[diagnostic(
+        code(lamp::check::robot_file),
+        help("Fix the robot file or name another one; `lampc build` needs to load it too.")
+    )]
+    RobotFile {
+        path: String,
+        reason: String,
+        #[label("this robot file")]
+        at: SourceSpan,
+    },
+
+    #[error("`{file}` has no link `{name}`")]
+    #[diagnostic(code(lamp::resolve::unknown_link))]
+    UnknownLink {
+        name: String,
+        /// The robot file, as the spec names it.
+        file: String,
+        #[label("not a link of the robot file")]
+        at: SourceSpan,
+        #[help]
+        help: String,
+    },
+
+    #[error("`{file}` has no joint `{name}`")]
+    #[diagnostic(code(lamp::resolve::unknown_joint))]
+    UnknownJoint {
+        name: String,
+        /// The robot file, as the spec names it.
+        file: String,
+        #[label("{label}")]
+        at: SourceSpan,
+        label: &'static str,
+        #[help]
+        help: String,
+    },
+
     #[error("file `{path}` cannot be read: {reason}")]
     #[diagnostic(code(lamp::check::unreadable_file))]
     UnreadableFile {
@@ -280,6 +329,10 @@ impl SpecError {
             | SpecError::UnexpectedUnit { at, .. }
             | SpecError::NotInteger { at, .. }
             | SpecError::MissingFile { at, .. }
+            | SpecError::NotAFile { at, .. }
+            | SpecError::RobotFile { at, .. }
+            | SpecError::UnknownLink { at, .. }
+            | SpecError::UnknownJoint { at, .. }
             | SpecError::UnreadableFile { at, .. }
             | SpecError::Conflict { at, .. }
             | SpecError::UnknownRelation { at, .. }

@@ -14,7 +14,7 @@ mod source_file;
 use std::path::Path;
 
 pub use diagnostics::{Diagnostic, SpecError, WithSource};
-pub use source::{FileId, Loader, MemoryLoader, SourceMap, Span, normalize};
+pub use source::{FileId, FileKind, Loader, MemoryLoader, SourceMap, Span, normalize};
 
 /// The result of checking a spec.
 #[derive(Debug)]

@@ -166,6 +166,7 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::problem_item
         | Rule::scene_item
         | Rule::goal_item
+        | Rule::byte_order_mark
         | Rule::WHITESPACE
         | Rule::COMMENT => "more input",
     }

@@ -27,27 +27,59 @@ impl Span {
     }
 }
 
+/// What is at a path.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum FileKind {
+    /// A regular file (or a link to one).
+    File,
+    /// Nothing.
+    Missing,
+    /// Something a spec cannot name as a file, described for a message: "a directory",
+    /// "a character device", ….
+    NotAFile(String),
+    /// The path cannot be examined; the reason, e.g. "permission denied".
+    Inaccessible(String),
+}
+
 /// Reads the files a spec refers to.
 pub trait Loader {
     /// The text of a file, or a message saying why it cannot be read.
     fn read_to_string(&self, path: &Path) -> Result<String, String>;
-    /// Whether a file exists.
-    fn exists(&self, path: &Path) -> bool;
+    /// What is at `path`: a file, nothing, or something else.
+    fn file_kind(&self, path: &Path) -> FileKind;
     /// Paths of existing files matching a glob pattern (for demonstration sources).
     fn glob(&self, pattern: &Path) -> Vec<PathBuf>;
+    /// The names the robot file at `path` defines, loaded as a robot of `kind` (whose mount adds
+    /// coordinates); `Ok(None)` when this loader does not read robot files, and then the names a
+    /// spec uses are not checked. An error is the loader's reason the file does not load.
+    fn robot_names(
+        &self,
+        path: &Path,
+        kind: lamp_spec::RobotKind,
+    ) -> Result<Option<lamp_spec::RobotNames>, String>;
 }
 
-/// An in-memory loader for tests and tools: path → contents.
+/// An in-memory loader for tests and tools: path → contents, and the names of the robot files
+/// it was given names for ([`MemoryLoader::with_robot`]); a folder is any path that holds files.
 #[derive(Clone, Debug, Default)]
 pub struct MemoryLoader {
     files: BTreeMap<PathBuf, String>,
+    robots: BTreeMap<PathBuf, lamp_spec::RobotNames>,
 }
 
 impl MemoryLoader {
     /// A loader holding the given files.
     pub fn new<P: Into<PathBuf>, S: Into<String>>(files: impl IntoIterator<Item = (P, S)>) -> Self {
         let files = files.into_iter().map(|(p, s)| (normalize(&p.into()), s.into())).collect();
-        MemoryLoader { files }
+        MemoryLoader { files, robots: BTreeMap::new() }
+    }
+
+    /// The loader with the names of the robot file at `path` (whatever the robot's kind); the
+    /// file itself must be one of the loader's files to be found at all.
+    #[must_use]
+    pub fn with_robot(mut self, path: impl Into<PathBuf>, names: lamp_spec::RobotNames) -> Self {
+        self.robots.insert(normalize(&path.into()), names);
+        self
     }
 }
 
@@ -56,8 +88,23 @@ impl Loader for MemoryLoader {
         self.files.get(&normalize(path)).cloned().ok_or_else(|| "no such file".to_string())
     }
 
-    fn exists(&self, path: &Path) -> bool {
-        self.files.contains_key(&normalize(path))
+    fn file_kind(&self, path: &Path) -> FileKind {
+        let path = normalize(path);
+        if self.files.contains_key(&path) {
+            FileKind::File
+        } else if self.files.keys().any(|file| file.starts_with(&path)) {
+            FileKind::NotAFile("a directory".to_string())
+        } else {
+            FileKind::Missing
+        }
+    }
+
+    fn robot_names(
+        &self,
+        path: &Path,
+        _kind: lamp_spec::RobotKind,
+    ) -> Result<Option<lamp_spec::RobotNames>, String> {
+        Ok(self.robots.get(&normalize(path)).cloned())
     }
 
     fn glob(&self, pattern: &Path) -> Vec<PathBuf> {

@@ -233,11 +233,21 @@ impl lamp_lang::Loader for LockedLoader {
             _ => common::loader().read_to_string(path),
         }
     }
-    fn exists(&self, path: &Path) -> bool {
-        path == Path::new("scenes/locked.lamp") || common::loader().exists(path)
+    fn file_kind(&self, path: &Path) -> lamp_lang::FileKind {
+        match path == Path::new("scenes/locked.lamp") {
+            true => lamp_lang::FileKind::File,
+            false => common::loader().file_kind(path),
+        }
     }
     fn glob(&self, pattern: &Path) -> Vec<std::path::PathBuf> {
         common::loader().glob(pattern)
+    }
+    fn robot_names(
+        &self,
+        path: &Path,
+        kind: lamp_spec::RobotKind,
+    ) -> Result<Option<lamp_spec::RobotNames>, String> {
+        common::loader().robot_names(path, kind)
     }
 }
 

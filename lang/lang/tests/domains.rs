@@ -11,11 +11,23 @@ impl lamp_lang::Loader for Disk {
     fn read_to_string(&self, path: &Path) -> Result<String, String> {
         std::fs::read_to_string(path).map_err(|e| e.to_string())
     }
-    fn exists(&self, path: &Path) -> bool {
-        path.is_file()
+    fn file_kind(&self, path: &Path) -> lamp_lang::FileKind {
+        match path.is_file() {
+            true => lamp_lang::FileKind::File,
+            false => lamp_lang::FileKind::Missing,
+        }
     }
     fn glob(&self, _pattern: &Path) -> Vec<PathBuf> {
         Vec::new()
+    }
+    /// Robot files are read by `lamp-robot`, which this crate does not know: the workspace's
+    /// domain tests check the names (`lamp-test-support` loads them).
+    fn robot_names(
+        &self,
+        _path: &Path,
+        _kind: lamp_spec::RobotKind,
+    ) -> Result<Option<lamp_spec::RobotNames>, String> {
+        Ok(None)
     }
 }
 

@@ -19,7 +19,7 @@ pub use plugins::{
 pub use problem::{
     AtGoal, Goal, GoalAtom, ObjectInstance, Problem, RobotPlacement, Scene, StructureGoal,
 };
-pub use robot::{JointGroup, NamedConfiguration, Robot, RobotKind, RobotPart};
+pub use robot::{JointGroup, NamedConfiguration, Robot, RobotKind, RobotNames, RobotPart};
 pub use world::{
     DemoSource, MeshMode, Mobility, ObjectType, Placement, RelationAlias, ShapePart, ShapeSpec,
     Structure,

@@ -66,3 +66,17 @@ pub struct NamedConfiguration {
     pub name: String,
     pub values: Vec<(String, f64)>,
 }
+
+/// The names a robot file defines, which a robot declaration refers to: the spec checker compares
+/// the names in `part`, `group`, `config` and `ignore collision` with them.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RobotNames {
+    /// Every link.
+    pub links: Vec<String>,
+    /// Every joint, fixed ones included.
+    pub joints: Vec<String>,
+    /// The configuration coordinates of the robot mounted as its kind says: the mount's own
+    /// (`base_x`, …) and those of the moving joints (a revolute or prismatic joint's one
+    /// coordinate has the joint's name).
+    pub coordinates: Vec<String>,
+}

@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use lamp_geometry::{Pose, Shape, Vec3};
 use lamp_robot::{Mount, Robot};
-use lamp_spec::{MeshMode, Mobility, ObjectType, Problem, RobotKind, ShapeSpec, Spec};
+use lamp_spec::{MeshMode, Mobility, ObjectType, Problem, RobotKind, RobotNames, ShapeSpec, Spec};
 
 use crate::error::WorldError;
 use crate::scene::{Body, Scene};
@@ -139,13 +139,30 @@ fn robot_error(robot: &lamp_spec::Robot, source: lamp_robot::RobotError) -> Worl
     }
 }
 
-/// Loads a spec robot: its URDF with the mount its kind implies, its groups and ignored pairs.
-pub fn load_robot(spec_dir: &Path, robot: &lamp_spec::Robot) -> Result<Robot, WorldError> {
-    let mount = match robot.kind {
+/// The mount a robot of `kind` has; a fixed arm is bolted at `pose`.
+pub fn mount_of(kind: RobotKind, pose: Pose) -> Mount {
+    match kind {
         RobotKind::FreeFlying => Mount::Floating,
         RobotKind::MobileArm => Mount::Planar,
-        RobotKind::FixedArm => Mount::Fixed(robot.mount),
-    };
+        RobotKind::FixedArm => Mount::Fixed(pose),
+    }
+}
+
+/// The names the robot file at `path` defines, loaded as a robot of `kind` is (its mount adds
+/// coordinates): what the spec checker compares a robot block's names with.
+pub fn robot_names(path: &Path, kind: RobotKind) -> Result<RobotNames, lamp_robot::RobotError> {
+    let robot = Robot::from_urdf_file(path, mount_of(kind, Pose::identity()))?;
+    let links = 0..robot.link_count();
+    Ok(RobotNames {
+        links: links.clone().map(|link| robot.link_name(link).to_string()).collect(),
+        joints: links.filter_map(|link| robot.parent_joint_name(link)).map(String::from).collect(),
+        coordinates: robot.coordinate_names().to_vec(),
+    })
+}
+
+/// Loads a spec robot: its URDF with the mount its kind implies, its groups and ignored pairs.
+pub fn load_robot(spec_dir: &Path, robot: &lamp_spec::Robot) -> Result<Robot, WorldError> {
+    let mount = mount_of(robot.kind, robot.mount);
     let path: PathBuf = spec_dir.join(&robot.urdf);
     let fail = |source| robot_error(robot, source);
     let mut model = Robot::from_urdf_file(&path, mount).map_err(fail)?;

@@ -18,7 +18,7 @@ mod straight;
 
 pub use checking::Contact;
 pub use error::WorldError;
-pub use from_spec::{SpecWorld, load_robot, type_parts_of};
+pub use from_spec::{SpecWorld, load_robot, mount_of, robot_names, type_parts_of};
 pub use ik::{ReachError, reach};
 pub use motion::{
     DEFAULT_ANGULAR_RESOLUTION, DEFAULT_LINEAR_RESOLUTION, FREE_SAMPLING_MARGIN, MotionConfig,

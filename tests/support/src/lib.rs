@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 use lamp_spec::Spec;
 use lamp_world::SpecWorld;
 
-/// Reads spec files from disk; demonstration globs match nothing (tests pass files explicitly).
+/// Reads spec files and robot files from disk; demonstration globs match nothing (tests pass
+/// files explicitly).
 pub struct Disk;
 
 impl lamp_lang::Loader for Disk {
@@ -15,12 +16,24 @@ impl lamp_lang::Loader for Disk {
         std::fs::read_to_string(path).map_err(|error| error.to_string())
     }
 
-    fn exists(&self, path: &Path) -> bool {
-        path.is_file()
+    fn file_kind(&self, path: &Path) -> lamp_lang::FileKind {
+        match std::fs::metadata(path) {
+            Ok(metadata) if metadata.is_file() => lamp_lang::FileKind::File,
+            Ok(_) => lamp_lang::FileKind::NotAFile("not a regular file".to_string()),
+            Err(_) => lamp_lang::FileKind::Missing,
+        }
     }
 
     fn glob(&self, _pattern: &Path) -> Vec<PathBuf> {
         Vec::new()
+    }
+
+    fn robot_names(
+        &self,
+        path: &Path,
+        kind: lamp_spec::RobotKind,
+    ) -> Result<Option<lamp_spec::RobotNames>, String> {
+        lamp_world::robot_names(path, kind).map(Some).map_err(|error| error.to_string())
     }
 }
 

@@ -3,6 +3,7 @@
 mod declarations;
 mod plugins;
 mod problems;
+mod robot_names;
 mod robots;
 mod units;
 
@@ -11,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 use crate::ast::{Item, Name, Text};
 use crate::diagnostics::{Diagnostic, SpecError, at, did_you_mean};
-use crate::source::{FileId, Loader, SourceMap, Span, normalize};
+use crate::source::{FileId, FileKind, Loader, SourceMap, Span, normalize};
 
 pub(crate) use units::Dimension;
 
@@ -56,31 +57,37 @@ impl<'a> Checker<'a> {
         normalize(Path::new(&text.text))
     }
 
-    /// Checks that a referenced file exists; returns its spec-relative path.
+    /// Checks that a referenced file exists and is a file (not a folder, a device, …); returns
+    /// its spec-relative path.
     pub(crate) fn existing_file(&mut self, text: &Text, what: &str) -> Option<PathBuf> {
         let path = self.spec_path(text);
-        if self.loader.exists(&self.base_dir.join(&path)) {
-            return Some(path);
-        }
-        let help = format!(
-            "The {what} path is relative to the folder of the spec; check the spelling or create the file."
-        );
-        self.report(at(text.span, |at| SpecError::MissingFile {
-            path: text.text.clone(),
-            at,
-            help,
-        }));
+        let path_text = text.text.clone();
+        let diagnostic = match self.loader.file_kind(&self.base_dir.join(&path)) {
+            FileKind::File => return Some(path),
+            FileKind::Missing => {
+                let help = format!(
+                    "The {what} path is relative to the folder of the spec; check the spelling or create the file."
+                );
+                at(text.span, |at| SpecError::MissingFile { path: path_text, at, help })
+            }
+            FileKind::NotAFile(kind) => {
+                let help = format!(
+                    "The {what} path must name a regular file; a relative path starts at the folder of the spec."
+                );
+                at(text.span, |at| SpecError::NotAFile { path: path_text, kind, at, help })
+            }
+            FileKind::Inaccessible(reason) => {
+                at(text.span, |at| SpecError::UnreadableFile { path: path_text, reason, at })
+            }
+        };
+        self.report(diagnostic);
         None
     }
 
     /// Reads a referenced file into the source map.
     pub(crate) fn load(&mut self, text: &Text) -> Option<(FileId, String)> {
-        let path = self.spec_path(text);
-        let full = self.base_dir.join(&path);
-        if !self.loader.exists(&full) {
-            self.existing_file(text, "scene file");
-            return None;
-        }
+        let path = self.existing_file(text, "scene file")?;
+        let full = self.base_dir.join(path);
         match self.loader.read_to_string(&full) {
             Ok(contents) => {
                 let name = normalize(&full).display().to_string();

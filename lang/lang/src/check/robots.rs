@@ -55,12 +55,14 @@ impl Checker<'_> {
         let mut configurations = Vec::new();
         let mut configuration_names = BTreeMap::new();
         let mut ignored = Vec::new();
+        let mut urdf_text = None;
 
         for (item, span) in &robot.items {
             match item {
                 RobotItem::Urdf(path) => {
                     if self.once(&mut urdf_span, "`urdf`", *span) {
                         urdf = self.existing_file(path, "URDF");
+                        urdf_text = urdf.as_ref().map(|_| path);
                     }
                 }
                 RobotItem::Kind(name) => {
@@ -163,6 +165,9 @@ impl Checker<'_> {
         }
         if parts.is_empty() {
             self.missing(name_span, "a robot `part`", "Name the gripper link, e.g. `part gripper = link \"gripper_link\"`: robot parts take part in relations.");
+        }
+        if let (Some(urdf), Some(kind)) = (urdf_text, kind) {
+            self.robot_file_names(urdf, kind, &robot.items);
         }
         if let (Some(kind), Some(span)) = (kind, mount_span)
             && kind != lamp_spec::RobotKind::FixedArm

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use lamp_lang::{CheckOutcome, MemoryLoader};
 
-/// Files every test spec may refer to.
+/// Files every test spec may refer to; the robot files come with their names.
 pub fn loader() -> MemoryLoader {
     MemoryLoader::new([
         ("robots/gripper.urdf", "<robot name=\"g\"/>"),
@@ -17,6 +17,34 @@ pub fn loader() -> MemoryLoader {
         ("scenes/pack.lamp", "table t1 at (0, 0, 0) m\ncan c9 at (0.1, 0, 0) m\n"),
         ("scenes/broken.lamp", "table t1 at (0, 0) m\n"),
     ])
+    .with_robot(
+        "robots/gripper.urdf",
+        robot_names(
+            &["gripper_link", "left_finger", "right_finger"],
+            &["left_finger_joint", "right_finger_joint"],
+            &["base_x", "base_y", "base_z", "base_rx", "base_ry", "base_rz"],
+        ),
+    )
+    .with_robot(
+        "robots/arm.urdf",
+        robot_names(
+            &["base_link", "shoulder_link", "forearm_link", "gripper_link"],
+            &["shoulder_joint", "elbow_joint", "wrist_fixed_joint"],
+            &[],
+        ),
+    )
+}
+
+/// A robot file's names: links, joints, and the coordinates of the mount and the moving joints
+/// (every joint but those named `…_fixed_joint` moves in one coordinate of its own name).
+fn robot_names(links: &[&str], joints: &[&str], mount: &[&str]) -> lamp_spec::RobotNames {
+    let owned = |names: &[&str]| names.iter().map(ToString::to_string).collect::<Vec<_>>();
+    let moving = joints.iter().filter(|joint| !joint.ends_with("_fixed_joint"));
+    lamp_spec::RobotNames {
+        links: owned(links),
+        joints: owned(joints),
+        coordinates: mount.iter().chain(moving).map(ToString::to_string).collect(),
+    }
 }
 
 /// Checks `text` as `spec.lamp` in the loader's root folder.
