@@ -332,18 +332,9 @@ fn remove_any(path: &Path) -> std::io::Result<()> {
     }
 }
 
-/// What is at `path`, for messages: "a folder", "a file", "a symbolic link", or "something else".
+/// What is at a path, for messages: "a file", "a directory", "a symbolic link", "a socket", …
 pub(crate) fn kind_of(metadata: &std::fs::Metadata) -> &'static str {
-    let kind = metadata.file_type();
-    if kind.is_dir() {
-        "a folder"
-    } else if kind.is_file() {
-        "a file"
-    } else if kind.is_symlink() {
-        "a symbolic link"
-    } else {
-        "neither a file nor a folder"
-    }
+    if metadata.is_file() { "a file" } else { crate::files::describe(&metadata.file_type()) }
 }
 
 #[cfg(test)]

@@ -390,7 +390,7 @@ fn a_solution_folder_with_a_folder_in_the_way_is_refused_and_left_alone() {
     assert!(text.contains("lamp::output::occupied"), "{text}");
     let svg = out.join("trajectory.svg");
     assert!(
-        text.contains(&format!("{} is a folder, not a solution file", svg.display())),
+        text.contains(&format!("{} is a directory, not a solution file", svg.display())),
         "{text}"
     );
     assert!(
