@@ -1,18 +1,28 @@
 //! Why a problem could not be solved.
 
-use miette::Diagnostic;
+use lamp_pddl::{PddlError, PddlErrors};
+use miette::{Diagnostic, NamedSource};
 use thiserror::Error;
 
 /// A solve failure, with a stable code.
 #[derive(Debug, Error, Diagnostic)]
 pub enum SolveError {
-    /// The domain or problem text does not parse.
-    #[error("the {what} does not parse: {reason}")]
+    /// The domain or problem text does not parse: every error is related, with its span in the
+    /// text, which is attached (named `domain` or `problem` until the caller names its file with
+    /// [`SolveError::in_files`]).
+    #[error("the {what} does not parse: {} PDDL error(s) in {}", .errors.len(), .text.name())]
     #[diagnostic(
         code(lamp::solve::pddl),
-        help("rebuild with `lampc build`, or fix the edited file")
+        help("Rebuild with `lampc build`, or fix the edited file where the errors point.")
     )]
-    Pddl { what: String, reason: String },
+    Pddl {
+        /// `domain` or `problem`.
+        what: &'static str,
+        #[source_code]
+        text: NamedSource<String>,
+        #[related]
+        errors: Vec<PddlError>,
+    },
     /// The problem's scene abstracts to another state than the problem file's `:init`.
     #[error(
         "problem `{problem}` is stale: its scene abstracts to another initial state than its PDDL file ({difference})"
@@ -77,6 +87,32 @@ pub enum SolveError {
 }
 
 impl SolveError {
+    /// A PDDL text that does not parse, with its errors.
+    pub(crate) fn pddl(what: &'static str, text: &str, errors: PddlErrors) -> Self {
+        SolveError::Pddl {
+            what,
+            text: NamedSource::new(what, text.to_string()),
+            errors: errors.errors,
+        }
+    }
+
+    /// Names the files the domain and problem texts were read from, so that a PDDL error's
+    /// report points into the file (`path:line:column`); other errors are returned as they are.
+    #[must_use]
+    pub fn in_files(self, domain: &str, problem: &str) -> Self {
+        match self {
+            SolveError::Pddl { what, text, errors } => {
+                let name = if what == "domain" { domain } else { problem };
+                SolveError::Pddl {
+                    what,
+                    text: NamedSource::new(name, text.inner().clone()),
+                    errors,
+                }
+            }
+            other => other,
+        }
+    }
+
     pub(crate) fn internal(reason: impl Into<String>) -> Self {
         SolveError::Internal(reason.into())
     }
@@ -115,5 +151,60 @@ impl std::fmt::Display for Progress {
             write!(f, "; the deepest refusal: {}", self.failure)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use miette::{GraphicalReportHandler, GraphicalTheme};
+
+    const DOMAIN: &str = "\
+(define (domain pick)
+  (:requirements :strips :typing)
+  (:types can gripper - object)
+  (:predicates (holding ?g - gripper ?c - can) (free ?g - gripper) (on-table ?c - can))
+  (:action pick
+    :parameters (?g - gripper ?c - can)
+    :precondition (and (free ?g) (on-table ?c))
+    :effect (and (holding ?g ?c) (not (free ?g)) (not (on-table ?c)))))
+";
+
+    fn render(error: &SolveError) -> String {
+        let mut out = String::new();
+        GraphicalReportHandler::new_themed(GraphicalTheme::unicode_nocolor())
+            .with_width(100)
+            .render_report(&mut out, error)
+            .expect("rendering into a String cannot fail");
+        out
+    }
+
+    #[test]
+    fn a_domain_that_does_not_parse_points_into_its_file() {
+        let broken = DOMAIN.replace("(free ?g) (on-table", "(free ?g)) (on-table");
+        let errors = lamp_pddl::parse_domain(&broken).expect_err("the domain is broken");
+        let error = SolveError::pddl("domain", &broken, errors)
+            .in_files("build/model/domain.pddl", "build/model/problems/p1.pddl");
+        let rendered = render(&error);
+        assert!(rendered.contains("[build/model/domain.pddl:7:"), "{rendered}");
+        insta::assert_snapshot!(rendered);
+    }
+
+    #[test]
+    fn a_problem_error_names_the_problem_file() {
+        let domain = lamp_pddl::parse_domain(DOMAIN).expect("the domain parses");
+        let problem = "(define (problem p1) (:domain pick)\n  (:objects g1 - gripper c1 - can)\n  (:init (free g1) (on-tabel c1))\n  (:goal (holding g1 c1)))\n";
+        let errors = lamp_pddl::parse_problem(problem, &domain).expect_err("unknown predicate");
+        let error = SolveError::pddl("problem", problem, errors)
+            .in_files("build/model/domain.pddl", "build/model/problems/p1.pddl");
+        let rendered = render(&error);
+        assert!(
+            rendered.contains(
+                "the problem does not parse: 1 PDDL error(s) in build/model/problems/p1.pddl"
+            ),
+            "{rendered}"
+        );
+        assert!(rendered.contains("[build/model/problems/p1.pddl:3:"), "{rendered}");
+        assert!(rendered.contains("lamp::pddl::unknown_predicate"), "{rendered}");
     }
 }

@@ -84,11 +84,9 @@ pub fn solve(
     progress: &dyn Fn(&str),
 ) -> Result<Solution, SolveError> {
     let domain = parse_domain(input.domain)
-        .map_err(|errors| SolveError::Pddl { what: "domain".into(), reason: errors.to_string() })?;
-    let mut problem = parse_problem(input.problem, &domain).map_err(|errors| SolveError::Pddl {
-        what: "problem".into(),
-        reason: errors.to_string(),
-    })?;
+        .map_err(|errors| SolveError::pddl("domain", input.domain, errors))?;
+    let mut problem = parse_problem(input.problem, &domain)
+        .map_err(|errors| SolveError::pddl("problem", input.problem, errors))?;
     let initial_state = abstraction(input.artifact, input.adapter, input.scene)?;
     let init: BTreeSet<GroundAtom> = problem.init.iter().map(pddl_atom).collect();
     if init != initial_state {

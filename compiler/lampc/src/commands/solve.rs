@@ -203,6 +203,13 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
     let outcome = lamp_tamp::solve(&input, &mut plugins.as_plugins(), &settings, &report);
     spinner.finish_and_clear();
     let solution = outcome.map_err(|error| {
+        let model = crate::build_folder::model_dir(&build_dir);
+        let problem_file =
+            Path::new(lamp_build::PROBLEMS_DIR).join(format!("{}.pddl", problem.name));
+        let error = error.in_files(
+            &model.join(lamp_build::DOMAIN_FILE).display().to_string(),
+            &model.join(problem_file).display().to_string(),
+        );
         let rendered = crate::diagnostics::render_error(&error, colour);
         match (&error, args.timeout) {
             (SolveError::Cancelled(_), Some(seconds)) if out_of_time() => format!(
