@@ -35,7 +35,9 @@ pub enum BuildError {
     EmptyDemonstration { file: String },
 
     /// A demonstration file was recorded for another spec's domain.
-    #[error("{file}: the demonstration is of domain `{found}`, but the spec's domain is `{expected}`")]
+    #[error(
+        "{file}: the demonstration is of domain `{found}`, but the spec's domain is `{expected}`"
+    )]
     #[diagnostic(
         code(lamp::build::other_domain),
         help(
@@ -105,6 +107,21 @@ pub enum BuildError {
     #[error(transparent)]
     #[diagnostic(transparent)]
     World(Box<lamp_world::WorldError>),
+
+    /// Problems whose initial scene the solver cannot start from, with every finding.
+    #[error("the initial scene of {problems} problem(s) is not one the solver can start from")]
+    #[diagnostic(
+        code(lamp::build::initial_scenes),
+        help(
+            "`lampc build` checks every problem's initial scene before it reads any demonstration: fix the scenes listed below in the spec."
+        )
+    )]
+    InitialScenes {
+        /// How many problems have findings.
+        problems: usize,
+        #[related]
+        issues: Vec<crate::initial_scene::SceneIssue>,
+    },
 
     /// A problem's initial scene could not be built.
     #[error("problem `{problem}`: the initial scene cannot be built: {reason}")]

@@ -1,7 +1,9 @@
 //! lamp-build: the build pipeline behind `lampc build`.
 //!
-//! Demonstration files (MCAP, read by lamp-trajectory) become the learner's demonstrations through
-//! the [`adapter`], checked against the spec; the spec's `learn` block becomes the learner's
+//! Before anything is read, every problem's initial scene is checked ([`initial_scene`]): one the
+//! solver cannot start from refuses the build. Demonstration files (MCAP, read by
+//! lamp-trajectory) become the learner's demonstrations through the [`adapter`], checked against
+//! the spec; the spec's `learn` block becomes the learner's
 //! configuration ([`config`]); the learned model becomes the artifacts: the PDDL domain with
 //! provenance, one PDDL problem per spec problem whose goal can be written ([`problems`], with
 //! [`aliases`] bound to learned regions), the sampler file ([`samplers`]), the vocabulary report
@@ -17,6 +19,7 @@ pub mod aliases;
 pub mod config;
 pub mod digest;
 pub mod error;
+pub mod initial_scene;
 pub mod input;
 pub mod manifest;
 pub mod pipeline;
@@ -31,6 +34,10 @@ pub use aliases::{ResolvedAlias, resolve_alias, resolve_aliases};
 pub use config::learn_config;
 pub use digest::{Digest, demonstration_digest, file_digest};
 pub use error::BuildError;
+pub use initial_scene::{
+    CONTACT_TOLERANCE, MAX_DISTANCE, SceneIssue, check_initial_scenes, initial_scene_issues,
+    problem_scene_issues,
+};
 pub use input::{DEFAULT_BUILD_DIR, DemoFile, SIMULATED_DEMOS_DIR, demo_name, demo_patterns};
 pub use manifest::{
     BuildFolderError, MANIFEST_DIGEST, MANIFEST_FILE, MANIFEST_FORMAT, MANIFEST_VERSION, Manifest,

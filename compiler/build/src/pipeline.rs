@@ -16,6 +16,7 @@ use crate::aliases::resolve_aliases;
 use crate::config::learn_config;
 use crate::digest::{Digest, demonstration_digest};
 use crate::error::BuildError;
+use crate::initial_scene::check_initial_scenes;
 use crate::input::DemoFile;
 use crate::manifest::{MANIFEST_FILE, Manifest};
 use crate::problems::{ProblemContext, ProblemOutcome, problem_pddl};
@@ -193,6 +194,7 @@ pub fn build(
     files: &[DemoFile],
 ) -> Result<(Model, Artifacts), BuildError> {
     let adapter = Adapter::new(spec, &world.robots)?;
+    check_initial_scenes(spec, world)?;
     let mut sorted: Vec<&DemoFile> = files.iter().collect();
     sorted.sort_by(|a, b| a.name.cmp(&b.name));
     let demonstrations =

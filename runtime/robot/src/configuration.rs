@@ -126,17 +126,22 @@ impl Robot {
     /// Whether every coordinate is finite and within its limits (wrapped angles and rotations are
     /// valid at any finite value).
     pub fn within_limits(&self, q: &[f64]) -> bool {
-        q.len() == self.coordinates.len()
-            && self.coordinates.iter().zip(q).all(|(coordinate, &value)| {
-                value.is_finite()
-                    && match coordinate.kind {
-                        CoordinateKind::Linear | CoordinateKind::Angle => {
-                            value >= coordinate.lower - LIMIT_TOLERANCE
-                                && value <= coordinate.upper + LIMIT_TOLERANCE
-                        }
-                        CoordinateKind::WrappedAngle | CoordinateKind::Rotation(_) => true,
+        q.len() == self.coordinates.len() && self.first_outside_limits(q).is_none()
+    }
+
+    /// The index of the first coordinate of `q` that is not finite or outside its limits (as
+    /// [`Robot::within_limits`] judges), for messages that name it.
+    pub fn first_outside_limits(&self, q: &[f64]) -> Option<usize> {
+        self.coordinates.iter().zip(q).position(|(coordinate, &value)| {
+            !value.is_finite()
+                || match coordinate.kind {
+                    CoordinateKind::Linear | CoordinateKind::Angle => {
+                        value < coordinate.lower - LIMIT_TOLERANCE
+                            || value > coordinate.upper + LIMIT_TOLERANCE
                     }
-            })
+                    CoordinateKind::WrappedAngle | CoordinateKind::Rotation(_) => false,
+                }
+        })
     }
 
     /// Clamps bounded coordinates into their limits, wraps wrapped angles into [-π, π) and makes

@@ -210,13 +210,17 @@ fn clamp_and_limits() {
     q[3] = 1.0; // torso beyond 0.38615
     q[4] = -3.0; // shoulder pan below -1.6056
     assert!(!robot.within_limits(&q));
+    // The yaw wraps, so the torso is the first coordinate outside its limits.
+    assert_eq!(robot.first_outside_limits(&q), Some(3));
     robot.clamp(&mut q);
+    assert_eq!(robot.first_outside_limits(&q), None);
     assert!(robot.within_limits(&q));
     assert_relative_eq!(q[2], 4.0 - 2.0 * PI, epsilon = TOLERANCE);
     assert_relative_eq!(q[3], 0.38615, epsilon = TOLERANCE);
     assert_relative_eq!(q[4], -1.6056, epsilon = TOLERANCE);
     q[5] = f64::NAN;
     assert!(!robot.within_limits(&q));
+    assert_eq!(robot.first_outside_limits(&q), Some(5));
     assert!(
         !robot.within_limits(&q[..4]),
         "a configuration of the wrong length is not within limits"

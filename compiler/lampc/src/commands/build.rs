@@ -107,6 +107,8 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
     let world = timings
         .time("load", || lamp_world::SpecWorld::load(&spec_dir, &spec).map_err(BuildError::from))?;
     let adapter = Adapter::new(&spec, &world.robots)?;
+    // Before any demonstration is read: a scene the solver cannot start from is a broken spec.
+    lamp_build::check_initial_scenes(&spec, &world)?;
     let paths = find_demonstrations(&spec, &spec_dir, &build_dir, args.demos.as_deref())?;
     let folder = OutputFolder::new(&build_dir.join(lamp_build::MODEL_DIR))?;
     *model = Some(folder.path().to_path_buf());

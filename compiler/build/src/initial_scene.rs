@@ -1,0 +1,219 @@
+//! The check of every problem's initial scene, before anything is learned: a scene the solver
+//! cannot start from is a broken spec, refused with every finding named.
+//!
+//! Per problem, in this order: every object's and robot's placement is finite and within
+//! [`MAX_DISTANCE`] of the origin (a scene that is not is not built further); bodies that touch
+//! or overlap, where at least one can move, closer than [`CONTACT_TOLERANCE`]; every robot's
+//! start configuration within its joint limits and free of collision with the bodies and itself,
+//! at the same tolerance. Findings are listed in spec order of problems, then in that order.
+
+use lamp_geometry::Pose;
+use lamp_spec::{Problem, RobotKind, Spec};
+use lamp_world::{Contact, SpecWorld};
+use miette::Diagnostic;
+use thiserror::Error;
+
+use crate::error::BuildError;
+
+/// Bodies closer than this touch (1 µm). The solver counts touching as a collision, so an object
+/// placed exactly on its support (distance 0, up to the rounding of the pose arithmetic) can
+/// never be lifted off it; a tolerance well above rounding and far below any real clearance (the
+/// bundled specs keep 1 mm) makes "exactly on" a finding instead of a matter of rounding.
+/// The help of [`SceneIssue::Contact`] quotes it.
+pub const CONTACT_TOLERANCE: f64 = 1e-6;
+
+/// No object or robot is placed farther than this from the world origin (1 km). lamp's scenes
+/// are rooms (the bundled ones fit in 20 m); positions far beyond that lose the millimetres
+/// collision checking needs and make interpolation and recording take absurd numbers of steps.
+pub const MAX_DISTANCE: f64 = 1000.0;
+
+/// One reason a problem's initial scene is not one the solver can start from.
+#[derive(Debug, Clone, PartialEq, Error, Diagnostic)]
+pub enum SceneIssue {
+    /// A placement with a non-finite number.
+    #[error("problem `{problem}`: the pose of {what} `{name}` is not finite")]
+    #[diagnostic(
+        code(lamp::build::scene_not_finite),
+        help("Every coordinate and angle of a placement must be a finite number.")
+    )]
+    NotFinite { problem: String, what: &'static str, name: String },
+
+    /// A placement beyond [`MAX_DISTANCE`].
+    #[error(
+        "problem `{problem}`: {what} `{name}` is placed at {position} m, farther than {max} m from the origin"
+    )]
+    #[diagnostic(
+        code(lamp::build::scene_range),
+        help("Place it within {max} m of the origin; check the number and its unit.")
+    )]
+    OutOfRange { problem: String, what: &'static str, name: String, position: String, max: f64 },
+
+    /// Two bodies touch or overlap.
+    #[error("problem `{problem}`: `{first}` and `{second}` touch or overlap")]
+    #[diagnostic(
+        code(lamp::build::scene_contact),
+        help(
+            "Bodies closer than 1 µm count as touching, and the solver cannot move an object that touches another: place them apart, for example an object 1 mm above its support as the bundled specs do."
+        )
+    )]
+    Contact { problem: String, first: String, second: String },
+
+    /// A robot starts in collision.
+    #[error("problem `{problem}`: robot `{robot}` starts in collision: {contact}")]
+    #[diagnostic(
+        code(lamp::build::robot_start_collision),
+        help(
+            "Place the robot elsewhere, choose another `config`, or move what it touches; it must start free of every body and of itself."
+        )
+    )]
+    RobotCollision { problem: String, robot: String, contact: String },
+
+    /// A robot starts outside its joint limits.
+    #[error(
+        "problem `{problem}`: robot `{robot}` starts outside its joint limits: `{coordinate}` is {value}, outside [{lower}, {upper}]"
+    )]
+    #[diagnostic(
+        code(lamp::build::robot_start_limits),
+        help("Change the robot's `config` so that every joint is within the limits of its URDF.")
+    )]
+    RobotLimits {
+        problem: String,
+        robot: String,
+        coordinate: String,
+        value: f64,
+        lower: f64,
+        upper: f64,
+    },
+
+    /// The scene could not be built at all.
+    #[error("problem `{problem}`: the initial scene cannot be built: {reason}")]
+    #[diagnostic(code(lamp::build::scene))]
+    Unbuildable { problem: String, reason: String },
+}
+
+/// The build step: [`BuildError::InitialScenes`] with every finding of every problem, if any.
+pub fn check_initial_scenes(spec: &Spec, world: &SpecWorld) -> Result<(), BuildError> {
+    let issues = initial_scene_issues(spec, world);
+    if issues.is_empty() {
+        return Ok(());
+    }
+    let problems = spec
+        .problems
+        .iter()
+        .filter(|problem| issues.iter().any(|issue| issue.problem() == problem.name))
+        .count();
+    Err(BuildError::InitialScenes { problems, issues })
+}
+
+/// Every finding of every problem's initial scene, in spec order; empty when all are fine.
+pub fn initial_scene_issues(spec: &Spec, world: &SpecWorld) -> Vec<SceneIssue> {
+    spec.problems.iter().flat_map(|problem| problem_scene_issues(spec, world, problem)).collect()
+}
+
+impl SceneIssue {
+    /// The problem the finding is about.
+    pub fn problem(&self) -> &str {
+        match self {
+            SceneIssue::NotFinite { problem, .. }
+            | SceneIssue::OutOfRange { problem, .. }
+            | SceneIssue::Contact { problem, .. }
+            | SceneIssue::RobotCollision { problem, .. }
+            | SceneIssue::RobotLimits { problem, .. }
+            | SceneIssue::Unbuildable { problem, .. } => problem,
+        }
+    }
+}
+
+/// The findings of one problem's initial scene.
+pub fn problem_scene_issues(spec: &Spec, world: &SpecWorld, problem: &Problem) -> Vec<SceneIssue> {
+    let mut issues = placement_issues(spec, problem);
+    if !issues.is_empty() {
+        return issues;
+    }
+    let name = || problem.name.clone();
+    let mut scene = match world.problem_scene(problem) {
+        Ok(scene) => scene,
+        Err(error) => {
+            return vec![SceneIssue::Unbuildable { problem: name(), reason: error.to_string() }];
+        }
+    };
+    scene.set_margin(CONTACT_TOLERANCE);
+    for (first, second) in scene.body_contacts() {
+        issues.push(SceneIssue::Contact { problem: name(), first, second });
+    }
+    for (index, robot) in scene.robots().iter().enumerate() {
+        let q = robot.configuration();
+        let model = robot.robot();
+        if let Some(coordinate) = model.first_outside_limits(q) {
+            let limits = &model.coordinates()[coordinate];
+            issues.push(SceneIssue::RobotLimits {
+                problem: name(),
+                robot: robot.name.clone(),
+                coordinate: limits.name.clone(),
+                value: q[coordinate],
+                lower: limits.lower,
+                upper: limits.upper,
+            });
+        } else if let Some(contact) = scene.first_contact(index, q) {
+            debug_assert_ne!(contact, Contact::OutOfLimits, "limits are checked first");
+            issues.push(SceneIssue::RobotCollision {
+                problem: name(),
+                robot: robot.name.clone(),
+                contact: contact.to_string(),
+            });
+        }
+    }
+    issues
+}
+
+/// Placements that are not finite or too far: objects at their poses, robots at their bases
+/// (a fixed arm at its mount).
+fn placement_issues(spec: &Spec, problem: &Problem) -> Vec<SceneIssue> {
+    let objects =
+        problem.scene.objects.iter().map(|object| ("object", &object.name, Some(object.pose)));
+    let robots = problem.scene.robots.iter().map(|placement| {
+        let mount = spec
+            .robot(&placement.robot)
+            .filter(|robot| robot.kind == RobotKind::FixedArm)
+            .map(|robot| robot.mount);
+        ("robot", &placement.robot, placement.base.or(mount))
+    });
+    objects
+        .chain(robots)
+        .filter_map(|(what, name, pose)| {
+            let pose = pose?;
+            if !is_finite(&pose) {
+                return Some(SceneIssue::NotFinite {
+                    problem: problem.name.clone(),
+                    what,
+                    name: name.clone(),
+                });
+            }
+            // Compared per coordinate first: the norm of (1e308, 1e308, 0) overflows.
+            let position = pose.translation.vector;
+            let far = position.amax() > MAX_DISTANCE || position.norm() > MAX_DISTANCE;
+            far.then(|| SceneIssue::OutOfRange {
+                problem: problem.name.clone(),
+                what,
+                name: name.clone(),
+                position: format!(
+                    "({}, {}, {})",
+                    number(position.x),
+                    number(position.y),
+                    number(position.z)
+                ),
+                max: MAX_DISTANCE,
+            })
+        })
+        .collect()
+}
+
+fn is_finite(pose: &Pose) -> bool {
+    pose.translation.vector.iter().chain(pose.rotation.coords.iter()).all(|value| value.is_finite())
+}
+
+/// A coordinate as written in a spec: plain below a million, in exponent form above (1e308 m
+/// would otherwise print 309 digits).
+fn number(value: f64) -> String {
+    if value.abs() < 1e6 { value.to_string() } else { format!("{value:e}") }
+}

@@ -1,0 +1,140 @@
+//! The check of every problem's initial scene: the bundled specs' problems, and one problem per
+//! kind of finding, each named with its problem and bodies.
+
+use lamp_build::{BuildError, SceneIssue, check_initial_scenes, initial_scene_issues};
+use lamp_spec::{Pose, Spec};
+use lamp_world::SpecWorld;
+use nalgebra::{Translation3, UnitQuaternion};
+
+/// Every finding for a bundled spec, as the user reads it.
+fn findings(spec: &Spec, world: &SpecWorld) -> Vec<String> {
+    initial_scene_issues(spec, world).iter().map(ToString::to_string).collect()
+}
+
+/// A bundled spec with its world, with only its first problem kept, changed by `change`.
+fn first_problem(name: &str, change: impl FnOnce(&mut Spec)) -> (Spec, SpecWorld) {
+    let (mut spec, _) = lamp_test_support::domain(name);
+    spec.problems.truncate(1);
+    change(&mut spec);
+    let folder = lamp_test_support::spec_path(name).parent().expect("a folder").to_path_buf();
+    let world = SpecWorld::load(&folder, &spec).expect("the bundled world loads");
+    (spec, world)
+}
+
+fn at(x: f64, y: f64, z: f64) -> Pose {
+    Pose::from_parts(Translation3::new(x, y, z), UnitQuaternion::identity())
+}
+
+#[test]
+fn bundled_problems_start_from_valid_scenes() {
+    for name in ["packing", "cafe"] {
+        let (spec, world) = lamp_test_support::domain(name);
+        assert_eq!(findings(&spec, &world), Vec::<String>::new(), "{name}");
+        assert!(check_initial_scenes(&spec, &world).is_ok());
+    }
+}
+
+/// Keva, Jenga and Dinner have no demonstrator yet; their scenes stack blocks or stand objects
+/// exactly on their support, and Keva's arm stands in its table.
+#[test]
+fn what_the_check_says_about_the_specs_without_a_demonstrator() {
+    let mut report = String::new();
+    for name in ["keva", "jenga", "dinner"] {
+        let (spec, world) = lamp_test_support::domain(name);
+        report.push_str(&format!("{name}:\n"));
+        for finding in findings(&spec, &world) {
+            report.push_str(&format!("  {finding}\n"));
+        }
+    }
+    insta::assert_snapshot!(report);
+}
+
+#[test]
+fn an_object_exactly_on_its_support_touches_it() {
+    let (spec, world) = first_problem("packing", |spec| {
+        let can = &mut spec.problems[0].scene.objects[2];
+        can.pose.translation.z = 0.0;
+    });
+    let issues = initial_scene_issues(&spec, &world);
+    assert_eq!(
+        issues,
+        [SceneIssue::Contact {
+            problem: "pack4_01".into(),
+            first: "table1".into(),
+            second: "can1".into()
+        }]
+    );
+    // 1 µm above is still touching; the bundled 1 mm is not.
+    let (spec, world) = first_problem("packing", |spec| {
+        spec.problems[0].scene.objects[2].pose.translation.z = 0.5e-6;
+    });
+    assert_eq!(initial_scene_issues(&spec, &world).len(), 1);
+}
+
+#[test]
+fn overlapping_objects_are_named() {
+    let (spec, world) = first_problem("packing", |spec| {
+        let objects = &mut spec.problems[0].scene.objects;
+        objects[3].pose = objects[2].pose * at(0.03, 0.0, 0.0);
+    });
+    assert_eq!(findings(&spec, &world), ["problem `pack4_01`: `can1` and `can2` touch or overlap"]);
+}
+
+#[test]
+fn a_far_away_or_non_finite_placement_is_refused_before_any_geometry() {
+    let (spec, world) = first_problem("packing", |spec| {
+        let scene = &mut spec.problems[0].scene;
+        scene.objects[2].pose = at(1e308, 0.0, 0.001);
+        scene.objects[3].pose.translation.y = f64::NAN;
+        scene.robots[0].base = Some(at(0.0, 1500.0, 0.45));
+    });
+    assert_eq!(
+        findings(&spec, &world),
+        [
+            "problem `pack4_01`: object `can1` is placed at (1e308, 0, 0.001) m, farther than 1000 m from the origin",
+            "problem `pack4_01`: the pose of object `can2` is not finite",
+            "problem `pack4_01`: robot `gripper` is placed at (0, 1500, 0.45) m, farther than 1000 m from the origin",
+        ]
+    );
+}
+
+#[test]
+fn a_robot_starting_in_an_object_is_named_with_its_link() {
+    let (spec, world) = first_problem("packing", |spec| {
+        let scene = &mut spec.problems[0].scene;
+        let can = scene.objects[2].pose;
+        scene.robots[0].base = Some(can * at(0.0, 0.0, 0.1));
+    });
+    let issues = initial_scene_issues(&spec, &world);
+    assert!(
+        matches!(&issues[..], [SceneIssue::RobotCollision { robot, contact, .. }]
+            if robot == "gripper" && contact.contains("`can1`")),
+        "{issues:?}"
+    );
+}
+
+#[test]
+fn a_robot_outside_its_joint_limits_names_the_joint() {
+    let (spec, world) = first_problem("cafe", |spec| {
+        let tuck = &mut spec.robots[0].configurations[0];
+        let torso = tuck.values.iter_mut().find(|(joint, _)| joint == "torso_lift_joint");
+        torso.expect("the tuck configuration sets the torso").1 = 5.0;
+    });
+    let issues = initial_scene_issues(&spec, &world);
+    assert!(
+        matches!(&issues[..], [SceneIssue::RobotLimits { robot, coordinate, value, .. }]
+            if robot == "fetch" && coordinate == "torso_lift_joint" && *value == 5.0),
+        "{issues:?}"
+    );
+}
+
+#[test]
+fn the_build_refuses_a_bad_scene_before_reading_any_demonstration() {
+    let (spec, world) = first_problem("packing", |spec| {
+        spec.problems[0].scene.objects[2].pose.translation.z = 0.0;
+    });
+    match lamp_build::build(&spec, "packing.lamp", &world, &[]) {
+        Err(BuildError::InitialScenes { problems: 1, issues }) => assert_eq!(issues.len(), 1),
+        other => panic!("expected the scene to be refused, got {:?}", other.map(|_| ())),
+    }
+}
