@@ -2,24 +2,17 @@
 //! names the URDF does not define, a byte order mark, initial scenes the solver cannot start from,
 //! PDDL that does not parse, and plugin libraries the dynamic loader refuses.
 
+mod common;
 #[path = "../../build/tests/support/fixture.rs"]
 mod fixture;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
+
+use common::lampc;
 
 const DEMOS: usize = 40;
 const SEED: u64 = 11;
-
-fn lampc(args: &[&std::ffi::OsStr]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_lampc"))
-        .args(args)
-        .env("NO_COLOR", "1")
-        // Long enough that no message is wrapped.
-        .env("COLUMNS", "10000")
-        .output()
-        .expect("lampc runs")
-}
 
 fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
@@ -43,7 +36,7 @@ fn packing_copy(scratch: &Path, edit: impl FnOnce(&str) -> String) -> PathBuf {
 fn check(edit: impl FnOnce(&str) -> String) -> (Option<i32>, String) {
     let scratch = tempfile::tempdir().expect("a scratch folder");
     let spec = packing_copy(scratch.path(), edit);
-    let output = lampc(&["check".as_ref(), spec.as_os_str()]);
+    let output = lampc(["check".as_ref(), spec.as_os_str()]);
     (output.status.code(), stderr(&output))
 }
 
@@ -94,7 +87,7 @@ fn a_urdf_that_does_not_load_is_reported_at_its_path_with_the_reason() {
     let scratch = tempfile::tempdir().expect("a scratch folder");
     let spec = packing_copy(scratch.path(), |text| text.to_string());
     std::fs::write(scratch.path().join("robots/magnetic_gripper.urdf"), "<robot>").expect("writes");
-    let output = lampc(&["check".as_ref(), spec.as_os_str()]);
+    let output = lampc(["check".as_ref(), spec.as_os_str()]);
     let text = stderr(&output);
     assert_eq!(output.status.code(), Some(1), "{text}");
     assert!(text.contains("lamp::check::robot_file"), "{text}");
@@ -114,7 +107,7 @@ fn build_refused(edit: impl FnOnce(&str) -> String) -> String {
     let scratch = tempfile::tempdir().expect("a scratch folder");
     let spec = packing_copy(scratch.path(), edit);
     let out = scratch.path().join("build");
-    let output = lampc(&["build".as_ref(), spec.as_os_str(), "--out".as_ref(), out.as_os_str()]);
+    let output = lampc(["build".as_ref(), spec.as_os_str(), "--out".as_ref(), out.as_os_str()]);
     let text = stderr(&output);
     assert_eq!(output.status.code(), Some(1), "{text}");
     assert!(text.contains("lamp::build::initial_scenes"), "{text}");
@@ -172,7 +165,7 @@ fn built_model() -> (tempfile::TempDir, PathBuf) {
     fixture::write_packing_fixture(&demos, DEMOS, SEED);
     let build = scratch.path().join("build");
     let spec = fixture::packing_spec_path();
-    let output = lampc(&[
+    let output = lampc([
         "build".as_ref(),
         spec.as_os_str(),
         "--demos".as_ref(),
@@ -197,7 +190,7 @@ fn solve(build: &Path, out: &Path, more: &[&str]) -> Output {
         out.as_os_str(),
     ];
     args.extend(more.iter().map(std::ffi::OsStr::new));
-    lampc(&args)
+    lampc(args)
 }
 
 #[test]

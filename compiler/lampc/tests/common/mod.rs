@@ -1,8 +1,23 @@
-//! What the command-line tests share: looking at the folders a command leaves behind.
+//! What the command-line tests share: running `lampc`, and looking at the folders a command
+//! leaves behind.
 
+use std::ffi::OsStr;
 use std::path::Path;
+use std::process::{Command, Output};
+
+/// Runs `lampc` with `args`, without colour and wide enough that no message is wrapped.
+#[allow(dead_code)] // not every test file runs lampc through it
+pub fn lampc<S: AsRef<OsStr>>(args: impl IntoIterator<Item = S>) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lampc"))
+        .args(args)
+        .env("NO_COLOR", "1")
+        .env("COLUMNS", "10000")
+        .output()
+        .expect("lampc runs")
+}
 
 /// The names in `dir`, sorted, hidden ones (locks, staging folders) included.
+#[allow(dead_code)] // not every test file looks at folders
 pub fn listing(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
         .expect("a folder")
