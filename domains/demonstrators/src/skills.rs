@@ -48,7 +48,8 @@ pub(crate) fn move_to(
             },
         )?;
     let model = scene.robots()[robot].robot().clone();
-    let states = densify(&model, &plan.waypoints, &config);
+    let states = densify(&model, &plan.waypoints, &config)
+        .map_err(|error| format!("motion planning ({group}): {error}"))?;
     recorder.follow(scene, robot, &states);
     Ok(())
 }
@@ -68,7 +69,8 @@ pub(crate) fn move_straight(
     let path = straight_line(scene, robot, group, None, &start, target, &config, ik)
         .map_err(|error| format!("straight move ({group}): {error}"))?;
     let model = scene.robots()[robot].robot().clone();
-    let states = densify(&model, &path, &config);
+    let states = densify(&model, &path, &config)
+        .map_err(|error| format!("straight move ({group}): {error}"))?;
     recorder.follow(scene, robot, &states);
     Ok(())
 }

@@ -97,7 +97,8 @@ pub fn execute(
         }
         let group = motion_group(&model, &start, goal);
         if let Some(path) = straight_first(scene, robot, group, &start, goal, &settings.config) {
-            let states = densify(&model, &path, &settings.config);
+            let states = densify(&model, &path, &settings.config)
+                .map_err(|error| Rejection::Candidate(error.to_string()))?;
             recorder.follow(scene, robot, &states);
             scene.set_configuration(robot, path.last().unwrap_or(&start));
             continue;
@@ -131,7 +132,8 @@ pub fn execute(
                 }));
             }
         };
-        let states = densify(&model, &waypoints, &settings.config);
+        let states = densify(&model, &waypoints, &settings.config)
+            .map_err(|error| Rejection::Candidate(error.to_string()))?;
         let joins = |a: &[f64], b: &[f64]| model.distance(a, b) < 1e-9;
         let (Some(first), Some(last)) = (states.first(), states.last()) else {
             return Err(bad_path("it is empty"));
@@ -139,8 +141,14 @@ pub fn execute(
         if !joins(first, &start) || !joins(last, goal) {
             return Err(bad_path("it does not run from the start to the goal"));
         }
-        if let Some(index) = states.iter().position(|q| !scene.is_valid(robot, q)) {
-            return Err(bad_path(&format!("its state {index} collides or leaves the limits")));
+        for (index, q) in states.iter().enumerate() {
+            // Up to MAX_EDGE_STEPS states per edge, each a collision check: poll on the way.
+            if (settings.cancelled)() {
+                return Err(Rejection::Fatal(SolveError::cancelled()));
+            }
+            if !scene.is_valid(robot, q) {
+                return Err(bad_path(&format!("its state {index} collides or leaves the limits")));
+            }
         }
         recorder.follow(scene, robot, &states);
         scene.set_configuration(robot, goal);

@@ -14,8 +14,8 @@ use std::cell::RefCell;
 use lamp_plugin_api::{HostError, HostServices, Pose as WirePose};
 use lamp_robot::{ALL_GROUP, ARM_GROUP, IkConfig, LinkId, Robot};
 use lamp_world::{
-    DEFAULT_ANGULAR_RESOLUTION, DEFAULT_LINEAR_RESOLUTION, ReachError, RobotSpace, Scene, Space,
-    edge_steps, reach,
+    DEFAULT_ANGULAR_RESOLUTION, DEFAULT_LINEAR_RESOLUTION, MAX_EDGE_STEPS, ReachError, RobotSpace,
+    Scene, Space, edge_steps, reach,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -87,6 +87,10 @@ impl HostServices for SceneHost<'_> {
         let (index, model) = self.robot(robot)?;
         let (a, b) = (self.checked(model, a)?, self.checked(model, b)?);
         let steps = edge_steps(model, a, b, DEFAULT_LINEAR_RESOLUTION, DEFAULT_ANGULAR_RESOLUTION);
+        if steps > MAX_EDGE_STEPS {
+            // Too long to check or record at the resolution: never a valid edge.
+            return Ok(false);
+        }
         let mut q = a.to_vec();
         Ok((0..=steps).all(|i| {
             model.interpolate(a, b, i as f64 / steps as f64, &mut q);

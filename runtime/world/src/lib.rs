@@ -21,8 +21,9 @@ pub use error::WorldError;
 pub use from_spec::{SpecWorld, load_robot, mount_of, robot_names, type_parts_of};
 pub use ik::{ReachError, reach};
 pub use motion::{
-    DEFAULT_ANGULAR_RESOLUTION, DEFAULT_LINEAR_RESOLUTION, FREE_SAMPLING_MARGIN, MotionConfig,
-    MotionError, MotionPlan, RobotSpace, densify, edge_steps, plan_motion,
+    DEFAULT_ANGULAR_RESOLUTION, DEFAULT_LINEAR_RESOLUTION, FREE_SAMPLING_MARGIN, MAX_EDGE_STEPS,
+    MotionConfig, MotionError, MotionPlan, RobotSpace, checked_edge_steps, densify, edge_steps,
+    plan_motion,
 };
 pub use recording::{Recorder, STEP_NANOSECONDS, trajectory_header};
 pub use rrt::{RrtConfig, RrtError, RrtStats, Space, rrt_connect, shortcut};

@@ -21,6 +21,12 @@ pub const DEFAULT_LINEAR_RESOLUTION: f64 = 0.005;
 pub const DEFAULT_ANGULAR_RESOLUTION: f64 = 0.01;
 /// Unbounded coordinates (a mobile base's x, y) are sampled this far around start and goal.
 pub const FREE_SAMPLING_MARGIN: f64 = 1.5;
+/// The most states one straight edge may be cut into at the checking resolution, when a path is
+/// densified, recorded or checked. A Café base crossing its 10 m floor at the finest resolution
+/// the spec allows (1 mm) is 10,000 states and a joint's half turn at 0.001 rad 3,142; 50,000 is
+/// beyond any motion of a bundled robot. More is a robot placed kilometres away or a wrong unit,
+/// and recording it would take gigabytes (a state holds every body's pose): it is refused.
+pub const MAX_EDGE_STEPS: usize = 50_000;
 
 /// How to plan one motion.
 #[derive(Clone, Debug, PartialEq)]
@@ -60,6 +66,22 @@ pub enum MotionError {
     #[error(transparent)]
     #[diagnostic(transparent)]
     Planning(#[from] RrtError),
+    #[error(
+        "a straight move of {distance} needs {steps} states at the checking resolution, more than the {limit} one edge may have"
+    )]
+    #[diagnostic(
+        code(lamp::motion::too_many_steps),
+        help(
+            "The robot would travel absurdly far in one move: check where the problem places the robot and the objects, and the units of the motion planner's `resolution`."
+        )
+    )]
+    TooManySteps {
+        /// How far the move goes, with its unit ("99999 m", "3.1 rad").
+        distance: String,
+        /// The states it would need (rounded up; may exceed any integer type).
+        steps: f64,
+        limit: usize,
+    },
 }
 
 /// A planned path: waypoints joined by valid straight edges.
@@ -168,14 +190,42 @@ impl Space for RobotSpace<'_> {
     }
 }
 
-/// Sub-steps needed between `a` and `b` so that no coordinate moves more than the resolution.
+/// Sub-steps needed between `a` and `b` so that no coordinate moves more than the resolution,
+/// at most [`MAX_EDGE_STEPS`] + 1 (more cannot be checked or recorded; [`checked_edge_steps`]
+/// says so, and edge checks find such an edge invalid).
 pub fn edge_steps(robot: &Robot, a: &[f64], b: &[f64], linear: f64, angular: f64) -> usize {
+    let (steps, _) = needed_steps(robot, a, b, linear, angular);
+    // Bounded: at most MAX_EDGE_STEPS + 1 (NaN, from a NaN coordinate, becomes that too).
+    if steps <= MAX_EDGE_STEPS as f64 { steps as usize } else { MAX_EDGE_STEPS + 1 }
+}
+
+/// [`edge_steps`], or [`MotionError::TooManySteps`] when the edge needs more than
+/// [`MAX_EDGE_STEPS`].
+pub fn checked_edge_steps(
+    robot: &Robot,
+    a: &[f64],
+    b: &[f64],
+    linear: f64,
+    angular: f64,
+) -> Result<usize, MotionError> {
+    let (steps, widest) = needed_steps(robot, a, b, linear, angular);
+    if steps <= MAX_EDGE_STEPS as f64 {
+        // Whole and within MAX_EDGE_STEPS.
+        return Ok(steps as usize);
+    }
+    Err(MotionError::TooManySteps { distance: widest, steps, limit: MAX_EDGE_STEPS })
+}
+
+/// The sub-steps an edge needs (a whole number of at least 1, not capped) and the move that
+/// needs the most, with its unit, for messages.
+fn needed_steps(robot: &Robot, a: &[f64], b: &[f64], linear: f64, angular: f64) -> (f64, String) {
     let mut steps: f64 = 1.0;
+    let mut widest = String::new();
     for (index, coordinate) in robot.coordinates().iter().enumerate() {
-        let needed = match coordinate.kind {
-            CoordinateKind::Linear => (b[index] - a[index]).abs() / linear,
-            CoordinateKind::Angle => (b[index] - a[index]).abs() / angular,
-            CoordinateKind::WrappedAngle => wrap_angle(b[index] - a[index]).abs() / angular,
+        let (distance, resolution, unit) = match coordinate.kind {
+            CoordinateKind::Linear => ((b[index] - a[index]).abs(), linear, "m"),
+            CoordinateKind::Angle => ((b[index] - a[index]).abs(), angular, "rad"),
+            CoordinateKind::WrappedAngle => (wrap_angle(b[index] - a[index]).abs(), angular, "rad"),
             CoordinateKind::Rotation(0) => {
                 let ra = nalgebra::UnitQuaternion::from_scaled_axis(nalgebra::Vector3::new(
                     a[index],
@@ -187,14 +237,18 @@ pub fn edge_steps(robot: &Robot, a: &[f64], b: &[f64], linear: f64, angular: f64
                     b[index + 1],
                     b[index + 2],
                 ));
-                ra.angle_to(&rb) / angular
+                (ra.angle_to(&rb), angular, "rad")
             }
-            CoordinateKind::Rotation(_) => 0.0,
+            CoordinateKind::Rotation(_) => continue,
         };
-        steps = steps.max(needed.ceil());
+        let needed = (distance / resolution).ceil();
+        // A NaN (from a NaN coordinate) is taken too, and then refuses the edge.
+        if needed.is_nan() || needed > steps {
+            steps = needed;
+            widest = format!("{distance:.3} {unit}");
+        }
     }
-    // Bounded by construction for finite inputs; the cap guards against absurd values.
-    steps.min(1e7) as usize
+    (steps, widest)
 }
 
 /// Plans a collision-free path for `group` of robot `robot` from `start` to `goal`, carrying what
@@ -215,22 +269,29 @@ pub fn plan_motion(
 
 /// Every state along the path at the checking resolution, endpoints included: what a robot
 /// controller would step through, and what validation checks.
-pub fn densify(robot: &Robot, waypoints: &[Vec<f64>], config: &MotionConfig) -> Vec<Vec<f64>> {
-    let Some(first) = waypoints.first() else { return Vec::new() };
+///
+/// # Errors
+/// [`MotionError::TooManySteps`] when an edge needs more than [`MAX_EDGE_STEPS`] states.
+pub fn densify(
+    robot: &Robot,
+    waypoints: &[Vec<f64>],
+    config: &MotionConfig,
+) -> Result<Vec<Vec<f64>>, MotionError> {
+    let Some(first) = waypoints.first() else { return Ok(Vec::new()) };
     let mut states = vec![first.clone()];
     for pair in waypoints.windows(2) {
-        let steps = edge_steps(
+        let steps = checked_edge_steps(
             robot,
             &pair[0],
             &pair[1],
             config.linear_resolution,
             config.angular_resolution,
-        );
+        )?;
         for i in 1..=steps {
             let mut q = pair[0].clone();
             robot.interpolate(&pair[0], &pair[1], i as f64 / steps as f64, &mut q);
             states.push(q);
         }
     }
-    states
+    Ok(states)
 }

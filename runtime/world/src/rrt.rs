@@ -35,9 +35,13 @@ pub trait Space {
         false
     }
 
-    /// Whether every state along the edge (endpoints excluded) is valid.
+    /// Whether every state along the edge (endpoints excluded) is valid; an edge of more than
+    /// [`MAX_EDGE_STEPS`](crate::MAX_EDGE_STEPS) sub-steps is not (it could not be recorded).
     fn edge_is_valid(&self, a: &[f64], b: &[f64]) -> bool {
         let steps = self.edge_steps(a, b);
+        if steps > crate::MAX_EDGE_STEPS {
+            return false;
+        }
         let mut q = a.to_vec();
         // Check the middle first: collisions are likelier far from known-valid endpoints.
         let mut order: Vec<usize> = (1..steps).collect();

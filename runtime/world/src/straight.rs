@@ -12,7 +12,7 @@ use lamp_robot::{IkConfig, IkError, LinkId, solve_ik};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::motion::{MotionConfig, MotionError, RobotSpace, edge_steps};
+use crate::motion::{MAX_EDGE_STEPS, MotionConfig, MotionError, RobotSpace, edge_steps};
 use crate::rrt::Space;
 use crate::scene::Scene;
 
@@ -76,10 +76,14 @@ pub fn straight_line(
     let from = model.link_pose(start, link);
     let distance = (target.translation.vector - from.translation.vector).norm();
     let angle = from.rotation.angle_to(&target.rotation);
-    let count = (distance / motion.linear_resolution)
-        .max(angle / motion.angular_resolution)
-        .ceil()
-        .max(1.0) as usize;
+    let count = (distance / motion.linear_resolution).max(angle / motion.angular_resolution).ceil();
+    if count.is_nan() || count > MAX_EDGE_STEPS as f64 {
+        let distance = format!("{distance:.3} m and {angle:.3} rad");
+        let limit = MAX_EDGE_STEPS;
+        return Err(MotionError::TooManySteps { distance, steps: count, limit }.into());
+    }
+    // Whole, and at most MAX_EDGE_STEPS.
+    let count = count.max(1.0) as usize;
     let on_the_way = IkConfig { restarts: 0, max_iterations: ik.max_iterations, ..IkConfig::new() };
     let at_the_end = IkConfig { restarts: 0, ..ik.clone() };
     // With no restarts the solver draws nothing; it still takes a generator.

@@ -9,8 +9,8 @@ use std::f64::consts::PI;
 
 use lamp_robot::IkConfig;
 use lamp_world::{
-    MotionConfig, RrtConfig, RrtError, Scene, Space, StraightLineError, densify, plan_motion,
-    reach, rrt_connect, straight_line,
+    MAX_EDGE_STEPS, MotionConfig, MotionError, RrtConfig, RrtError, Scene, Space,
+    StraightLineError, densify, plan_motion, reach, rrt_connect, straight_line,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -105,7 +105,7 @@ fn assert_path_collision_free(
     config: &MotionConfig,
 ) {
     let model = scene.robots()[robot].robot().clone();
-    let states = densify(&model, path, config);
+    let states = densify(&model, path, config).expect("a path of ordinary length");
     for (index, q) in states.iter().enumerate() {
         assert!(scene.is_valid(robot, q), "state {index}: {:?}", scene.first_contact(robot, q));
     }
@@ -203,7 +203,7 @@ fn a_straight_move_keeps_the_gripper_on_the_line_and_stops_at_the_table() {
         lamp_robot::pose_error_norms(&robot.link_pose(path.last().unwrap(), gripper), &lower);
     assert!(position < 1e-3);
     assert_path_collision_free(&scene, fetch, &path, &config);
-    for q in densify(&robot, &path, &config) {
+    for q in densify(&robot, &path, &config).expect("a path of ordinary length") {
         let p = robot.link_pose(&q, gripper).translation.vector;
         let off_line = ((p.x - 1.85).powi(2) + (p.y + 1.0).powi(2)).sqrt();
         assert!(off_line < 2e-3, "{off_line} m off the line at z = {}", p.z);
@@ -253,4 +253,29 @@ fn the_free_flying_gripper_carries_a_can_into_the_box() {
     let plan = plan_motion(&scene, gripper, "all", &start, &goal, &config, &mut rng).unwrap();
     assert!(plan.waypoints.len() >= 3, "the box walls are in the way of a straight line");
     assert_path_collision_free(&scene, gripper, &plan.waypoints, &config);
+}
+
+#[test]
+fn a_move_too_long_to_record_is_refused_not_allocated() {
+    let (scene, gripper, _, q, _) = support::gripper_over_can();
+    let robot = scene.robots()[gripper].robot().clone();
+    let config = MotionConfig::default();
+    let mut far = q.clone();
+    robot.mount().write_coordinates(&pose(99_999.0, 0.0, 0.45, PI, 0.0, 0.0), &mut far);
+    match densify(&robot, &[q.clone(), far.clone()], &config) {
+        Err(MotionError::TooManySteps { steps, limit, distance }) => {
+            assert_eq!(limit, MAX_EDGE_STEPS);
+            assert!(steps > 1.9e7, "{steps}");
+            assert!(distance.ends_with(" m"), "{distance}");
+        }
+        other => panic!("expected a refusal, got {:?}", other.map(|states| states.len())),
+    }
+    // Checking such an edge looks at a bounded number of states, and never finds it valid.
+    let steps = lamp_world::edge_steps(&robot, &q, &far, 0.005, 0.01);
+    assert_eq!(steps, MAX_EDGE_STEPS + 1);
+    // A move of ordinary length is densified at the resolution.
+    let mut near = q.clone();
+    robot.mount().write_coordinates(&pose(0.1, 0.0, 0.45, PI, 0.0, 0.0), &mut near);
+    let states = densify(&robot, &[q, near], &config).expect("an ordinary move");
+    assert!(states.len() > 10 && states.len() < 1_000, "{}", states.len());
 }
