@@ -101,15 +101,19 @@ impl Planner for BuiltinPlanner {
             0.0,
             &format!("grounding and searching with {}", self.algorithm.name()),
         );
-        let output = match lamp_planner::plan(&domain, &problem, algorithm, &budget) {
-            Ok(output) => output,
-            Err(error) => {
-                let cause = std::error::Error::source(&error)
-                    .map(|source| format!(": {source}"))
-                    .unwrap_or_default();
-                return Ok(PlanResponse::failed(format!("{error}{cause}")));
-            }
-        };
+        let cancelled = || host.is_cancelled();
+        let output =
+            match lamp_planner::plan_until(&domain, &problem, algorithm, &budget, &cancelled) {
+                // Stopped because the run was cancelled: whatever was found is not what was asked.
+                _ if host.is_cancelled() => return Err(PluginError::Cancelled),
+                Ok(output) => output,
+                Err(error) => {
+                    let cause = std::error::Error::source(&error)
+                        .map(|source| format!(": {source}"))
+                        .unwrap_or_default();
+                    return Ok(PlanResponse::failed(format!("{error}{cause}")));
+                }
+            };
         host.report_progress(1.0, "done");
         let status = match output.status {
             Status::Solved => PlanStatus::Solved,

@@ -8,6 +8,7 @@
 //! Atoms of static predicates are compiled away; a fluent atom that is never reachable is always
 //! false, so negative conditions on it are dropped.
 
+use std::cell::Cell;
 use std::collections::{BTreeMap, HashSet};
 
 use lamp_pddl::{Condition, Domain, Literal, Problem, Term};
@@ -73,6 +74,30 @@ pub fn ground(
     problem: &Problem,
     max_operators: usize,
 ) -> Result<GroundTask, PlannerError> {
+    ground_until(domain, problem, max_operators, &|| false)
+}
+
+/// [`ground`] that gives up with [`PlannerError::Stopped`] once `stop` says so, polled every
+/// [`STOP_CHECK_INTERVAL`] bindings.
+///
+/// # Errors
+/// As [`ground`], and [`PlannerError::Stopped`].
+pub fn ground_until(
+    domain: &Domain,
+    problem: &Problem,
+    max_operators: usize,
+    stop: &dyn Fn() -> bool,
+) -> Result<GroundTask, PlannerError> {
+    let bindings = Cell::new(0_u64);
+    let stopped = Cell::new(false);
+    // Whether to go on enumerating bindings: asks `stop` every STOP_CHECK_INTERVAL of them.
+    let keep_going = || {
+        bindings.set(bindings.get() + 1);
+        if bindings.get().is_multiple_of(STOP_CHECK_INTERVAL) && stop() {
+            stopped.set(true);
+        }
+        !stopped.get()
+    };
     let mut errors = lamp_pddl::check_domain(domain);
     if errors.is_empty() {
         errors = lamp_pddl::check_problem(domain, problem);
@@ -187,8 +212,11 @@ pub fn ground(
                         new_atoms.push(key);
                     }
                 }
-                true
+                keep_going()
             });
+        }
+        if stopped.get() {
+            return Err(PlannerError::Stopped);
         }
         if new_atoms.is_empty() {
             break;
@@ -236,10 +264,13 @@ pub fn ground(
                 add: facts_of(&action.add),
                 delete: facts_of(&action.delete),
             });
-            true
+            keep_going()
         });
         if too_many {
             return Err(PlannerError::TooManyOperators { limit: max_operators });
+        }
+        if stopped.get() {
+            return Err(PlannerError::Stopped);
         }
     }
     // Stable sort: action position (enumeration order) then argument names.
@@ -377,6 +408,10 @@ fn slot_value(slot: Slot, binding: &[u32]) -> u32 {
 }
 
 const UNBOUND: u32 = u32::MAX;
+
+/// How often (in bindings enumerated) grounding asks whether to stop: a binding takes
+/// microseconds, so a stop request is seen within milliseconds.
+const STOP_CHECK_INTERVAL: u64 = 1024;
 
 /// Calls `visit` with every binding of `action`'s parameters whose positive preconditions are in
 /// `reachable` and whose equality and static negative conditions hold. `visit` returns `false` to

@@ -23,13 +23,13 @@ use std::time::Duration;
 use lamp_pddl::{Domain, PddlErrors, Problem};
 use thiserror::Error;
 
-pub use ground::ground;
+pub use ground::{ground, ground_until};
 pub use heuristic::{Estimate, FfHeuristic};
 pub use plan::{Plan, PlanParseError, PlanStep};
 pub use search::{PREFERRED_BOOST, SearchEnd, SearchSpace, Statistics};
 pub use state::{State, StateId, StateRegistry};
 pub use task::{FactId, GroundAtom, GroundTask, GroundingVerdict, Operator, OperatorId};
-pub use topk::top_k;
+pub use topk::{top_k, top_k_until};
 pub use validate::{Validated, ValidationError, validate};
 
 /// A domain and a problem parsed from PDDL text; on bad text, a one-line message naming which
@@ -126,6 +126,10 @@ pub enum PlannerError {
         help("Raise Budget::max_operators, or reduce the objects or action parameters.")
     )]
     TooManyOperators { limit: usize },
+
+    #[error("grounding was stopped before it finished")]
+    #[diagnostic(code(lamp::planner::stopped))]
+    Stopped,
 }
 
 /// Grounds and solves `problem` with `algorithm` within `budget`.
@@ -138,10 +142,26 @@ pub fn plan(
     algorithm: Algorithm,
     budget: &Budget,
 ) -> Result<PlannerOutput, PlannerError> {
-    let task = ground(domain, problem, budget.max_operators)?;
+    plan_until(domain, problem, algorithm, budget, &|| false)
+}
+
+/// [`plan`] that stops grounding and search once `stop` says so (a cancelled run, polled every
+/// few hundred bindings or evaluations): grounding then fails with [`PlannerError::Stopped`],
+/// search ends with [`Status::BudgetExhausted`] and the plans found so far.
+///
+/// # Errors
+/// As [`plan`], and [`PlannerError::Stopped`].
+pub fn plan_until(
+    domain: &Domain,
+    problem: &Problem,
+    algorithm: Algorithm,
+    budget: &Budget,
+    stop: &dyn Fn() -> bool,
+) -> Result<PlannerOutput, PlannerError> {
+    let task = ground_until(domain, problem, budget.max_operators, stop)?;
     Ok(match algorithm {
-        Algorithm::GbfsFf => gbfs_ff(&task, budget),
-        Algorithm::TopK { k } => top_k(&task, k, budget),
+        Algorithm::GbfsFf => top_k_until(&task, 1, budget, stop),
+        Algorithm::TopK { k } => top_k_until(&task, k, budget, stop),
     })
 }
 

@@ -28,7 +28,7 @@ use crate::task::{GroundTask, OperatorId};
 /// Downward's alternation open list).
 pub const PREFERRED_BOOST: i64 = 1000;
 
-/// How often (in evaluations) the wall-clock limit is checked.
+/// How often (in evaluations) the wall-clock limit and the stop request are checked.
 const CLOCK_CHECK_INTERVAL: u64 = 256;
 
 /// Counters of one or more searches.
@@ -194,16 +194,22 @@ impl<'a> SearchSpace<'a> {
         }
     }
 
-    fn budget_exhausted(&self, budget: &Budget) -> bool {
+    fn budget_exhausted(&self, budget: &Budget, stop: &dyn Fn() -> bool) -> bool {
         if budget.max_expansions.is_some_and(|limit| self.statistics.expanded >= limit) {
             return true;
         }
         self.statistics.expanded.is_multiple_of(CLOCK_CHECK_INTERVAL)
-            && budget.time_limit.is_some_and(|limit| self.started.elapsed() >= limit)
+            && (budget.time_limit.is_some_and(|limit| self.started.elapsed() >= limit) || stop())
     }
 
     /// Runs one lazy GBFS from the initial state. The budget counts over every search in this space.
     pub fn search(&mut self, budget: &Budget) -> SearchEnd {
+        self.search_until(budget, &|| false)
+    }
+
+    /// [`search`](Self::search) that also ends, as out of budget, once `stop` says so (polled
+    /// with the clock, every few hundred evaluations): a cancelled run.
+    pub fn search_until(&mut self, budget: &Budget, stop: &dyn Fn() -> bool) -> SearchEnd {
         let mut nodes: Vec<Node> = Vec::new();
         let mut closed: HashSet<(StateId, Place)> = HashSet::new();
         let mut queues = Queues::default();
@@ -211,7 +217,7 @@ impl<'a> SearchSpace<'a> {
         let mut pending = Some(Node { state: self.initial, place: Place::OnTrie(0), parent: None });
         loop {
             if let Some(node) = pending.take() {
-                if self.budget_exhausted(budget) {
+                if self.budget_exhausted(budget, stop) {
                     return SearchEnd::OutOfBudget;
                 }
                 if closed.insert((node.state, node.place)) {

@@ -14,6 +14,17 @@ use crate::{Budget, PlannerOutput, Status, Unsolvable, named_plan};
 /// Up to `k` distinct loop-free plans for `task` within `budget` (shared by all `k` searches).
 #[must_use]
 pub fn top_k(task: &GroundTask, k: usize, budget: &Budget) -> PlannerOutput {
+    top_k_until(task, k, budget, &|| false)
+}
+
+/// [`top_k`] that also ends, as out of budget, once `stop` says so.
+#[must_use]
+pub fn top_k_until(
+    task: &GroundTask,
+    k: usize,
+    budget: &Budget,
+    stop: &dyn Fn() -> bool,
+) -> PlannerOutput {
     let mut space = SearchSpace::new(task);
     if let GroundingVerdict::GoalUnreachable { literal } = &task.verdict {
         return PlannerOutput {
@@ -25,7 +36,7 @@ pub fn top_k(task: &GroundTask, k: usize, budget: &Budget) -> PlannerOutput {
     let mut plans = Vec::new();
     let mut status = Status::Solved;
     while plans.len() < k {
-        match space.search(budget) {
+        match space.search_until(budget, stop) {
             SearchEnd::Found(operators) => {
                 space.forbid(&operators);
                 plans.push(named_plan(task, &operators));

@@ -4,7 +4,9 @@
 mod common;
 
 use common::{assert_valid_loop_free, load};
-use lamp_planner::{Algorithm, Budget, GroundTask, State, Status, Unsolvable, ground, plan};
+use lamp_planner::{
+    Algorithm, Budget, GroundTask, State, Status, Unsolvable, ground, plan, plan_until,
+};
 
 /// (domain, problem, optimal length confirmed with Fast Downward's `astar(blind())`).
 const KNOWN: &[(&str, &str, usize)] = &[
@@ -105,6 +107,24 @@ fn time_limit_is_honoured() {
     let output = plan(&domain, &problem, Algorithm::GbfsFf, &budget).expect("valid");
     assert_eq!(output.status, Status::BudgetExhausted);
     assert_eq!(output.statistics.expanded, 0);
+}
+
+#[test]
+fn a_stop_request_ends_grounding_and_search() {
+    let (domain, problem) = load("cafe", "cafe-18");
+    let budget = Budget::default();
+    // Asked to stop at once: grounding gives up at its first check.
+    let error = plan_until(&domain, &problem, Algorithm::GbfsFf, &budget, &|| true)
+        .expect_err("stopped while grounding");
+    assert!(matches!(error, lamp_planner::PlannerError::Stopped), "{error:?}");
+    // Asked to stop once grounding is done: the search ends as out of budget at its first check.
+    let task = ground(&domain, &problem, budget.max_operators).expect("grounds");
+    let output = lamp_planner::top_k_until(&task, 1, &budget, &|| true);
+    assert_eq!(output.status, Status::BudgetExhausted);
+    assert!(output.plans.is_empty());
+    // Never asked to stop: the same as without the request.
+    let free = plan_until(&domain, &problem, Algorithm::GbfsFf, &budget, &|| false).expect("plans");
+    assert_eq!(free, plan(&domain, &problem, Algorithm::GbfsFf, &budget).expect("plans"));
 }
 
 #[test]

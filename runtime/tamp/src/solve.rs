@@ -198,6 +198,7 @@ fn solve_with(
                         input.artifact,
                         input.adapter,
                         &goal,
+                        settings.motion.cancelled,
                     )?;
                     summary.seconds_validating = started.elapsed().as_secs_f64();
                     summary.success = !summary.is_partial();

@@ -13,7 +13,8 @@ use lamp_world::{MotionConfig, Scene, edge_steps};
 use crate::error::SolveError;
 use crate::state::abstraction;
 
-/// Checks `steps` from `initial`; returns the final abstract state.
+/// Checks `steps` from `initial`; returns the final abstract state. `cancelled` is polled before
+/// every step: a long trajectory takes seconds to replay, and a stop request must not wait.
 pub fn replay(
     initial: &Scene,
     steps: &[Step],
@@ -21,10 +22,14 @@ pub fn replay(
     artifact: &SamplerArtifact,
     adapter: &Adapter,
     goal: &BTreeSet<GroundAtom>,
+    cancelled: &dyn Fn() -> bool,
 ) -> Result<BTreeSet<GroundAtom>, SolveError> {
     let mut scene = initial.clone();
     let fail = |step: usize, reason: String| SolveError::InvalidSolution { step, reason };
     for (index, step) in steps.iter().enumerate() {
+        if cancelled() {
+            return Err(SolveError::cancelled());
+        }
         if step.robots.len() != scene.robots().len()
             || step.body_poses.len() != scene.bodies().len()
         {
