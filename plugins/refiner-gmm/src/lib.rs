@@ -58,8 +58,15 @@ impl GmmRefiner {
     /// A refiner sampling `artifact`'s regions.
     ///
     /// # Errors
-    /// [`PluginError::InvalidRequest`] when the artifact does not validate.
+    /// [`PluginError::InvalidRequest`] when the artifact does not validate, or the options ask
+    /// for no candidate, no draw, or a displacement that is not a positive length.
     pub fn new(artifact: SamplerArtifact, options: RefinerOptions) -> Result<Self, PluginError> {
+        let RefinerOptions { samples, draws, displacement } = options;
+        if samples == 0 || draws == 0 || !(displacement.is_finite() && displacement > 0.0) {
+            return Err(PluginError::invalid_request(format!(
+                "the gmm refiner's options: samples ({samples}) and draws ({draws}) must be at least 1, displacement ({displacement} m) a positive length"
+            )));
+        }
         artifact
             .validate()
             .map_err(|error| PluginError::invalid_request(format!("sampler artifact: {error}")))?;
@@ -120,4 +127,32 @@ lamp_plugin_sdk::export_plugin! {
     name: "lamp-gmm-refiner",
     version: env!("CARGO_PKG_VERSION"),
     description: "Samples learned regions' Gaussian mixtures into IK targets (config: JSON with the sampler artifact).",
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn options_that_could_never_yield_a_candidate_are_refused() {
+        let artifact = SamplerArtifact {
+            version: lamp_learn::SAMPLER_ARTIFACT_VERSION,
+            seed: 0,
+            pairs: Vec::new(),
+        };
+        let defaults = RefinerOptions::default();
+        for options in [
+            RefinerOptions { samples: 0, ..defaults },
+            RefinerOptions { draws: 0, ..defaults },
+            RefinerOptions { displacement: -1.0, ..defaults },
+            RefinerOptions { displacement: f64::INFINITY, ..defaults },
+        ] {
+            let refused = GmmRefiner::new(artifact.clone(), options);
+            assert!(
+                matches!(refused, Err(PluginError::InvalidRequest { .. })),
+                "{options:?} must be refused"
+            );
+        }
+        assert!(GmmRefiner::new(artifact, defaults).is_ok());
+    }
 }
