@@ -15,10 +15,11 @@ use thiserror::Error;
 
 use crate::error::BuildError;
 
-/// Bodies closer than this touch (1 µm). The solver counts touching as a collision, so an object
-/// placed exactly on its support (distance 0, up to the rounding of the pose arithmetic) can
-/// never be lifted off it; a tolerance well above rounding and far below any real clearance (the
-/// bundled specs keep 1 mm) makes "exactly on" a finding instead of a matter of rounding.
+/// Bodies closer than this touch (1 µm). The solver counts touching as a collision, so for an
+/// object placed exactly on its support (distance 0, up to the rounding of the pose arithmetic)
+/// whether a check sees the contact is a matter of rounding: the same scene may solve, or fail
+/// every candidate that moves the object. A tolerance well above rounding and far below any real
+/// clearance (the bundled specs keep 1 mm) makes "exactly on" a finding instead.
 /// The help of [`SceneIssue::Contact`] quotes it.
 pub const CONTACT_TOLERANCE: f64 = 1e-6;
 
