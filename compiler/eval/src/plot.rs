@@ -83,13 +83,16 @@ impl Area {
     }
 }
 
-fn title(svg: &mut Svg, x: f64, title: &str, subtitle: &str) {
+/// The title, and one line of subtitle per entry of `subtitles`.
+fn title(svg: &mut Svg, x: f64, title: &str, subtitles: &[&str]) {
     svg.line(&format!(
         "<text x=\"{}\" y=\"26\" font-size=\"17\" font-weight=\"bold\" fill=\"{INK}\">{}</text>",
         num(x),
         escape(title)
     ));
-    svg.text(x, 46.0, 12.0, "start", GREY, subtitle);
+    for (index, subtitle) in subtitles.iter().enumerate() {
+        svg.text(x, 46.0 + 16.0 * index as f64, 12.0, "start", GREY, subtitle);
+    }
 }
 
 fn circle(svg: &mut Svg, (x, y): (f64, f64), radius: f64, fill: &str, extra: &str) {
@@ -115,11 +118,11 @@ pub fn sample_efficiency_plot(info: &EvalInfo, rows: &[Row]) -> String {
         &mut svg,
         20.0,
         &format!("Sample efficiency: {}", info.domain),
-        &format!(
+        &[&format!(
             "Test problems solved per run ({} problems): mean ± sample std over {} runs (band), one dot per run",
             info.problems.len(),
             info.runs
-        ),
+        )],
     );
     let most = info.counts.iter().copied().max().unwrap_or(1).max(1) as f64;
     let step = nice_step(most, 5.0);
@@ -191,12 +194,17 @@ pub fn sample_efficiency_plot(info: &EvalInfo, rows: &[Row]) -> String {
     ));
     for (summary, point) in summaries.iter().zip(&line) {
         circle(&mut svg, *point, 5.0, LINE, " stroke=\"#ffffff\" stroke-width=\"1.5\"");
+        // Beside the marker, clear of the runs' dots: to the right, or to the left at the edge.
         let label = percent(summary.mean.unwrap_or(0.0), 0);
-        let (_, high, _) = spread(summary);
-        let y = (area.y(high) - 8.0).min(point.1 - 10.0).max(area.top + 12.0);
+        let (x, anchor) = if point.0 > area.right - 60.0 {
+            (point.0 - 10.0, "end")
+        } else {
+            (point.0 + 10.0, "start")
+        };
+        let y = (point.1 - 6.0).max(area.top + 12.0);
         svg.line(&format!(
-            "<text x=\"{}\" y=\"{}\" font-size=\"12\" font-weight=\"bold\" text-anchor=\"middle\" fill=\"{LINE}\">{}</text>",
-            num(point.0),
+            "<text x=\"{}\" y=\"{}\" font-size=\"12\" font-weight=\"bold\" text-anchor=\"{anchor}\" fill=\"{LINE}\" stroke=\"#ffffff\" stroke-width=\"3\" paint-order=\"stroke\">{}</text>",
+            num(x),
             num(y),
             escape(&label)
         ));
@@ -221,35 +229,33 @@ pub fn sample_efficiency_plot(info: &EvalInfo, rows: &[Row]) -> String {
 pub fn success_plot(info: &EvalInfo, rows: &[Row]) -> String {
     let table = success_table(info, rows);
     let bars = info.counts.len().max(1) as f64;
-    let bar = (48.0 / bars).clamp(6.0, 16.0);
-    let group = bar * bars + 18.0;
+    let groups = table.len().max(1) as f64;
     let left = 90.0;
-    let plot_width = (group * table.len().max(1) as f64).max(520.0);
+    // At least 10 px per bar and a gap of 18 px per problem; at least 560 px in all.
+    let plot_width = ((10.0 * bars + 18.0) * groups).max(560.0);
+    // Bars fill 70 % of their problem's share of the width, at most 28 px each.
+    let bar = (0.7 * plot_width / groups / bars).min(28.0);
     let width = left + plot_width + 40.0;
     let height = 500.0;
     let mut svg = Svg::new(width, height);
     let g = generalization(info, rows);
     let factor = match (g.factor, g.test_objects) {
         (Some(factor), Some(test)) => format!(
-            "generalization factor {} ({test} objects solved ÷ {} in a demonstration)",
+            "Generalization factor {}: {test} objects in the largest solved problem ÷ {} in a demonstration",
             factor_text(factor),
             g.training_objects
         ),
-        _ => "no test problem solved".to_string(),
+        _ => "No test problem was solved: no generalization factor".to_string(),
     };
-    title(
-        &mut svg,
-        20.0,
-        &format!("Test problems solved: {}", info.domain),
-        &format!(
-            "Fraction of {} runs that solved each problem, per demonstration count; {factor}",
-            info.runs
-        ),
+    let fraction = format!(
+        "Fraction of the {} runs that solved each problem, per number of training demonstrations",
+        info.runs
     );
+    title(&mut svg, 20.0, &format!("Test problems solved: {}", info.domain), &[&fraction, &factor]);
     let area = Area {
         left,
         right: left + plot_width,
-        top: 96.0,
+        top: 112.0,
         bottom: height - 110.0,
         x_max: plot_width,
     };
@@ -261,11 +267,11 @@ pub fn success_plot(info: &EvalInfo, rows: &[Row]) -> String {
     for (index, count) in info.counts.iter().enumerate() {
         let colour = PALETTE[index % PALETTE.len()];
         svg.line(&format!(
-            "<rect x=\"{}\" y=\"62\" width=\"12\" height=\"12\" fill=\"{colour}\"/>",
+            "<rect x=\"{}\" y=\"78\" width=\"12\" height=\"12\" fill=\"{colour}\"/>",
             num(x)
         ));
         let label = format!("{count} demonstrations");
-        svg.text(x + 17.0, 72.0, 12.0, "start", INK, &label);
+        svg.text(x + 17.0, 88.0, 12.0, "start", INK, &label);
         x += 30.0 + 7.0 * label.len() as f64;
     }
     let gap = (plot_width / table.len().max(1) as f64 - bar * bars) / 2.0;
@@ -361,7 +367,7 @@ mod tests {
         let svg = success_plot(&info(), &rows());
         assert_eq!(svg.matches("<title>").count(), 4, "2 problems × 2 counts");
         assert!(svg.contains("<title>pack4, 20: 0/2</title>"), "{svg}");
-        assert!(svg.contains("generalization factor 4×"), "{svg}");
+        assert!(svg.contains("Generalization factor 4×"), "{svg}");
         assert!(svg.contains(">pack4 (4)</text>"));
         assert!(svg.contains(">20 demonstrations</text>"));
         assert_eq!(svg, success_plot(&info(), &rows()), "deterministic");

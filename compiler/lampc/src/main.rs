@@ -39,6 +39,11 @@ enum Command {
     Build(commands::build::Args),
     /// Plan, refine and write a validated trajectory for one problem.
     Solve(commands::solve::Args),
+    /// Evaluate a spec: success per test problem and per number of demonstrations.
+    Eval(commands::eval::Args),
+    /// One solve of an evaluation, its job read from standard input (used by `eval`).
+    #[command(name = "eval-worker", hide = true)]
+    EvalWorker,
     /// Draw a scene, a demonstration or a trajectory.
     Render(commands::render::Args),
 }
@@ -54,6 +59,8 @@ fn main() -> ExitCode {
         Command::Demos(args) => commands::demos::run(&args),
         Command::Build(args) => commands::build::run(&args),
         Command::Solve(args) => commands::solve::run(&args),
+        Command::Eval(args) => commands::eval::run(&args),
+        Command::EvalWorker => commands::eval::worker::run(),
         Command::Render(args) => commands::render::run(&args),
     }
 }

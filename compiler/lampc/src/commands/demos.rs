@@ -109,7 +109,7 @@ fn demo_failure(error: DemoError) -> Failure {
 }
 
 /// Writes through a temporary file renamed into place, so a file is never seen half written.
-fn write_file(folder: &Path, name: &str, contents: &[u8]) -> Result<(), String> {
+pub(crate) fn write_file(folder: &Path, name: &str, contents: &[u8]) -> Result<(), String> {
     let path = folder.join(name);
     let temporary = folder.join(format!(".{name}.tmp"));
     std::fs::write(&temporary, contents)

@@ -2,5 +2,6 @@
 
 pub(crate) mod build;
 pub(crate) mod demos;
+pub(crate) mod eval;
 pub(crate) mod render;
 pub(crate) mod solve;

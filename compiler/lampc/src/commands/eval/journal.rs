@@ -1,0 +1,89 @@
+//! The journal of finished solves (`journal.jsonl` in the output folder): one JSON line per row
+//! as it finishes, so that an interrupted evaluation keeps its rows and a new run of the same
+//! command continues where it stopped.
+//!
+//! A line is `{"settings": KEY, "row": ROW}`; a row is reused for the subset digest and problem
+//! it names when KEY is the current settings key. Lines that do not parse (the last one, cut off
+//! by a crash) are skipped.
+
+use std::collections::BTreeMap;
+use std::fs::{File, OpenOptions};
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use lamp_eval::Row;
+use serde::{Deserialize, Serialize};
+
+/// The journal's file name in the output folder.
+pub(super) const JOURNAL_FILE: &str = "journal.jsonl";
+
+/// A solve's key: the subset digest and the problem (the settings key is the journal's filter).
+pub(super) type Key = (String, String);
+
+#[derive(Serialize, Deserialize)]
+struct Entry {
+    settings: String,
+    row: Row,
+}
+
+/// The journal, open for appending.
+pub(super) struct Journal {
+    path: PathBuf,
+    file: File,
+    settings: String,
+}
+
+/// What an existing journal holds for `settings`: the rows by key, and how many lines were
+/// skipped because they do not parse.
+pub(super) fn read(path: &Path, settings: &str) -> Result<(BTreeMap<Key, Row>, usize), String> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(text) => text,
+        Err(error) if error.kind() == std::io::ErrorKind::NotFound => String::new(),
+        Err(error) => return Err(format!("cannot read {}: {error}", path.display())),
+    };
+    let mut rows = BTreeMap::new();
+    let mut skipped = 0;
+    for line in text.lines().filter(|line| !line.trim().is_empty()) {
+        match serde_json::from_str::<Entry>(line) {
+            Ok(entry) if entry.settings == settings => {
+                rows.insert((entry.row.subset.clone(), entry.row.problem.clone()), entry.row);
+            }
+            Ok(_) => {}
+            Err(_) => skipped += 1,
+        }
+    }
+    Ok((rows, skipped))
+}
+
+impl Journal {
+    /// Opens (or creates) the journal at `path` for rows of `settings`.
+    pub(super) fn open(path: &Path, settings: &str) -> Result<Journal, String> {
+        if let Some(folder) = path.parent() {
+            std::fs::create_dir_all(folder)
+                .map_err(|error| format!("cannot create {}: {error}", folder.display()))?;
+        }
+        let mut file = OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(path)
+            .map_err(|error| format!("cannot open {}: {error}", path.display()))?;
+        // A line cut off by a crash must not swallow the next one.
+        let length = file.metadata().map(|m| m.len()).unwrap_or(0);
+        if length > 0 && !std::fs::read(path).is_ok_and(|bytes| bytes.ends_with(b"\n")) {
+            file.write_all(b"\n")
+                .map_err(|error| format!("cannot write {}: {error}", path.display()))?;
+        }
+        Ok(Journal { path: path.to_path_buf(), file, settings: settings.to_string() })
+    }
+
+    /// Appends `row` as one line and flushes it to the file.
+    pub(super) fn append(&mut self, row: &Row) -> Result<(), String> {
+        let entry = Entry { settings: self.settings.clone(), row: row.clone() };
+        let mut line = serde_json::to_string(&entry).map_err(|error| error.to_string())?;
+        line.push('\n');
+        self.file
+            .write_all(line.as_bytes())
+            .and_then(|()| self.file.flush())
+            .map_err(|error| format!("cannot write {}: {error}", self.path.display()))
+    }
+}

@@ -1,0 +1,519 @@
+//! `lampc eval`: the paper's evaluation of a spec in one command.
+//!
+//! Per demonstration count and run it draws a stratified subset of one pool of demonstrations
+//! (lamp-eval), learns a model from it in memory (lamp-build), and solves every selected test
+//! problem with `lampc solve`'s settings, each solve in its own worker process
+//! ([`worker`]), up to `--jobs` at once ([`schedule`]). Finished rows go to a journal as they
+//! finish ([`journal`]), so that an interrupted evaluation continues where it stopped; at the
+//! end `eval.json`, `eval.csv`, `report.md`, `success.svg` and `sample_efficiency.svg` are written
+//! into the output folder. The protocol and the design are in `docs/evaluation.md`.
+
+mod journal;
+mod pool;
+mod schedule;
+pub(crate) mod worker;
+
+use std::cell::RefCell;
+use std::collections::{BTreeMap, BTreeSet};
+use std::io::IsTerminal;
+use std::num::NonZeroUsize;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use indicatif::{ProgressBar, ProgressStyle};
+use lamp_build::{Adapter, BuildContext, DemoFile};
+use lamp_eval::{EvalDocument, EvalInfo, PoolInfo, ProblemInfo, Row, SettingsInfo};
+use lamp_spec::{OptionValue, PluginChoice, PluginSource, Problem, Spec};
+use lamp_world::SpecWorld;
+use miette::Diagnostic as _;
+
+use self::journal::{JOURNAL_FILE, Journal, Key};
+use self::schedule::{Done, Learned, Model, SubsetWork};
+use self::worker::one_line;
+use crate::solve_setup::{self, Overrides};
+
+/// Arguments of `lampc eval`.
+#[derive(clap::Args)]
+pub(crate) struct Args {
+    /// The `.lamp` spec file.
+    pub(crate) spec: PathBuf,
+    /// Demonstration counts to learn from, comma-separated [default: the whole pool].
+    #[arg(long, value_name = "N,N,…")]
+    pub(crate) demos: Option<String>,
+    /// Runs per count, each with its own subset of demonstrations.
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=MAX_RUNS))]
+    pub(crate) runs: u32,
+    /// The test problems: comma-separated names or globs [default: every problem of the spec].
+    #[arg(long, value_name = "GLOB,GLOB")]
+    pub(crate) problems: Option<String>,
+    /// Solves at once, each in its own process [default: the number of cores].
+    #[arg(long, value_name = "N")]
+    pub(crate) jobs: Option<NonZeroUsize>,
+    /// Stop each solve after this many seconds of wall time [default: no limit; with a limit
+    /// the results depend on the machine].
+    #[arg(long, value_name = "SECONDS", value_parser = crate::commands::solve::parse_seconds)]
+    pub(crate) timeout: Option<f64>,
+    /// The output folder [default: `<build>/eval/` beside the spec].
+    #[arg(long, value_name = "DIR")]
+    pub(crate) out: Option<PathBuf>,
+    /// The seed of the subset draws, the learning and the solves [default: the spec's].
+    #[arg(long)]
+    pub(crate) seed: Option<u64>,
+}
+
+/// The most runs per count: far beyond any evaluation (the paper uses 10), low enough that a
+/// typo cannot queue billions of solves.
+const MAX_RUNS: i64 = 10_000;
+/// The exit code after Ctrl-C, as shells report a process ended by SIGINT.
+const EXIT_INTERRUPTED: u8 = 130;
+
+/// Set by the first Ctrl-C: the evaluation stops, keeping the rows it finished.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// Why an evaluation stopped early.
+enum Failure {
+    /// The spec has errors (already rendered).
+    Spec,
+    /// A message to print.
+    Message(String),
+}
+
+impl From<String> for Failure {
+    fn from(message: String) -> Self {
+        Failure::Message(message)
+    }
+}
+
+pub(crate) fn run(args: &Args) -> ExitCode {
+    let colour = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+    // The first Ctrl-C stops the evaluation at once, keeping finished rows; a second one ends
+    // the process (the journal holds every finished row either way).
+    let _ = ctrlc::set_handler(|| {
+        if INTERRUPTED.swap(true, Ordering::Relaxed) {
+            std::process::exit(i32::from(EXIT_INTERRUPTED));
+        }
+    });
+    match evaluate(args, colour) {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(EXIT_INTERRUPTED),
+        Err(Failure::Spec) => ExitCode::from(crate::EXIT_DIAGNOSTICS),
+        Err(Failure::Message(message)) => {
+            eprintln!("{}", message.trim_end());
+            eprintln!("lampc eval: failed");
+            ExitCode::from(crate::EXIT_DIAGNOSTICS)
+        }
+    }
+}
+
+/// One solve of the evaluation: its place, and the key its result is found under.
+struct Slot {
+    demos: usize,
+    run: usize,
+    problem: String,
+    objects: usize,
+    key: Key,
+}
+
+/// Runs the evaluation; `Ok(false)` when interrupted.
+fn evaluate(args: &Args, colour: bool) -> Result<bool, Failure> {
+    let started = Instant::now();
+    let Some(checked) = crate::spec_input::check_spec(&args.spec, colour) else {
+        return Err(Failure::Spec);
+    };
+    let render = |error: &dyn miette::Diagnostic| crate::diagnostics::render_error(error, colour);
+    let seed = args.seed.unwrap_or(checked.spec.seed);
+    // The learner and the problems take their seed from the spec.
+    let spec = Spec { seed, ..checked.spec.clone() };
+    let spec_dir = &checked.dir;
+    let problems = select_problems(&spec, args.problems.as_deref())
+        .map_err(|message| format!("{}: {message}", checked.file_name))?;
+    let counts = args
+        .demos
+        .as_deref()
+        .map(lamp_eval::parse_counts)
+        .transpose()
+        .map_err(|error| render(&error))?;
+    let build_dir = spec_dir.join(lamp_build::DEFAULT_BUILD_DIR);
+    let out = args.out.clone().unwrap_or_else(|| build_dir.join("eval"));
+    let runs = args.runs as usize;
+    let jobs = args
+        .jobs
+        .or_else(|| std::thread::available_parallelism().ok())
+        .map_or(1, NonZeroUsize::get);
+
+    let world = SpecWorld::load(spec_dir, &spec).map_err(|error| render(&error))?;
+    let adapter = Adapter::new(&spec, &world.robots).map_err(|error| render(&error))?;
+    let largest = counts.as_ref().and_then(|counts| counts.iter().copied().max());
+    let note = |message: &str| eprintln!("{}: {message}", checked.file_name);
+    let pool = pool::gather(&spec, spec_dir, &build_dir, &world, &adapter, largest, &note)?;
+    let counts = counts.unwrap_or_else(|| vec![pool.files.len()]);
+    let settings = settings_info(&spec, spec_dir, args.timeout)?;
+
+    // Every solve in order; subsets drawn, their digests taken.
+    let mut slots = Vec::new();
+    let mut subsets: BTreeMap<String, (lamp_build::Digest, Vec<usize>)> = BTreeMap::new();
+    for &count in &counts {
+        for run in 1..=runs {
+            let indices = lamp_eval::draw_subset(&pool.entries, count, seed, run)
+                .map_err(|error| render(&error))?;
+            let files: Vec<DemoFile> = indices.iter().map(|&i| pool.files[i].clone()).collect();
+            let digest = lamp_build::demonstration_digest(&files);
+            subsets.entry(digest.to_string()).or_insert((digest, indices));
+            for problem in &problems {
+                slots.push(Slot {
+                    demos: count,
+                    run,
+                    problem: problem.name.clone(),
+                    objects: objects_of(&spec, problem),
+                    key: (digest.to_string(), problem.name.clone()),
+                });
+            }
+        }
+    }
+
+    let journal_path = out.join(JOURNAL_FILE);
+    let (mut results, skipped) = journal::read(&journal_path, &settings.key)?;
+    results.retain(|key, _| slots.iter().any(|slot| slot.key == *key));
+    if skipped > 0 {
+        note(&format!("skipped {skipped} unreadable line(s) of {}", journal_path.display()));
+    }
+    let mut journal = Journal::open(&journal_path, &settings.key)?;
+    // The subsets with solves still to do, in the order of their first solve.
+    let mut work: Vec<SubsetWork> = Vec::new();
+    for slot in &slots {
+        if results.contains_key(&slot.key) {
+            continue;
+        }
+        let subset = &slot.key.0;
+        match work.iter_mut().find(|work| work.digest.to_string() == *subset) {
+            Some(work) if work.problems.contains(&slot.problem) => {}
+            Some(work) => work.problems.push(slot.problem.clone()),
+            None => {
+                let (digest, indices) = subsets[subset].clone();
+                work.push(SubsetWork { digest, indices, problems: vec![slot.problem.clone()] });
+            }
+        }
+    }
+    let reused = slots.iter().filter(|slot| results.contains_key(&slot.key)).count();
+    note(&format!(
+        "{} solves ({} count(s) × {runs} run(s) × {} problem(s)), {reused} already in the journal; {} demonstrations in the pool ({} cut{}); {jobs} at once",
+        slots.len(),
+        counts.len(),
+        problems.len(),
+        pool.files.len(),
+        pool.entries.iter().filter(|demo| demo.cut).count(),
+        if pool.generated > 0 { format!(", {} generated", pool.generated) } else { String::new() },
+    ));
+
+    let progress = progress_bar(slots.len() as u64);
+    let solved_in = |results: &BTreeMap<Key, Row>| {
+        slots.iter().filter(|slot| results.get(&slot.key).is_some_and(|row| row.solved)).count()
+    };
+    progress.set_position(reused as u64);
+    progress.set_message(format!("{} solved", solved_in(&results)));
+    let context = BuildContext {
+        spec: &spec,
+        spec_file: &checked.file_name,
+        world: &world,
+        adapter: &adapter,
+    };
+    let learn = |work: &SubsetWork| learn(&context, &pool.demonstrations, work);
+    let schedule_settings =
+        schedule::Settings { spec: &args.spec, seed, timeout: args.timeout, jobs };
+    let mut write_error = None;
+    // Rows of crashed workers: reported, not journaled, so not kept for the next run.
+    let mut crashed = BTreeSet::new();
+    let current = RefCell::new(String::new());
+    let complete = schedule::run(
+        &schedule_settings,
+        work,
+        &learn,
+        &|| INTERRUPTED.load(Ordering::Relaxed),
+        &mut |problem| *current.borrow_mut() = problem.to_string(),
+        &mut |done: Done| {
+            let Some(first) = slots.iter().find(|slot| slot.key == done.key) else { return };
+            let row = Row::new(
+                first.demos,
+                first.run,
+                &first.problem,
+                first.objects,
+                &first.key.0,
+                done.result,
+                Some(done.seconds_learning),
+            );
+            if !done.journal {
+                crashed.insert(done.key.clone());
+            } else if let Err(message) = journal.append(&row) {
+                write_error.get_or_insert(message);
+            }
+            results.insert(done.key.clone(), row);
+            let finished = slots.iter().filter(|slot| slot.key == done.key).count();
+            progress.inc(finished as u64);
+            progress.set_message(format!("{} · {} solved", current.borrow(), solved_in(&results)));
+        },
+    );
+    progress.finish_and_clear();
+    if let Some(message) = write_error {
+        return Err(Failure::Message(message));
+    }
+    if !complete {
+        let kept = slots
+            .iter()
+            .filter(|slot| results.contains_key(&slot.key) && !crashed.contains(&slot.key))
+            .count();
+        eprintln!(
+            "lampc eval: interrupted; {kept} of {} solves are kept in {}; run the same command again to continue",
+            slots.len(),
+            journal_path.display()
+        );
+        return Ok(false);
+    }
+
+    let rows: Vec<Row> = slots
+        .iter()
+        .filter_map(|slot| {
+            let row = results.get(&slot.key)?;
+            Some(Row { demos: slot.demos, run: slot.run, objects: slot.objects, ..row.clone() })
+        })
+        .collect();
+    let info = EvalInfo {
+        spec: checked.file_name.clone(),
+        domain: spec.domain.clone(),
+        seed,
+        counts,
+        runs,
+        problems: problems
+            .iter()
+            .map(|problem| ProblemInfo {
+                name: problem.name.clone(),
+                objects: objects_of(&spec, problem),
+            })
+            .collect(),
+        pool: PoolInfo {
+            demonstrations: pool.files.len(),
+            cut: pool.entries.iter().filter(|demo| demo.cut).count(),
+            generated: pool.generated,
+            max_objects: pool.entries.iter().map(|demo| demo.objects).max().unwrap_or(0),
+            digest: lamp_build::demonstration_digest(&pool.files).to_string(),
+        },
+        settings,
+    };
+    write_outputs(&out, &info, &rows)?;
+    print_summary(&info, &rows, &out, started.elapsed());
+    Ok(true)
+}
+
+/// The spec's problems whose names match one of the comma-separated globs of `filter` (all
+/// without a filter), in spec order; a glob that matches nothing is an error.
+fn select_problems<'a>(spec: &'a Spec, filter: Option<&str>) -> Result<Vec<&'a Problem>, String> {
+    let Some(filter) = filter else { return Ok(spec.problems.iter().collect()) };
+    let names: Vec<&str> = spec.problems.iter().map(|problem| problem.name.as_str()).collect();
+    let mut patterns = Vec::new();
+    for text in filter.split(',').map(str::trim) {
+        let pattern = glob::Pattern::new(text)
+            .map_err(|error| format!("`{text}` is not a name or glob: {error}"))?;
+        if !names.iter().any(|name| pattern.matches(name)) {
+            return Err(format!("`{text}` matches no problem; the spec has: {}", names.join(", ")));
+        }
+        patterns.push(pattern);
+    }
+    Ok(spec
+        .problems
+        .iter()
+        .filter(|problem| patterns.iter().any(|pattern| pattern.matches(&problem.name)))
+        .collect())
+}
+
+/// A test problem's objects: its scene's objects of a movable type.
+fn objects_of(spec: &Spec, problem: &Problem) -> usize {
+    let movable = pool::movable_types(spec);
+    problem
+        .scene
+        .objects
+        .iter()
+        .filter(|object| movable.contains(object.type_name.as_str()))
+        .count()
+}
+
+/// What every solve uses, described, and the digest that keys the journal: lampc's version, the
+/// whole checked spec (with the evaluation's seed) and the time limit.
+fn settings_info(
+    spec: &Spec,
+    spec_dir: &Path,
+    timeout: Option<f64>,
+) -> Result<SettingsInfo, String> {
+    let overrides = Overrides::default();
+    let choice =
+        |spec_choice: &PluginChoice| crate::plugin_setup::chosen(spec_choice, spec_dir, None);
+    let (planner, motion) = (choice(&spec.plugins.planner), choice(&spec.plugins.motion));
+    // Set up now, so that a broken plugin block stops the evaluation before any solve.
+    let mut runtime = crate::plugin_setup::RuntimeOptions::default();
+    crate::plugin_setup::planner(&planner, &mut runtime)
+        .map_err(|message| format!("the planner plugin: {message}"))?;
+    crate::plugin_setup::motion(&motion, &mut runtime)
+        .map_err(|message| format!("the motion plugin: {message}"))?;
+    let never = || false;
+    let solve = solve_setup::settings(spec, &runtime, &overrides, &never);
+    let text = format!("lampc {}\n{spec:?}\ntimeout {timeout:?}\n", env!("CARGO_PKG_VERSION"));
+    let key = lamp_build::demonstration_digest(&[DemoFile {
+        name: "lampc eval settings".to_string(),
+        bytes: text.into_bytes(),
+    }]);
+    Ok(SettingsInfo {
+        planner: plugin_text(&planner),
+        refiner: plugin_text(&choice(&spec.plugins.refiner)),
+        motion: plugin_text(&motion),
+        plans: solve.plan_count,
+        rounds: solve.rounds,
+        max_refused: solve.max_refused,
+        motion_iterations: solve.motion.budget.max_iterations.unwrap_or(0),
+        relax_goal: solve.relax_goal,
+        timeout,
+        key: key.to_string(),
+    })
+}
+
+/// A plugin as its name (or library path) and its options, e.g. `gbfs-ff (timeout 30 s)`.
+fn plugin_text(choice: &PluginChoice) -> String {
+    let name = match &choice.source {
+        PluginSource::Builtin(name) => name.clone(),
+        PluginSource::Library(path) => path.display().to_string(),
+    };
+    if choice.options.is_empty() {
+        return name;
+    }
+    let options: Vec<String> = choice
+        .options
+        .iter()
+        .map(|(key, value)| match value {
+            OptionValue::Number(v) => format!("{key} {v}"),
+            OptionValue::Length(v) => format!("{key} {v} m"),
+            OptionValue::Angle(v) => format!("{key} {v} rad"),
+            OptionValue::Duration(v) => format!("{key} {v} s"),
+            OptionValue::Text(text) | OptionValue::Word(text) => format!("{key} {text}"),
+        })
+        .collect();
+    format!("{name} ({})", options.join(", "))
+}
+
+/// Learns a subset's model and takes the artifacts a solve reads out of the build's.
+fn learn(
+    context: &BuildContext<'_>,
+    demonstrations: &[lamp_learn::Demonstration],
+    work: &SubsetWork,
+) -> Learned {
+    let started = Instant::now();
+    let subset: Vec<lamp_learn::Demonstration> =
+        work.indices.iter().map(|&index| demonstrations[index].clone()).collect();
+    let model = lamp_build::learn_model(context.spec, &subset)
+        .and_then(|model| lamp_build::artifacts(context, &model, &subset, work.digest))
+        .map_err(|error| {
+            let code = error.code().map(|code| format!("{code}: ")).unwrap_or_default();
+            one_line(&format!("{code}{error}"))
+        })
+        .and_then(|artifacts| {
+            let text = |path: &Path| {
+                artifacts
+                    .files
+                    .iter()
+                    .find(|file| file.path == path)
+                    .map(|file| file.contents.clone())
+            };
+            let missing = |what: &str| format!("the build wrote no {what}");
+            let domain =
+                text(Path::new(lamp_build::DOMAIN_FILE)).ok_or_else(|| missing("domain"))?;
+            let samplers = text(Path::new(lamp_build::SAMPLERS_FILE))
+                .ok_or_else(|| missing("sampler file"))?;
+            let problems = work
+                .problems
+                .iter()
+                .map(|name| {
+                    let path = Path::new(lamp_build::PROBLEMS_DIR).join(format!("{name}.pddl"));
+                    let skipped =
+                        artifacts.summary.problems_skipped.iter().find(|(n, _)| n == name);
+                    let pddl = text(&path).ok_or_else(|| {
+                        skipped.map_or_else(
+                            || "not written".to_string(),
+                            |(_, reason)| one_line(reason),
+                        )
+                    });
+                    (name.clone(), pddl)
+                })
+                .collect();
+            Ok(Model { domain, samplers, problems })
+        });
+    Learned {
+        digest: work.digest.to_string(),
+        seconds: started.elapsed().as_secs_f64(),
+        model,
+        problems: work.problems.clone(),
+    }
+}
+
+/// Writes the five outputs, each through a temporary file renamed into place (the journal beside
+/// them stays).
+fn write_outputs(out: &Path, info: &EvalInfo, rows: &[Row]) -> Result<(), String> {
+    let json = EvalDocument::new(info.clone(), rows.to_vec())
+        .to_json()
+        .map_err(|error| format!("cannot write eval.json: {error}"))?;
+    let csv = lamp_eval::csv(rows);
+    let report = lamp_eval::report(info, rows);
+    let success = lamp_eval::success_plot(info, rows);
+    let efficiency = lamp_eval::sample_efficiency_plot(info, rows);
+    let files: [(&str, &[u8]); 5] = [
+        ("eval.json", json.as_bytes()),
+        ("eval.csv", csv.as_bytes()),
+        ("report.md", report.as_bytes()),
+        (lamp_eval::SUCCESS_PLOT_FILE, success.as_bytes()),
+        (lamp_eval::EFFICIENCY_PLOT_FILE, efficiency.as_bytes()),
+    ];
+    std::fs::create_dir_all(out)
+        .map_err(|error| format!("cannot create {}: {error}", out.display()))?;
+    for (name, contents) in files {
+        crate::commands::demos::write_file(out, name, contents)?;
+    }
+    Ok(())
+}
+
+fn print_summary(info: &EvalInfo, rows: &[Row], out: &Path, elapsed: Duration) {
+    println!("{}: evaluated {} solves into {}", info.spec, rows.len(), out.display());
+    for summary in lamp_eval::efficiency(info, rows) {
+        let percent = |value: Option<f64>| {
+            value.map_or_else(|| "—".to_string(), |v| format!("{:.1} %", v * 100.0))
+        };
+        println!(
+            "  {:>5} demos     {} ± {} solved over {} run(s)",
+            summary.count,
+            percent(summary.mean),
+            percent(summary.std),
+            summary.runs.len()
+        );
+    }
+    let g = lamp_eval::generalization(info, rows);
+    match (g.factor, g.test_objects) {
+        (Some(factor), Some(test)) => println!(
+            "  generalization  {factor:.1}× ({test} objects solved ÷ {} in a demonstration)",
+            g.training_objects
+        ),
+        _ => println!("  generalization  none: no test problem solved"),
+    }
+    let solving: f64 = rows.iter().filter_map(|row| row.result.seconds_solving).sum();
+    println!("  time            {:.1} s of solving in {:.1} s", solving, elapsed.as_secs_f64());
+}
+
+/// One bar for the whole evaluation on a terminal, nothing otherwise.
+fn progress_bar(length: u64) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let style = ProgressStyle::with_template(
+        "evaluating [{bar:30}] {pos}/{len} {elapsed} (eta {eta}) {wide_msg}",
+    )
+    .map(|style| style.progress_chars("=> "))
+    .unwrap_or_else(|_| ProgressStyle::default_bar());
+    let bar = ProgressBar::new(length).with_style(style);
+    bar.enable_steady_tick(Duration::from_millis(200));
+    bar
+}

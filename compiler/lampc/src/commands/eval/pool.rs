@@ -1,0 +1,172 @@
+//! The demonstration pool of an evaluation: every file of the spec's demonstration source, topped
+//! up with simulated demonstrations when the largest count needs more, read once into memory
+//! with what the subset draw needs to know of each (cut or full, objects shown).
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use lamp_build::{Adapter, DemoFile};
+use lamp_demonstrators::{Simulation, file_name};
+use lamp_eval::PoolDemo;
+use lamp_lang::Loader;
+use lamp_learn::Demonstration;
+use lamp_spec::{DemoSource, Mobility, Spec};
+use lamp_trajectory::TrajectoryHeader;
+use lamp_world::SpecWorld;
+
+use crate::files::DiskLoader;
+
+/// The provenance key of a simulated demonstration's cut (`none` for a full one).
+const CUT_KEY: &str = "cut_at";
+
+/// Every demonstration of the pool, in file-name order.
+pub(super) struct Pool {
+    /// The files as read (names relative to the spec's folder).
+    pub(super) files: Vec<DemoFile>,
+    /// The learner's demonstrations of the files.
+    pub(super) demonstrations: Vec<Demonstration>,
+    /// What the draw and the generalization factor need of each file.
+    pub(super) entries: Vec<PoolDemo>,
+    /// Files this evaluation generated.
+    pub(super) generated: usize,
+}
+
+/// Whether a demonstration file was cut short: its header's `cut_at` provenance names a step.
+/// A file without that provenance (recorded elsewhere) counts as a full demonstration.
+pub(super) fn is_cut(header: &TrajectoryHeader) -> bool {
+    header.provenance.get(CUT_KEY).is_some_and(|value| value != "none")
+}
+
+/// The names of the spec's movable object types: what the evaluation counts as objects.
+pub(super) fn movable_types(spec: &Spec) -> BTreeSet<&str> {
+    spec.object_types
+        .iter()
+        .filter(|ty| ty.mobility == Mobility::Movable && !ty.world)
+        .map(|ty| ty.name.as_str())
+        .collect()
+}
+
+/// The pool: the spec's demonstration files; when a simulated source has fewer than `wanted`,
+/// the missing `<domain>_NNNN.mcap` of indices below `wanted` are generated first, as
+/// `lampc demos --count wanted` would make them, into the source's folder.
+pub(super) fn gather(
+    spec: &Spec,
+    spec_dir: &Path,
+    build_dir: &Path,
+    world: &SpecWorld,
+    adapter: &Adapter,
+    wanted: Option<usize>,
+    show: &dyn Fn(&str),
+) -> Result<Pool, String> {
+    let patterns = lamp_build::demo_patterns(spec, spec_dir, build_dir, None);
+    let find = || -> Vec<PathBuf> {
+        let paths: BTreeSet<PathBuf> =
+            patterns.iter().flat_map(|pattern| DiskLoader.glob(pattern)).collect();
+        paths.into_iter().collect()
+    };
+    let mut paths = find();
+    let mut generated = 0;
+    let simulated = spec.demonstrations.iter().any(|s| matches!(s, DemoSource::Simulated { .. }));
+    if let Some(wanted) = wanted.filter(|&wanted| paths.len() < wanted && simulated) {
+        let folder = build_dir.join(lamp_build::SIMULATED_DEMOS_DIR);
+        generated = generate_missing(spec, world, &folder, wanted, show)?;
+        paths = find();
+    }
+    if paths.is_empty() {
+        let searched: Vec<String> =
+            patterns.iter().map(|pattern| format!("`{}`", pattern.display())).collect();
+        return Err(format!(
+            "no demonstration files found (searched {})\nhelp: run `lampc demos` on the spec first, or ask for counts with `--demos`",
+            if searched.is_empty() {
+                "nothing: the spec declares no source".into()
+            } else {
+                searched.join(", ")
+            }
+        ));
+    }
+    let movable = movable_types(spec);
+    let mut pool = Pool {
+        files: Vec::with_capacity(paths.len()),
+        demonstrations: Vec::with_capacity(paths.len()),
+        entries: Vec::with_capacity(paths.len()),
+        generated,
+    };
+    for path in &paths {
+        let name = lamp_build::demo_name(path, spec_dir);
+        let bytes = std::fs::read(path)
+            .map_err(|error| format!("cannot read {}: {error}", path.display()))?;
+        let file = DemoFile { name, bytes };
+        let reader = lamp_trajectory::TrajectoryReader::from_bytes(&file.bytes, file.name.as_str())
+            .map_err(|error| crate::diagnostics::render_error(&error, false))?;
+        let header = reader.header();
+        let objects =
+            header.bodies.iter().filter(|body| movable.contains(body.type_name.as_str())).count();
+        pool.entries.push(PoolDemo { name: file.name.clone(), cut: is_cut(header), objects });
+        pool.demonstrations.push(
+            adapter
+                .demonstration(&file)
+                .map_err(|error| crate::diagnostics::render_error(&error, false))?,
+        );
+        pool.files.push(file);
+    }
+    Ok(pool)
+}
+
+/// Generates the simulated demonstrations of indices below `wanted` that `folder` lacks, on
+/// every core (a demonstration depends only on the seed and its index), and writes each through
+/// a temporary file renamed into place. Returns how many it wrote.
+fn generate_missing(
+    spec: &Spec,
+    world: &SpecWorld,
+    folder: &Path,
+    wanted: usize,
+    show: &dyn Fn(&str),
+) -> Result<usize, String> {
+    let render = |error: &dyn miette::Diagnostic| crate::diagnostics::render_error(error, false);
+    let mut simulation = Simulation::from_spec(spec).map_err(|error| render(&error))?;
+    simulation.count = u32::try_from(wanted)
+        .map_err(|_| format!("{wanted} demonstrations are more than the simulator numbers"))?;
+    let missing: Vec<u32> = (0..simulation.count)
+        .filter(|&index| !folder.join(file_name(&spec.domain, index)).is_file())
+        .collect();
+    show(&format!(
+        "generating {} {} demonstration(s) into {}",
+        missing.len(),
+        simulation.demonstrator.name(),
+        folder.display()
+    ));
+    std::fs::create_dir_all(folder)
+        .map_err(|error| format!("cannot create {}: {error}", folder.display()))?;
+    let next = AtomicUsize::new(0);
+    let failure: Mutex<Option<String>> = Mutex::new(None);
+    let threads = std::thread::available_parallelism().map_or(1, usize::from);
+    std::thread::scope(|scope| {
+        for _ in 0..threads {
+            scope.spawn(|| {
+                loop {
+                    let slot = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(&index) = missing.get(slot) else { return };
+                    let written = lamp_demonstrators::generate(world, &simulation, index)
+                        .and_then(|demonstration| demonstration.to_bytes())
+                        .map_err(|error| render(&error))
+                        .and_then(|bytes| {
+                            let name = file_name(&spec.domain, index);
+                            crate::commands::demos::write_file(folder, &name, &bytes)
+                        });
+                    if let Err(message) = written {
+                        let mut failure = failure.lock().unwrap_or_else(|p| p.into_inner());
+                        failure.get_or_insert(message);
+                        next.store(missing.len(), Ordering::Relaxed);
+                        return;
+                    }
+                }
+            });
+        }
+    });
+    match failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
+        Some(message) => Err(message),
+        None => Ok(missing.len()),
+    }
+}

@@ -1,0 +1,302 @@
+//! One solve in its own process: `lampc eval-worker` (hidden) reads a [`Job`] as JSON from its
+//! standard input, solves it with `lampc solve`'s settings, and writes one [`SolveResult`] as
+//! JSON to its standard output, with its own peak memory; and the parent's side, which runs a
+//! worker, feeds it and kills it on an interrupt or long after its time limit.
+//!
+//! A process per solve gives every row its own peak memory, lets a time limit or Ctrl-C end a
+//! solve at once, and keeps a crash in one solve from ending the evaluation.
+
+use std::io::{Read as _, Write as _};
+use std::path::PathBuf;
+use std::process::{Command, ExitCode, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use lamp_build::{Adapter, SamplersFile};
+use lamp_eval::{Outcome, SolveResult};
+use lamp_tamp::{SolveError, SolveInput};
+use lamp_world::{SpecWorld, trajectory_header};
+use miette::Diagnostic as _;
+use serde::{Deserialize, Serialize};
+
+use crate::solve_setup::{self, Overrides};
+
+/// The hidden subcommand's name.
+pub(crate) const WORKER_COMMAND: &str = "eval-worker";
+
+/// How long after its own time limit a worker may take to stop before it is killed: the solver
+/// polls its cancellation check between steps, and a motion call or a grounding can take seconds.
+const KILL_GRACE: Duration = Duration::from_secs(30);
+/// How often the parent looks at a running worker.
+const POLL: Duration = Duration::from_millis(20);
+/// Lines of a crashed worker's standard error kept in the row's reason.
+const STDERR_LINES: usize = 3;
+
+/// What a worker solves: the problem of the spec with the subset's learned model.
+#[derive(Serialize, Deserialize)]
+pub(super) struct Job {
+    /// The spec file (as the parent was given it; the worker runs in the same folder).
+    pub(super) spec: PathBuf,
+    pub(super) problem: String,
+    /// The evaluation's seed.
+    pub(super) seed: u64,
+    /// Seconds of wall time before the solve is cancelled.
+    pub(super) timeout: Option<f64>,
+    /// The learned domain and problem as PDDL, and the sampler file's JSON.
+    pub(super) domain: String,
+    pub(super) problem_pddl: String,
+    pub(super) samplers: String,
+}
+
+/// Runs `lampc eval-worker`: a job from standard input, a result to standard output.
+pub(crate) fn run() -> ExitCode {
+    let started = Instant::now();
+    let mut input = String::new();
+    if let Err(error) = std::io::stdin().read_to_string(&mut input) {
+        eprintln!("lampc eval-worker: cannot read the job: {error}");
+        return ExitCode::from(crate::EXIT_DIAGNOSTICS);
+    }
+    let job: Job = match serde_json::from_str(&input) {
+        Ok(job) => job,
+        Err(error) => {
+            eprintln!("lampc eval-worker: the job does not parse: {error}");
+            return ExitCode::from(crate::EXIT_DIAGNOSTICS);
+        }
+    };
+    drop(input);
+    let mut result = solve(&job);
+    result.seconds_solving = Some(started.elapsed().as_secs_f64());
+    result.peak_memory_bytes = peak_memory();
+    match serde_json::to_string(&result) {
+        Ok(line) => {
+            println!("{line}");
+            ExitCode::SUCCESS
+        }
+        Err(error) => {
+            eprintln!("lampc eval-worker: cannot write the result: {error}");
+            ExitCode::from(crate::EXIT_DIAGNOSTICS)
+        }
+    }
+}
+
+/// One line: a multi-line message joined with spaces.
+pub(super) fn one_line(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+fn error(reason: impl std::fmt::Display) -> SolveResult {
+    SolveResult::failed(Outcome::Error, one_line(&reason.to_string()))
+}
+
+fn solve(job: &Job) -> SolveResult {
+    let checked = lamp_lang::check(&job.spec, &crate::files::DiskLoader);
+    let Some(spec) = checked.spec else {
+        return error(format!("the spec {} has errors", job.spec.display()));
+    };
+    let spec_dir = match job.spec.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let spec_file = job.spec.file_name().map_or_else(String::new, |n| n.to_string_lossy().into());
+    let Some(problem) = spec.problems.iter().find(|problem| problem.name == job.problem) else {
+        return error(format!("the spec has no problem `{}`", job.problem));
+    };
+    let samplers = match SamplersFile::from_json(&job.samplers) {
+        Ok(samplers) => samplers,
+        Err(failure) => return error(failure),
+    };
+    let world = match SpecWorld::load(&spec_dir, &spec) {
+        Ok(world) => world,
+        Err(failure) => return error(failure),
+    };
+    let adapter = match Adapter::new(&spec, &world.robots) {
+        Ok(adapter) => adapter,
+        Err(failure) => return error(failure),
+    };
+    let scene = match world.problem_scene(problem) {
+        Ok(scene) => scene,
+        Err(failure) => return error(failure),
+    };
+    let overrides = Overrides { seed: Some(job.seed), ..Overrides::default() };
+    let mut plugins =
+        match solve_setup::plugins(&spec, &spec_dir, &spec_file, &overrides, &samplers.artifact) {
+            Ok(plugins) => plugins,
+            Err(message) => return error(message),
+        };
+    let deadline = job.timeout.map(|seconds| Instant::now() + Duration::from_secs_f64(seconds));
+    let cancelled = || deadline.is_some_and(|deadline| Instant::now() >= deadline);
+    let settings = solve_setup::settings(&spec, &plugins.runtime, &overrides, &cancelled);
+    let mut header = trajectory_header(&spec, &scene, settings.seed);
+    header.provenance.insert("problem".to_string(), problem.name.clone());
+    let input = SolveInput {
+        scene: &scene,
+        domain: &job.domain,
+        problem: &job.problem_pddl,
+        artifact: &samplers.artifact,
+        adapter: &adapter,
+        header,
+    };
+    match lamp_tamp::solve(&input, &mut plugins.as_plugins(), &settings, &|_| {}) {
+        Ok(solution) => summary_result(&solution.summary),
+        Err(failure) => failure_result(&failure),
+    }
+}
+
+/// A trajectory was found: solved, or only a relaxed goal reached (not a success).
+fn summary_result(summary: &lamp_tamp::Summary) -> SolveResult {
+    let (outcome, reason) = if !summary.relaxed_goal.is_empty() {
+        (
+            Outcome::RelaxedGoal,
+            format!("the goal was relaxed: dropped {}", summary.relaxed_goal.join(", ")),
+        )
+    } else if summary.success {
+        (Outcome::Solved, String::new())
+    } else {
+        (Outcome::Error, "the solver reported no success".to_string())
+    };
+    SolveResult {
+        outcome,
+        reason,
+        relaxed: summary.relaxed_goal.clone(),
+        plan_length: Some(summary.plan.len()),
+        plans_tried: Some(summary.plans_tried),
+        candidates: Some(summary.candidates),
+        replans: Some(summary.replans),
+        motion_calls: Some(summary.motion_calls),
+        seconds_planning: Some(summary.seconds_planning),
+        seconds_refining: Some(summary.seconds_refining),
+        seconds_validating: Some(summary.seconds_validating),
+        ..SolveResult::failed(outcome, String::new())
+    }
+}
+
+/// No trajectory: the outcome by the error's code, with how far the search got when it says.
+fn failure_result(failure: &SolveError) -> SolveResult {
+    let code = failure.code().map(|code| code.to_string()).unwrap_or_default();
+    let outcome = match code.as_str() {
+        "lamp::solve::no_plan" | "lamp::solve::goal_relaxed_away" => Outcome::NoPlan,
+        "lamp::solve::refinement_failed" => Outcome::RefinementBudget,
+        "lamp::solve::cancelled" => Outcome::Timeout,
+        _ => Outcome::Error,
+    };
+    let mut result = SolveResult::failed(outcome, one_line(&format!("{code}: {failure}")));
+    if let SolveError::RefinementFailed(progress) | SolveError::Cancelled(progress) = failure {
+        result.plans_tried = Some(progress.plans);
+        result.candidates = Some(progress.candidates);
+    }
+    result
+}
+
+/// This process's peak resident memory in bytes (`VmHWM` of `/proc/self/status`, Linux only).
+fn peak_memory() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|line| line.starts_with("VmHWM:"))?;
+    let kilobytes: u64 =
+        line.trim_start_matches("VmHWM:").trim().strip_suffix("kB")?.trim().parse().ok()?;
+    Some(kilobytes * 1024)
+}
+
+/// How a worker ended, as the parent sees it.
+pub(super) enum Finished {
+    /// It wrote a result (a time limit it overran by [`KILL_GRACE`] counts as a timeout).
+    Result(SolveResult),
+    /// It failed without a result: a crash, not a property of the solve (not journaled).
+    Crashed(String),
+    /// The evaluation was interrupted and the worker killed: no row.
+    Stopped,
+}
+
+/// Runs one worker on `job` (JSON) and waits for it, killing it when `stop` is set or when it
+/// overruns `timeout` by [`KILL_GRACE`].
+pub(super) fn run_worker(job: &str, timeout: Option<f64>, stop: &AtomicBool) -> Finished {
+    let executable = match std::env::current_exe() {
+        Ok(path) => path,
+        Err(error) => return Finished::Crashed(format!("cannot find lampc itself: {error}")),
+    };
+    let spawned = Command::new(executable)
+        .arg(WORKER_COMMAND)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn();
+    let mut child = match spawned {
+        Ok(child) => child,
+        Err(error) => return Finished::Crashed(format!("cannot start a worker: {error}")),
+    };
+    // The worker reads all of its input before it starts, so writing it here cannot deadlock;
+    // a worker that died early shows up below.
+    if let Some(mut stdin) = child.stdin.take() {
+        let _ = stdin.write_all(job.as_bytes());
+    }
+    let readers = [child.stdout.take().map(reader), child.stderr.take().map(reader)];
+    let hard_limit = timeout.map(|seconds| Duration::from_secs_f64(seconds) + KILL_GRACE);
+    let started = Instant::now();
+    let mut overran = false;
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Some(status),
+            Ok(None) => {}
+            Err(_) => break None,
+        }
+        if stop.load(Ordering::Relaxed) {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Finished::Stopped;
+        }
+        if hard_limit.is_some_and(|limit| started.elapsed() >= limit) {
+            let _ = child.kill();
+            let _ = child.wait();
+            overran = true;
+            break None;
+        }
+        std::thread::sleep(POLL);
+    };
+    let [stdout, stderr] =
+        readers.map(|reader| reader.and_then(|r| r.join().ok()).unwrap_or_default());
+    if overran {
+        let mut result = SolveResult::failed(
+            Outcome::Timeout,
+            format!(
+                "killed {} s after the time limit, which it did not notice",
+                KILL_GRACE.as_secs()
+            ),
+        );
+        result.seconds_solving = Some(started.elapsed().as_secs_f64());
+        return Finished::Result(result);
+    }
+    if let Some(result) = status.filter(|status| status.success()).and_then(|_| {
+        stdout.lines().rev().find_map(|line| serde_json::from_str::<SolveResult>(line).ok())
+    }) {
+        return Finished::Result(result);
+    }
+    if stop.load(Ordering::Relaxed) || interrupted_by_signal(status) {
+        return Finished::Stopped;
+    }
+    let tail: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
+    let tail = tail[tail.len().saturating_sub(STDERR_LINES)..].join(" / ");
+    let status = status.map_or_else(|| "no exit status".to_string(), |status| status.to_string());
+    Finished::Crashed(one_line(&format!("the solving process failed ({status}): {tail}")))
+}
+
+/// Reads a pipe to its end on its own thread, so that a chatty worker never blocks on it.
+fn reader(mut pipe: impl std::io::Read + Send + 'static) -> std::thread::JoinHandle<String> {
+    std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        let _ = pipe.read_to_end(&mut bytes);
+        String::from_utf8_lossy(&bytes).into_owned()
+    })
+}
+
+/// Whether the worker ended on SIGINT (Ctrl-C on a terminal reaches the whole process group).
+#[cfg(unix)]
+fn interrupted_by_signal(status: Option<std::process::ExitStatus>) -> bool {
+    use std::os::unix::process::ExitStatusExt as _;
+    /// SIGINT's number on every Unix.
+    const SIGINT: i32 = 2;
+    status.and_then(|status| status.signal()) == Some(SIGINT)
+}
+
+#[cfg(not(unix))]
+fn interrupted_by_signal(_status: Option<std::process::ExitStatus>) -> bool {
+    false
+}

@@ -1,0 +1,273 @@
+//! `lampc eval` as a user runs it, on a copy of the Packing spec with small test problems: the
+//! outputs and their schema, a relaxed goal counted as a failure, rows independent of the job
+//! count, and an interrupted or cut-short evaluation continued to the same rows.
+
+mod common;
+
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use serde_json::Value;
+
+/// `lampc` with `args`, which must succeed.
+fn run<S: AsRef<OsStr>>(args: impl IntoIterator<Item = S>) -> Output {
+    let output = common::lampc(args);
+    assert!(output.status.success(), "lampc failed:\n{}", stderr(&output));
+    output
+}
+
+/// The columns whose values depend on the machine (lamp_eval::MACHINE_COLUMNS).
+const MACHINE_COLUMNS: [&str; 6] = [
+    "seconds_learning",
+    "seconds_planning",
+    "seconds_refining",
+    "seconds_validating",
+    "seconds_solving",
+    "peak_memory_bytes",
+];
+
+/// Writes into `scratch` a copy of the Packing spec (robots found where they are) with three
+/// more problems: `pack2`, two cans of `pack4_01` (solved in a few dozen candidates);
+/// `unreachable`, whose goal wants the can in the box and outside it (no plan reaches both, so
+/// the solver drops an atom and reaches the rest: a relaxed goal, which is not a success); and
+/// `pack6`, six cans for a box that holds four, which plans but never refines, so its search
+/// runs for many seconds unless it is stopped.
+fn scratch_spec(scratch: &Path) -> PathBuf {
+    let bundled = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains/packing/packing.lamp");
+    let robots = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains/robots/");
+    let mut text = std::fs::read_to_string(bundled)
+        .expect("the bundled spec")
+        .replace("\"../robots/", &format!("\"{}/", robots.display()));
+    let start = "  scene {\n    table table1 at (0, 0, 0) m\n    surface box1 at (0.25, 0.15, 0) m rpy (0, 0, 30) deg\n";
+    let end = "    robot gripper at (0, 0, 0.45) m rpy (180, 0, 0) deg\n  }\n";
+    text.push_str(&format!(
+        "problem pack2 {{\n{start}    can can1 at (-0.25, -0.2, 0.001) m\n    can can2 at (-0.1, -0.25, 0.001) m rpy (0, 0, 45) deg\n{end}  goal {{\n    in_box(can1, box1)\n    in_box(can2, box1)\n  }}\n}}\n"
+    ));
+    text.push_str(&format!(
+        "problem unreachable {{\n{start}    can can1 at (-0.25, -0.2, 0.001) m\n{end}  goal {{\n    in_box(can1, box1)\n    surface_can_0(box1, can1)\n  }}\n}}\n"
+    ));
+    let mut cans = String::new();
+    for (index, (x, y)) in
+        [(-0.3, -0.3), (-0.15, -0.3), (0.0, -0.3), (-0.3, -0.1), (-0.15, -0.1), (-0.3, 0.1)]
+            .iter()
+            .enumerate()
+    {
+        cans.push_str(&format!("    can can{} at ({x}, {y}, 0.001) m\n", index + 1));
+    }
+    let goal: String = (1..=6).map(|index| format!("    in_box(can{index}, box1)\n")).collect();
+    text.push_str(&format!("problem pack6 {{\n{start}{cans}{end}  goal {{\n{goal}  }}\n}}\n"));
+    let path = scratch.join("packing.lamp");
+    std::fs::write(&path, text).expect("writes the spec");
+    path
+}
+
+/// `lampc eval` of the two quick problems: 40 and 30 demonstrations, two runs each.
+fn eval(spec: &Path, out: &Path, jobs: &str) -> Output {
+    let flags = ["--demos", "40,30", "--runs", "2", "--problems", "pack2,unreach*", "--jobs", jobs];
+    let mut args: Vec<&OsStr> = vec![OsStr::new("eval"), spec.as_os_str()];
+    args.extend(flags.iter().map(OsStr::new));
+    args.extend([OsStr::new("--out"), out.as_os_str()]);
+    run(args)
+}
+
+fn read_json(path: &Path) -> Value {
+    let text = std::fs::read_to_string(path).expect("eval.json is written");
+    serde_json::from_str(&text).expect("eval.json is JSON")
+}
+
+/// The rows of `eval.json` without the columns that depend on the machine.
+fn deterministic_rows(document: &Value) -> Vec<Value> {
+    let rows = document["rows"].as_array().expect("rows").clone();
+    rows.into_iter()
+        .map(|mut row| {
+            let object = row.as_object_mut().expect("a row is an object");
+            for column in MACHINE_COLUMNS {
+                assert!(object.remove(column).is_some(), "every row has `{column}`");
+            }
+            row
+        })
+        .collect()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+#[test]
+fn an_evaluation_writes_its_rows_report_and_plots_the_same_for_any_job_count_and_after_a_resume() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+
+    // With --jobs 2; no demonstrations yet, so the pool is generated first.
+    let two = scratch.path().join("two");
+    let first = eval(&spec, &two, "2");
+    assert!(
+        stderr(&first).contains("generating 40 packing demonstration(s)"),
+        "{}",
+        stderr(&first)
+    );
+    assert_eq!(
+        std::fs::read_dir(scratch.path().join("build/demos")).expect("the pool").count(),
+        40
+    );
+    let document = read_json(&two.join("eval.json"));
+    assert_eq!(document["format"], "lamp-eval");
+    assert_eq!(document["version"], 1);
+    assert_eq!(document["counts"], serde_json::json!([40, 30]));
+    assert_eq!(document["runs"], 2);
+    assert_eq!(
+        document["problems"],
+        serde_json::json!([{"name": "pack2", "objects": 2}, {"name": "unreachable", "objects": 1}])
+    );
+    assert_eq!(document["pool"]["demonstrations"], 40);
+    assert_eq!(document["pool"]["generated"], 40);
+    assert_eq!(document["pool"]["max_objects"], 1);
+    assert!(document["pool"]["digest"].as_str().is_some_and(|d| d.starts_with("fnv1a64:")));
+    assert_eq!(document["settings"]["timeout"], Value::Null);
+    let csv = std::fs::read_to_string(two.join("eval.csv")).expect("eval.csv is written");
+    let header: Vec<&str> = csv.lines().next().expect("a header").split(',').collect();
+    let rows = document["rows"].as_array().expect("rows");
+    assert_eq!(rows.len(), 8, "2 counts × 2 runs × 2 problems");
+    assert_eq!(csv.lines().count(), 9);
+    for row in rows {
+        let mut keys: Vec<&str> =
+            row.as_object().expect("a row").keys().map(String::as_str).collect();
+        let mut columns = header.clone();
+        keys.sort_unstable();
+        columns.sort_unstable();
+        assert_eq!(keys, columns, "the CSV has the JSON rows' columns");
+        match row["problem"].as_str() {
+            Some("pack2") => {
+                assert_eq!(row["outcome"], "solved", "{row}");
+                assert_eq!(row["solved"], true);
+                assert!(row["plan_length"].as_u64().is_some_and(|steps| steps > 0), "{row}");
+                assert!(row["peak_memory_bytes"].as_u64().is_some_and(|bytes| bytes > 1 << 20));
+            }
+            Some("unreachable") => {
+                assert_eq!(row["outcome"], "relaxed_goal", "{row}");
+                assert_eq!(row["solved"], false, "a relaxed goal is not a success");
+                assert_eq!(row["relaxed"].as_array().map(Vec::len), Some(1), "{row}");
+                assert!(row["reason"].as_str().is_some_and(|r| r.contains("relaxed")), "{row}");
+            }
+            other => panic!("an unexpected problem {other:?}"),
+        }
+    }
+    let report = std::fs::read_to_string(two.join("report.md")).expect("report.md is written");
+    assert!(report.contains("| `pack2` | 2 | 2/2 | 2/2 |"), "{report}");
+    assert!(report.contains("| `unreachable` | 1 | 0/2 | 0/2 |"), "{report}");
+    assert!(report.contains("| 40 | 2 | 50.0 % ± 0.0 % |"), "{report}");
+    assert!(report.contains("= 2 ÷ 1 = **2×** (`pack2`)"), "{report}");
+    for plot in ["success.svg", "sample_efficiency.svg"] {
+        let svg = std::fs::read_to_string(two.join(plot)).expect("the plot is written");
+        assert!(svg.starts_with("<svg") && svg.ends_with("</svg>\n"), "{plot}");
+    }
+
+    // With --jobs 1: the pool is reused, and the rows are the same.
+    let one = scratch.path().join("one");
+    let second = eval(&spec, &one, "1");
+    assert!(!stderr(&second).contains("generating"), "{}", stderr(&second));
+    let single = read_json(&one.join("eval.json"));
+    assert_eq!(single["pool"]["generated"], 0);
+    assert_eq!(deterministic_rows(&single), deterministic_rows(&document));
+
+    // Cut short: a journal that lost its last lines (as after Ctrl-C) is continued to the same rows.
+    let resumed = scratch.path().join("resumed");
+    std::fs::create_dir_all(&resumed).expect("creates the folder");
+    let journal = std::fs::read_to_string(one.join("journal.jsonl")).expect("a journal");
+    let lines: Vec<&str> = journal.lines().collect();
+    assert_eq!(lines.len(), 6, "the two runs of 40 share their subset: 6 distinct solves");
+    std::fs::write(resumed.join("journal.jsonl"), format!("{}\n", lines[..3].join("\n")))
+        .expect("writes the cut journal");
+    let third = eval(&spec, &resumed, "2");
+    assert!(stderr(&third).contains("already in the journal"), "{}", stderr(&third));
+    assert!(!stderr(&third).contains(", 0 already in the journal"), "{}", stderr(&third));
+    let continued = read_json(&resumed.join("eval.json"));
+    assert_eq!(deterministic_rows(&continued), deterministic_rows(&single));
+    let journal = std::fs::read_to_string(resumed.join("journal.jsonl")).expect("a journal");
+    assert_eq!(journal.lines().count(), 6, "only the missing solves ran");
+}
+
+/// Ctrl-C stops the evaluation: finished rows stay in the journal, the unfinished solve is
+/// killed, nothing else is written, and the next run takes the finished rows from the journal.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_keeps_the_finished_rows_and_the_next_run_continues_from_them() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let out = scratch.path().join("eval");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lampc"))
+        .arg("eval")
+        .arg(&spec)
+        .args(["--demos", "40", "--runs", "1", "--problems", "unreachable,pack6", "--jobs", "1"])
+        .arg("--out")
+        .arg(&out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("lampc starts");
+    // `unreachable` comes first in spec order and ends at once; `pack6` runs on.
+    let journal = out.join("journal.jsonl");
+    let started = Instant::now();
+    while std::fs::read_to_string(&journal).map_or(0, |text| text.lines().count()) < 1 {
+        assert!(started.elapsed() < Duration::from_secs(300), "the first row never came");
+        assert!(child.try_wait().expect("waits").is_none(), "lampc ended before Ctrl-C");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let pid = child.id().to_string();
+    let kill = Command::new("kill").args(["-INT", &pid]).status().expect("kill runs");
+    assert!(kill.success());
+    let output = child.wait_with_output().expect("lampc ends");
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(130), "{message}");
+    assert!(message.contains("interrupted; 1 of 2 solves are kept"), "{message}");
+    assert!(!out.join("eval.json").exists(), "an interrupted evaluation writes no results");
+
+    let next = run([
+        OsStr::new("eval"),
+        spec.as_os_str(),
+        OsStr::new("--demos"),
+        OsStr::new("40"),
+        OsStr::new("--runs"),
+        OsStr::new("1"),
+        OsStr::new("--problems"),
+        OsStr::new("unreachable"),
+        OsStr::new("--out"),
+        out.as_os_str(),
+    ]);
+    assert!(
+        stderr(&next)
+            .contains("1 solves (1 count(s) × 1 run(s) × 1 problem(s)), 1 already in the journal"),
+        "{}",
+        stderr(&next)
+    );
+    let document = read_json(&out.join("eval.json"));
+    assert_eq!(document["rows"][0]["outcome"], "relaxed_goal");
+}
+
+#[test]
+fn a_problem_glob_that_matches_nothing_and_bad_counts_are_refused() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let output = common::lampc([
+        OsStr::new("eval"),
+        spec.as_os_str(),
+        OsStr::new("--problems"),
+        OsStr::new("pack2,cafe*"),
+    ]);
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{message}");
+    assert!(message.contains("`cafe*` matches no problem; the spec has: pack4_01"), "{message}");
+
+    let output = common::lampc([
+        OsStr::new("eval"),
+        spec.as_os_str(),
+        OsStr::new("--demos"),
+        OsStr::new("40,0"),
+    ]);
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{message}");
+    assert!(message.contains("lamp::eval::counts"), "{message}");
+    assert!(!scratch.path().join("build").exists(), "nothing is generated or written");
+}
