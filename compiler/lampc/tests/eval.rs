@@ -269,5 +269,15 @@ fn a_problem_glob_that_matches_nothing_and_bad_counts_are_refused() {
     let message = stderr(&output);
     assert_eq!(output.status.code(), Some(1), "{message}");
     assert!(message.contains("lamp::eval::counts"), "{message}");
+
+    let output = common::lampc([
+        OsStr::new("eval"),
+        spec.as_os_str(),
+        OsStr::new("--demos"),
+        OsStr::new("50000"),
+    ]);
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{message}");
+    assert!(message.contains("`--demos`: 50000 is out of range"), "{message}");
     assert!(!scratch.path().join("build").exists(), "nothing is generated or written");
 }

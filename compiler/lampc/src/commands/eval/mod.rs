@@ -49,8 +49,8 @@ pub(crate) struct Args {
     #[arg(long, value_name = "GLOB,GLOB")]
     pub(crate) problems: Option<String>,
     /// Solves at once, each in its own process [default: the number of cores].
-    #[arg(long, value_name = "N")]
-    pub(crate) jobs: Option<NonZeroUsize>,
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=MAX_JOBS))]
+    pub(crate) jobs: Option<u32>,
     /// Stop each solve after this many seconds of wall time [default: no limit; with a limit
     /// the results depend on the machine].
     #[arg(long, value_name = "SECONDS", value_parser = crate::commands::solve::parse_seconds)]
@@ -66,6 +66,9 @@ pub(crate) struct Args {
 /// The most runs per count: far beyond any evaluation (the paper uses 10), low enough that a
 /// typo cannot queue billions of solves.
 const MAX_RUNS: i64 = 10_000;
+/// The most solves at once: far more processes than cores help nothing, and each holds a
+/// robot world and a learned model in memory.
+const MAX_JOBS: i64 = 1024;
 /// The exit code after Ctrl-C, as shells report a process ended by SIGINT.
 const EXIT_INTERRUPTED: u8 = 130;
 
@@ -135,13 +138,19 @@ fn evaluate(args: &Args, colour: bool) -> Result<bool, Failure> {
         .map(lamp_eval::parse_counts)
         .transpose()
         .map_err(|error| render(&error))?;
+    // The same bound as `lampc demos --count` and the spec's `count`.
+    for count in counts.iter().flatten() {
+        lamp_spec::limits::DEMONSTRATIONS
+            .count(*count as f64)
+            .map_err(|error| format!("`--demos`: {error}"))?;
+    }
     let build_dir = spec_dir.join(lamp_build::DEFAULT_BUILD_DIR);
     let out = args.out.clone().unwrap_or_else(|| build_dir.join("eval"));
     let runs = args.runs as usize;
-    let jobs = args
-        .jobs
-        .or_else(|| std::thread::available_parallelism().ok())
-        .map_or(1, NonZeroUsize::get);
+    let jobs = match args.jobs {
+        Some(jobs) => jobs as usize,
+        None => std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
+    };
 
     let world = SpecWorld::load(spec_dir, &spec).map_err(|error| render(&error))?;
     let adapter = Adapter::new(&spec, &world.robots).map_err(|error| render(&error))?;
