@@ -21,6 +21,23 @@ pub(crate) fn factor_text(factor: f64) -> String {
     format!("{}×", text.strip_suffix(".0").unwrap_or(&text))
 }
 
+/// The header of a table with a column per demonstration count after the `first` columns (the
+/// first left-aligned, the others and the counts right-aligned).
+fn table_header(out: &mut String, first: &[&str], counts: &[usize]) {
+    out.push('|');
+    for name in first {
+        let _ = write!(out, " {name} |");
+    }
+    for count in counts {
+        let _ = write!(out, " {count} |");
+    }
+    out.push_str("\n| --- |");
+    for _ in 1..first.len() + counts.len() {
+        out.push_str(" ---: |");
+    }
+    out.push('\n');
+}
+
 /// The report of `rows` (in any order).
 pub fn report(info: &EvalInfo, rows: &[Row]) -> String {
     let mut out = String::new();
@@ -125,15 +142,7 @@ pub fn report(info: &EvalInfo, rows: &[Row]) -> String {
 
     out.push_str("\n## Success per problem\n\n");
     out.push_str("Runs that solved each test problem, per number of training demonstrations.\n\n");
-    out.push_str("| problem | objects |");
-    for count in &info.counts {
-        let _ = write!(out, " {count} |");
-    }
-    out.push_str("\n| --- | ---: |");
-    for _ in &info.counts {
-        out.push_str(" ---: |");
-    }
-    out.push('\n');
+    table_header(&mut out, &["problem", "objects"], &info.counts);
     for line in success_table(info, rows) {
         let _ = write!(out, "| `{}` | {} |", line.problem, line.objects);
         for (solved, total) in line.cells {
@@ -145,15 +154,7 @@ pub fn report(info: &EvalInfo, rows: &[Row]) -> String {
 
     out.push_str("\n## Outcomes\n\n");
     out.push_str("How the solves ended, per number of training demonstrations (`eval.csv` has the reason of each).\n\n");
-    out.push_str("| outcome |");
-    for count in &info.counts {
-        let _ = write!(out, " {count} |");
-    }
-    out.push_str("\n| --- |");
-    for _ in &info.counts {
-        out.push_str(" ---: |");
-    }
-    out.push('\n');
+    table_header(&mut out, &["outcome"], &info.counts);
     for outcome in Outcome::ALL {
         let cells: Vec<usize> = summaries
             .iter()

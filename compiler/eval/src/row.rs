@@ -364,30 +364,10 @@ pub(crate) mod tests {
                 "pool", "settings", "rows"
             ]
         );
+        // The rows' fields, in order, are the CSV's columns.
         assert_eq!(
             keys_at(&text[text.find("\"rows\"").unwrap_or(0)..], 6, "    },"),
-            [
-                "demos",
-                "run",
-                "problem",
-                "objects",
-                "subset",
-                "solved",
-                "outcome",
-                "reason",
-                "relaxed",
-                "plan_length",
-                "plans_tried",
-                "candidates",
-                "replans",
-                "motion_calls",
-                "seconds_planning",
-                "seconds_refining",
-                "seconds_validating",
-                "seconds_solving",
-                "peak_memory_bytes",
-                "seconds_learning"
-            ]
+            crate::csv::CSV_COLUMNS.map(String::from)
         );
         let value: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
         assert_eq!(value["format"], EVAL_FORMAT);

@@ -18,16 +18,6 @@ fn run<S: AsRef<OsStr>>(args: impl IntoIterator<Item = S>) -> Output {
     output
 }
 
-/// The columns whose values depend on the machine (lamp_eval::MACHINE_COLUMNS).
-const MACHINE_COLUMNS: [&str; 6] = [
-    "seconds_learning",
-    "seconds_planning",
-    "seconds_refining",
-    "seconds_validating",
-    "seconds_solving",
-    "peak_memory_bytes",
-];
-
 /// Writes into `scratch` a copy of the Packing spec (robots found where they are) with three
 /// more problems: `pack2`, two cans of `pack4_01` (solved in a few dozen candidates);
 /// `unreachable`, whose goal wants the can in the box and outside it (no plan reaches both, so
@@ -83,7 +73,7 @@ fn deterministic_rows(document: &Value) -> Vec<Value> {
     rows.into_iter()
         .map(|mut row| {
             let object = row.as_object_mut().expect("a row is an object");
-            for column in MACHINE_COLUMNS {
+            for column in lamp_eval::MACHINE_COLUMNS {
                 assert!(object.remove(column).is_some(), "every row has `{column}`");
             }
             row
@@ -250,34 +240,22 @@ fn ctrl_c_keeps_the_finished_rows_and_the_next_run_continues_from_them() {
 fn a_problem_glob_that_matches_nothing_and_bad_counts_are_refused() {
     let scratch = tempfile::tempdir().expect("a scratch directory");
     let spec = scratch_spec(scratch.path());
-    let output = common::lampc([
-        OsStr::new("eval"),
-        spec.as_os_str(),
-        OsStr::new("--problems"),
-        OsStr::new("pack2,cafe*"),
-    ]);
-    let message = stderr(&output);
-    assert_eq!(output.status.code(), Some(1), "{message}");
+    let refused = |flag: &str, value: &str| {
+        let output = common::lampc([
+            OsStr::new("eval"),
+            spec.as_os_str(),
+            OsStr::new(flag),
+            OsStr::new(value),
+        ]);
+        let message = stderr(&output);
+        assert_eq!(output.status.code(), Some(1), "{message}");
+        message
+    };
+    let message = refused("--problems", "pack2,cafe*");
     assert!(message.contains("`cafe*` matches no problem; the spec has: pack4_01"), "{message}");
-
-    let output = common::lampc([
-        OsStr::new("eval"),
-        spec.as_os_str(),
-        OsStr::new("--demos"),
-        OsStr::new("40,0"),
-    ]);
-    let message = stderr(&output);
-    assert_eq!(output.status.code(), Some(1), "{message}");
+    let message = refused("--demos", "40,0");
     assert!(message.contains("lamp::eval::counts"), "{message}");
-
-    let output = common::lampc([
-        OsStr::new("eval"),
-        spec.as_os_str(),
-        OsStr::new("--demos"),
-        OsStr::new("50000"),
-    ]);
-    let message = stderr(&output);
-    assert_eq!(output.status.code(), Some(1), "{message}");
+    let message = refused("--demos", "50000");
     assert!(message.contains("`--demos`: 50000 is out of range"), "{message}");
     assert!(!scratch.path().join("build").exists(), "nothing is generated or written");
 }
