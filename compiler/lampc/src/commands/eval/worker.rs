@@ -300,3 +300,57 @@ fn interrupted_by_signal(status: Option<std::process::ExitStatus>) -> bool {
 fn interrupted_by_signal(_status: Option<std::process::ExitStatus>) -> bool {
     false
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lamp_tamp::{Progress, Summary};
+
+    #[test]
+    fn solver_errors_become_outcomes_with_how_far_the_search_got() {
+        let progress =
+            Progress { plans: 20, candidates: 2100, deepest: 8, length: 19, ..Progress::default() };
+        let budget = failure_result(&SolveError::RefinementFailed(progress.clone()));
+        assert_eq!(budget.outcome, Outcome::RefinementBudget);
+        assert_eq!((budget.plans_tried, budget.candidates), (Some(20), Some(2100)));
+        assert!(
+            budget.reason.starts_with("lamp::solve::refinement_failed: no plan could be refined"),
+            "{}",
+            budget.reason
+        );
+        let timeout = failure_result(&SolveError::Cancelled(progress));
+        assert_eq!((timeout.outcome, timeout.plans_tried), (Outcome::Timeout, Some(20)));
+        let no_plan =
+            failure_result(&SolveError::NoPlan { reason: "the goal is unreachable".into() });
+        assert_eq!((no_plan.outcome, no_plan.plans_tried), (Outcome::NoPlan, None));
+        let internal = failure_result(&SolveError::Internal("a\nbroken  invariant".into()));
+        assert_eq!(internal.outcome, Outcome::Error);
+        assert_eq!(internal.reason, "lamp::solve::internal: internal error: a broken invariant");
+    }
+
+    #[test]
+    fn a_trajectory_for_a_relaxed_goal_is_not_solved() {
+        let summary = Summary {
+            problem: "p".into(),
+            success: true,
+            plan: vec!["(a1 can1 gripper)".into(); 4],
+            plans_tried: 1,
+            candidates: 4,
+            ..Summary::default()
+        };
+        let solved = summary_result(&summary);
+        assert_eq!((solved.outcome, solved.plan_length), (Outcome::Solved, Some(4)));
+        assert!(solved.reason.is_empty());
+        let relaxed = Summary { relaxed_goal: vec!["(surface_can_0 box1 can1)".into()], ..summary };
+        let relaxed = summary_result(&relaxed);
+        assert_eq!(relaxed.outcome, Outcome::RelaxedGoal);
+        assert_eq!(relaxed.relaxed, ["(surface_can_0 box1 can1)"]);
+        assert_eq!(relaxed.plan_length, Some(4), "what the trajectory did is still reported");
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn the_peak_memory_is_read_on_linux() {
+        assert!(peak_memory().is_some_and(|bytes| bytes > 1 << 20));
+    }
+}
