@@ -16,6 +16,14 @@ pub enum RobotError {
         source: std::io::Error,
     },
 
+    /// The URDF file is larger than any robot description: most likely a wrong path.
+    #[error("robot file {file} is {size} bytes, more than the {limit} a robot file may be")]
+    #[diagnostic(
+        code(lamp::robot::too_large),
+        help("Check that the path names the robot's URDF file.")
+    )]
+    TooLarge { file: PathBuf, size: u64, limit: u64 },
+
     /// The URDF text is not valid URDF XML.
     #[error("{file}: invalid URDF: {message}")]
     #[diagnostic(code(lamp::robot::urdf_parse))]

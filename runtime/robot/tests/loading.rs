@@ -243,6 +243,18 @@ fn missing_file_is_a_read_error_naming_the_file() {
 }
 
 #[test]
+fn a_file_too_large_for_a_robot_is_refused_unread() {
+    let directory = tempfile::tempdir().expect("temporary directory");
+    let path = directory.path().join("huge.urdf");
+    // Sparse: as long as the limit and one byte, nothing written.
+    let file = std::fs::File::create(&path).expect("create");
+    file.set_len(lamp_robot::MAX_URDF_BYTES + 1).expect("sparse length");
+    let error = Robot::from_urdf_file(&path, Mount::Planar).unwrap_err();
+    assert_eq!(diagnostic_code(&error), "lamp::robot::too_large");
+    assert!(error.to_string().contains("huge.urdf"), "{error}");
+}
+
+#[test]
 fn bad_xml_is_a_parse_error_naming_the_file() {
     let directory = tempfile::tempdir().expect("temporary directory");
     let path = directory.path().join("broken.urdf");
