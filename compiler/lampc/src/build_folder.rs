@@ -10,6 +10,7 @@ use lamp_build::{
     SamplersFile,
 };
 
+use crate::files;
 use crate::output::OutputFolder;
 
 /// A diagnostic of any of the crates a read can fail in, for rendering.
@@ -55,8 +56,11 @@ pub(crate) fn read_model(
 
     let problem_path = format!("{PROBLEMS_DIR}/{problem}.pddl");
     let read = |relative: &str| {
-        std::fs::read(dir.join(relative)).map_err(|error| match error.kind() {
-            std::io::ErrorKind::NotFound if relative == problem_path => {
+        let read = files::read_limited(&dir.join(relative), files::MODEL_FILE_LIMIT, "model file");
+        read.map_err(|error| match error {
+            files::ReadError::Io(error)
+                if error.kind() == std::io::ErrorKind::NotFound && relative == problem_path =>
+            {
                 BuildFolderError::NoProblemFile { problem: problem.to_string() }
             }
             _ => BuildFolderError::Unreadable { file: named(relative), reason: error.to_string() },
@@ -66,12 +70,13 @@ pub(crate) fn read_model(
     let [domain_bytes, problem_bytes, samplers_bytes] = needed.map(read);
     let contents = [domain_bytes?, problem_bytes?, samplers_bytes?];
 
-    let manifest = std::fs::read_to_string(dir.join(MANIFEST_FILE))
-        .map_err(|error| BuildFolderError::Manifest {
-            file: named(MANIFEST_FILE),
-            reason: error.to_string(),
-        })
-        .and_then(|text| Manifest::from_json(&text, &named(MANIFEST_FILE)));
+    let manifest =
+        files::read_text_limited(&dir.join(MANIFEST_FILE), files::MODEL_FILE_LIMIT, "model file")
+            .map_err(|error| BuildFolderError::Manifest {
+                file: named(MANIFEST_FILE),
+                reason: error.to_string(),
+            })
+            .and_then(|text| Manifest::from_json(&text, &named(MANIFEST_FILE)));
     match manifest {
         Ok(manifest) => {
             if manifest.provenance.domain != domain {

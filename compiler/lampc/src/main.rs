@@ -7,6 +7,7 @@ mod build_folder;
 mod commands;
 mod diagnostics;
 mod files;
+mod flags;
 mod output;
 mod plugin_setup;
 mod solve_setup;

@@ -3,26 +3,30 @@
 //!
 //! Options the runtime itself reads are taken out first: the planner's `timeout` and `plans`, the
 //! motion planner's `resolution` (a length or an angle: the checking resolution) and `timeout`.
+//! Every number taken is checked by the rule the spec checker applied (`lamp_spec::limits`), so
+//! a value that reaches here unchecked is refused all the same, never turned into a panic.
 //! The rest go to the plugin: built-in plugins take them typed; a library receives them as a JSON
 //! object (numbers in SI units, words and text as strings), the `gmm` refiner's sampler artifact
 //! included under `artifact`.
 
 use std::collections::BTreeMap;
 use std::path::Path;
+use std::time::Duration;
 
 use lamp_learn::SamplerArtifact;
 use lamp_plugin_api::{MotionPlanner, Planner, Refiner};
 use lamp_plugin_host::PluginLibrary;
+use lamp_spec::limits::{self, Limit};
 use lamp_spec::{OptionValue, PluginChoice, PluginSource};
 
 /// Options the runtime reads itself, out of the plugin blocks.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct RuntimeOptions {
-    pub(crate) planner_timeout: Option<f64>,
+    pub(crate) planner_timeout: Option<Duration>,
     pub(crate) plan_count: Option<usize>,
     pub(crate) linear_resolution: Option<f64>,
     pub(crate) angular_resolution: Option<f64>,
-    pub(crate) motion_timeout: Option<f64>,
+    pub(crate) motion_timeout: Option<Duration>,
 }
 
 /// The spec's choice, or the command line's name or path instead (keeping no options).
@@ -49,27 +53,48 @@ pub(crate) fn chosen(
     }
 }
 
-fn take_number(
+/// A time limit, taken out of `options`.
+fn take_seconds(
     options: &mut BTreeMap<String, OptionValue>,
     key: &str,
-) -> Result<Option<f64>, String> {
+) -> Result<Option<Duration>, String> {
     match options.remove(key) {
         None => Ok(None),
-        Some(
-            OptionValue::Number(v)
-            | OptionValue::Duration(v)
-            | OptionValue::Length(v)
-            | OptionValue::Angle(v),
-        ) => Ok(Some(v)),
-        Some(other) => Err(format!("option `{key}` must be a number, not {other:?}")),
+        Some(OptionValue::Duration(seconds)) => {
+            limits::duration(seconds).map(Some).map_err(|error| format!("option `{key}`: {error}"))
+        }
+        Some(other) => Err(format!("option `{key}` must be a duration, not {other:?}")),
     }
 }
 
-fn count(value: f64, key: &str) -> Result<usize, String> {
-    if value >= 1.0 && value.fract() == 0.0 && value < 1e9 {
-        Ok(value as usize)
-    } else {
-        Err(format!("option `{key}` must be a whole number of at least 1"))
+/// A count within `limit`, taken out of `options`.
+fn take_count(
+    options: &mut BTreeMap<String, OptionValue>,
+    key: &str,
+    limit: &Limit,
+) -> Result<Option<usize>, String> {
+    match options.remove(key) {
+        None => Ok(None),
+        Some(OptionValue::Number(value)) => {
+            let count = limit.count(value).map_err(|error| format!("option `{key}`: {error}"))?;
+            usize::try_from(count).map(Some).map_err(|_| format!("option `{key}` is too large"))
+        }
+        Some(other) => Err(format!("option `{key}` must be a whole number, not {other:?}")),
+    }
+}
+
+/// A length within `limit`, taken out of `options`.
+fn take_length(
+    options: &mut BTreeMap<String, OptionValue>,
+    key: &str,
+    limit: &Limit,
+) -> Result<Option<f64>, String> {
+    match options.remove(key) {
+        None => Ok(None),
+        Some(OptionValue::Length(value)) => {
+            limit.check(value).map(Some).map_err(|error| format!("option `{key}`: {error}"))
+        }
+        Some(other) => Err(format!("option `{key}` must be a length, not {other:?}")),
     }
 }
 
@@ -103,9 +128,8 @@ pub(crate) fn planner(
     runtime: &mut RuntimeOptions,
 ) -> Result<Box<dyn Planner>, String> {
     let mut options = choice.options.clone();
-    runtime.planner_timeout = take_number(&mut options, "timeout")?;
-    runtime.plan_count =
-        take_number(&mut options, "plans")?.map(|v| count(v, "plans")).transpose()?;
+    runtime.planner_timeout = take_seconds(&mut options, "timeout")?;
+    runtime.plan_count = take_count(&mut options, "plans", &limits::PLANS)?;
     match &choice.source {
         PluginSource::Builtin(name) => match name.as_str() {
             "gbfs-ff" | "topk" => {
@@ -155,14 +179,15 @@ pub(crate) fn refiner(
     match &choice.source {
         PluginSource::Builtin(name) if name == "gmm" => {
             let mut refiner_options = lamp_refiner_gmm::RefinerOptions::default();
-            if let Some(v) = take_number(&mut options, "samples")? {
-                refiner_options.samples = count(v, "samples")?;
+            if let Some(samples) = take_count(&mut options, "samples", &limits::SAMPLES)? {
+                refiner_options.samples = samples;
             }
-            if let Some(v) = take_number(&mut options, "draws")? {
-                refiner_options.draws = count(v, "draws")?;
+            if let Some(draws) = take_count(&mut options, "draws", &limits::DRAWS)? {
+                refiner_options.draws = draws;
             }
-            if let Some(v) = take_number(&mut options, "displacement")? {
-                refiner_options.displacement = v;
+            if let Some(length) = take_length(&mut options, "displacement", &limits::DISPLACEMENT)?
+            {
+                refiner_options.displacement = length;
             }
             no_options(name, &options)?;
             let refiner = lamp_refiner_gmm::GmmRefiner::new(artifact.clone(), refiner_options)
@@ -188,15 +213,22 @@ pub(crate) fn motion(
     runtime: &mut RuntimeOptions,
 ) -> Result<Box<dyn MotionPlanner>, String> {
     let mut options = choice.options.clone();
+    let resolution = |limit: &Limit, value: f64| {
+        limit.check(value).map(Some).map_err(|error| format!("option `resolution`: {error}"))
+    };
     match options.remove("resolution") {
         None => {}
-        Some(OptionValue::Angle(v)) => runtime.angular_resolution = Some(v),
-        Some(OptionValue::Length(v)) => runtime.linear_resolution = Some(v),
+        Some(OptionValue::Angle(v)) => {
+            runtime.angular_resolution = resolution(&limits::ANGULAR_RESOLUTION, v)?;
+        }
+        Some(OptionValue::Length(v)) => {
+            runtime.linear_resolution = resolution(&limits::LINEAR_RESOLUTION, v)?;
+        }
         Some(other) => {
             return Err(format!("option `resolution` must be a length or an angle, not {other:?}"));
         }
     }
-    runtime.motion_timeout = take_number(&mut options, "timeout")?;
+    runtime.motion_timeout = take_seconds(&mut options, "timeout")?;
     let text: Vec<String> = options
         .iter()
         .map(|(key, value)| match value {

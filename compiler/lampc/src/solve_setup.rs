@@ -6,7 +6,6 @@
 //! gets from `lampc solve`.
 
 use std::path::Path;
-use std::time::Duration;
 
 use lamp_learn::SamplerArtifact;
 use lamp_plugin_api::{MotionBudget, MotionPlanner, PlanBudget, Planner, Refiner};
@@ -109,17 +108,14 @@ pub(crate) fn settings<'a>(
     SolveSettings {
         seed: overrides.seed.unwrap_or(spec.seed),
         plan_count: overrides.plans.or(runtime.plan_count).unwrap_or(DEFAULT_PLAN_COUNT),
-        planner_budget: PlanBudget {
-            time_limit: runtime.planner_timeout.map(Duration::from_secs_f64),
-            ..PlanBudget::default()
-        },
+        planner_budget: PlanBudget { time_limit: runtime.planner_timeout, ..PlanBudget::default() },
         rounds: ROUNDS,
         max_refused: MAX_REFUSED,
         motion: MotionSettings {
             config,
             budget: MotionBudget {
                 max_iterations: Some(MOTION_ITERATIONS),
-                time_limit: runtime.motion_timeout.map(Duration::from_secs_f64),
+                time_limit: runtime.motion_timeout,
             },
             grab_ranges: lamp_tamp::execute::grab_ranges(spec),
             cancelled,

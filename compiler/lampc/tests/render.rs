@@ -114,6 +114,8 @@ fn what_cannot_be_drawn_is_a_diagnostic_with_exit_code_one() {
     write_trajectory(&file);
     let out = folder.path().join("x.svg");
     let missing = folder.path().join("missing.mcap");
+    let folder_named = folder.path().join("folder.mcap");
+    std::fs::create_dir(&folder_named).unwrap();
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec![path(&file)], "lamp::render::spec_required"),
         (
@@ -123,7 +125,8 @@ fn what_cannot_be_drawn_is_a_diagnostic_with_exit_code_one() {
         (vec![path(&spec), "--problem", "pack9_99"], "lamp::render::unknown_problem"),
         (vec![path(&spec), "--step", "1"], "lamp::render::option"),
         (vec!["notes.txt"], "lamp::render::file_kind"),
-        (vec![path(&missing), "--spec", path(&spec)], "lamp::trajectory::io"),
+        (vec![path(&missing), "--spec", path(&spec)], "lamp::render::read"),
+        (vec![path(&folder_named), "--spec", path(&spec)], "it is a directory, not a file"),
     ];
     for (mut args, code) in cases {
         args.extend(["--out", path(&out)]);

@@ -19,6 +19,13 @@ fn found(source: &str, outcome: &CheckOutcome) -> Vec<(String, String)> {
     outcome.diagnostics.iter().map(|d| (d.code(), source[d.range()].to_string())).collect()
 }
 
+/// Checks `block`, asserts that it is accepted, and returns the spec.
+fn accepted(block: &str) -> lamp_spec::Spec {
+    let outcome = check(&with_plugins(block));
+    assert!(outcome.diagnostics.is_empty(), "{block}: {}", render(&outcome));
+    outcome.spec.expect("a spec without diagnostics")
+}
+
 /// Checks `block` and asserts one diagnostic with `code` at `text`; returns the rendering.
 fn refused(block: &str, code: &str, text: &str) -> String {
     let source = with_plugins(block);
@@ -49,9 +56,7 @@ fn time_limits_are_positive_finite_and_at_most_a_week() {
     refused("  motion rrt-connect { timeout 30 }", "lamp::check::unit_required", "30");
     refused("  planner topk { timeout 3 m }", "lamp::check::wrong_unit", "m");
     refused("  planner topk { timeout \"long\" }", "lamp::check::out_of_range", "timeout");
-    let outcome = check(&with_plugins("  planner topk { timeout 500 ms }"));
-    assert!(outcome.diagnostics.is_empty(), "{}", render(&outcome));
-    let spec = outcome.spec.expect("a clean spec");
+    let spec = accepted("  planner topk { timeout 500 ms }");
     assert_eq!(
         spec.plugins.planner.options.get("timeout"),
         Some(&lamp_spec::OptionValue::Duration(0.5))
@@ -77,8 +82,7 @@ fn resolutions_are_lengths_or_angles_within_their_ranges() {
     refused("  motion rrt-connect { resolution 0.01 }", "lamp::check::unit_required", "0.01");
     refused("  motion rrt-connect { resolution 2 s }", "lamp::check::wrong_unit", "s");
     for fine in ["resolution 0.01 rad", "resolution 5 mm", "resolution 0.5 deg"] {
-        let outcome = check(&with_plugins(&format!("  motion rrt-connect {{ {fine} }}")));
-        assert!(outcome.diagnostics.is_empty(), "{fine}: {}", render(&outcome));
+        accepted(&format!("  motion rrt-connect {{ {fine} }}"));
     }
 }
 
@@ -92,11 +96,9 @@ fn counts_are_whole_plain_numbers_within_their_ranges() {
     refused("  refiner gmm { draws -5 }", "lamp::check::out_of_range", "-5");
     refused("  motion rrt-connect { iterations 0 }", "lamp::check::out_of_range", "0");
     refused("  motion rrt-connect { step 0 }", "lamp::check::out_of_range", "0");
-    let outcome = check(&with_plugins(
+    let spec = accepted(
         "  planner topk { plans 50  timeout 30 s }\n  refiner gmm { samples 4  draws 300  displacement 25 cm }\n  motion rrt-connect { step 0.3  shortcuts 0  iterations 2000 }",
-    ));
-    assert!(outcome.diagnostics.is_empty(), "{}", render(&outcome));
-    let spec = outcome.spec.expect("a clean spec");
+    );
     assert_eq!(
         spec.plugins.refiner.options.get("displacement"),
         Some(&lamp_spec::OptionValue::Length(0.25))

@@ -14,9 +14,7 @@ use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
 use lamp_build::{Adapter, ArtifactFile, Artifacts, BuildContext, BuildError, DemoFile};
-use lamp_lang::Loader;
 
-use crate::files::DiskLoader;
 use crate::output::{FolderLock, OutputError, OutputFolder, Replaced};
 
 /// Arguments of `lampc build`.
@@ -124,7 +122,9 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
         for path in &paths {
             let name = lamp_build::demo_name(path, &names_base);
             progress.set_message(name.clone());
-            let bytes = std::fs::read(path).map_err(|error| BuildError::Read {
+            let limit = crate::files::DEMONSTRATION_FILE_LIMIT;
+            let read = crate::files::read_limited(path, limit, "demonstration file");
+            let bytes = read.map_err(|error| BuildError::Read {
                 file: path.display().to_string(),
                 reason: error.to_string(),
             })?;
@@ -160,7 +160,8 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
     Ok(())
 }
 
-/// Every demonstration file of the spec (or of `--demos`), sorted and without duplicates.
+/// Every demonstration file of the spec (or of `--demos`), sorted and without duplicates; what
+/// else the patterns match (a folder, a link to nothing) is skipped with a warning.
 fn find_demonstrations(
     spec: &lamp_spec::Spec,
     spec_dir: &Path,
@@ -168,8 +169,14 @@ fn find_demonstrations(
     demos: Option<&Path>,
 ) -> Result<Vec<PathBuf>, BuildError> {
     let patterns = lamp_build::demo_patterns(spec, spec_dir, build_dir, demos);
-    let paths: BTreeSet<PathBuf> =
-        patterns.iter().flat_map(|pattern| DiskLoader.glob(pattern)).collect();
+    let mut paths = BTreeSet::new();
+    for pattern in &patterns {
+        let (files, warnings) = crate::files::glob_files(pattern);
+        for warning in warnings {
+            eprintln!("lampc build: warning: {warning}");
+        }
+        paths.extend(files);
+    }
     if paths.is_empty() {
         let searched: Vec<String> =
             patterns.iter().map(|pattern| format!("`{}`", pattern.display())).collect();

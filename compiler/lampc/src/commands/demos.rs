@@ -17,8 +17,8 @@ use lamp_demonstrators::{DemoError, Simulation, file_name, generate_all};
 pub(crate) struct Args {
     /// The `.lamp` spec file.
     pub(crate) spec: PathBuf,
-    /// How many demonstrations [default: the spec's `count`].
-    #[arg(long, value_name = "N")]
+    /// How many demonstrations, 1 to 10000 [default: the spec's `count`].
+    #[arg(long, value_name = "N", value_parser = crate::flags::demonstrations)]
     pub(crate) count: Option<u32>,
     /// The seed of the demonstrations [default: the spec's `simulate … seed`].
     #[arg(long, value_name = "S")]

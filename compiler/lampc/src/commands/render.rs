@@ -93,7 +93,19 @@ fn render(args: &Args, colour: bool) -> Result<(String, PathBuf), Failure> {
     let (svg, what) = match input {
         Input::Spec => draw_problem(&world, &spec, args.problem.as_deref())?,
         Input::Trajectory => {
-            let trajectory = lamp_trajectory::Trajectory::read_file(&args.file)?;
+            let limit = crate::files::DEMONSTRATION_FILE_LIMIT;
+            let bytes = crate::files::read_limited(&args.file, limit, "trajectory file").map_err(
+                |error| {
+                    diagnostic(
+                        "lamp::render::read",
+                        format!("cannot read {}: {error}", args.file.display()),
+                        "name a demonstration or trajectory file that `lampc demos` or `lampc \
+                         solve` wrote",
+                    )
+                },
+            )?;
+            let name = args.file.display().to_string();
+            let trajectory = lamp_trajectory::Trajectory::from_bytes(&bytes, name)?;
             let svg = render_trajectory(&world, &trajectory, args.step, &RenderOptions::default())?;
             let shown = args.step.unwrap_or(trajectory.steps.len().saturating_sub(1));
             (svg, format!("step {shown} of {} steps", trajectory.steps.len()))

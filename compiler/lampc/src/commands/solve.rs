@@ -47,7 +47,7 @@ pub(crate) struct Args {
     #[arg(long, value_name = "NAME|PATH")]
     pub(crate) motion: Option<String>,
     /// Plans to ask the planner for (top-k) [default: the planner's `plans` option, else 3].
-    #[arg(long, value_name = "K")]
+    #[arg(long, value_name = "K", value_parser = crate::flags::plans)]
     pub(crate) plans: Option<usize>,
     /// The run's seed [default: the spec's].
     #[arg(long)]
@@ -113,10 +113,7 @@ fn watch_interrupts() {
 }
 
 pub(crate) fn parse_seconds(text: &str) -> Result<f64, String> {
-    match text.parse::<f64>() {
-        Ok(seconds) if seconds.is_finite() && seconds > 0.0 => Ok(seconds),
-        _ => Err(format!("`{text}` is not a positive number of seconds")),
-    }
+    crate::flags::seconds(text)
 }
 
 /// What a failed solve says it left, unless it learns more.
@@ -182,7 +179,15 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
     };
     let mut plugins =
         solve_setup::plugins(spec, spec_dir, &checked.file_name, &overrides, &samplers.artifact)?;
-    let deadline = args.timeout.map(|seconds| Instant::now() + Duration::from_secs_f64(seconds));
+    let deadline = match args.timeout {
+        None => None,
+        Some(seconds) => {
+            let limit = lamp_spec::limits::duration(seconds)
+                .map_err(|error| format!("--timeout: {error}"))?;
+            let deadline = Instant::now().checked_add(limit);
+            Some(deadline.ok_or_else(|| "--timeout: beyond the clock's range".to_string())?)
+        }
+    };
     let out_of_time = || deadline.is_some_and(|deadline| Instant::now() >= deadline);
     let cancelled = || INTERRUPTED.load(Ordering::Relaxed) || out_of_time();
     let settings = solve_setup::settings(spec, &plugins.runtime, &overrides, &cancelled);
