@@ -162,7 +162,7 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
 
 /// Every demonstration file of the spec (or of `--demos`), sorted and without duplicates; what
 /// else the patterns match (a folder, a link to nothing) is skipped with a warning.
-fn find_demonstrations(
+pub(crate) fn find_demonstrations(
     spec: &lamp_spec::Spec,
     spec_dir: &Path,
     build_dir: &Path,

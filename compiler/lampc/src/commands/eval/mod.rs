@@ -53,7 +53,7 @@ pub(crate) struct Args {
     pub(crate) jobs: Option<u32>,
     /// Stop each solve after this many seconds of wall time [default: no limit; with a limit
     /// the results depend on the machine].
-    #[arg(long, value_name = "SECONDS", value_parser = crate::commands::solve::parse_seconds)]
+    #[arg(long, value_name = "SECONDS", value_parser = crate::flags::seconds)]
     pub(crate) timeout: Option<f64>,
     /// The output folder [default: `<build>/eval/` beside the spec].
     #[arg(long, value_name = "DIR")]
@@ -346,8 +346,8 @@ fn objects_of(spec: &Spec, problem: &Problem) -> usize {
         .count()
 }
 
-/// What every solve uses, described, and the digest that keys the journal: lampc's version, the
-/// whole checked spec (with the evaluation's seed) and the time limit.
+/// What every solve uses, described, and the digest that keys the journal: lampc's version and
+/// executable, the whole checked spec (with the evaluation's seed) and the time limit.
 fn settings_info(
     spec: &Spec,
     spec_dir: &Path,
@@ -365,7 +365,11 @@ fn settings_info(
         .map_err(|message| format!("the motion plugin: {message}"))?;
     let never = || false;
     let solve = solve_setup::settings(spec, &runtime, &overrides, &never);
-    let text = format!("lampc {}\n{spec:?}\ntimeout {timeout:?}\n", env!("CARGO_PKG_VERSION"));
+    let text = format!(
+        "lampc {} ({})\n{spec:?}\ntimeout {timeout:?}\n",
+        env!("CARGO_PKG_VERSION"),
+        executable_identity()
+    );
     let key = lamp_build::demonstration_digest(&[DemoFile {
         name: "lampc eval settings".to_string(),
         bytes: text.into_bytes(),
@@ -382,6 +386,24 @@ fn settings_info(
         timeout,
         key: key.to_string(),
     })
+}
+
+/// The running lampc executable, as its size and modification time: a rebuilt lampc may solve
+/// differently, so its rows are not mixed with an earlier build's (hashing the executable would
+/// cost a second per run in a debug build; any rebuild changes these two).
+fn executable_identity() -> String {
+    let metadata = std::env::current_exe().and_then(std::fs::metadata);
+    match metadata {
+        Ok(metadata) => {
+            let modified = metadata
+                .modified()
+                .ok()
+                .and_then(|time| time.duration_since(std::time::UNIX_EPOCH).ok())
+                .map_or(0, |since| since.as_nanos());
+            format!("{} bytes, modified {modified}", metadata.len())
+        }
+        Err(_) => "unknown executable".to_string(),
+    }
 }
 
 /// A plugin as its name (or library path) and its options, e.g. `gbfs-ff (timeout 30 s)`.

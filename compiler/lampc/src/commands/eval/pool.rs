@@ -3,20 +3,17 @@
 //! with what the subset draw needs to know of each (cut or full, objects shown).
 
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use lamp_build::{Adapter, DemoFile};
 use lamp_demonstrators::{Simulation, file_name};
 use lamp_eval::PoolDemo;
-use lamp_lang::Loader;
 use lamp_learn::Demonstration;
 use lamp_spec::{DemoSource, Mobility, Spec};
 use lamp_trajectory::TrajectoryHeader;
 use lamp_world::SpecWorld;
-
-use crate::files::DiskLoader;
 
 /// The provenance key of a simulated demonstration's cut (`none` for a full one).
 const CUT_KEY: &str = "cut_at";
@@ -60,32 +57,22 @@ pub(super) fn gather(
     wanted: Option<usize>,
     show: &dyn Fn(&str),
 ) -> Result<Pool, String> {
-    let patterns = lamp_build::demo_patterns(spec, spec_dir, build_dir, None);
-    let find = || -> Vec<PathBuf> {
-        let paths: BTreeSet<PathBuf> =
-            patterns.iter().flat_map(|pattern| DiskLoader.glob(pattern)).collect();
-        paths.into_iter().collect()
-    };
-    let mut paths = find();
-    let mut generated = 0;
+    let render = |error: &dyn miette::Diagnostic| crate::diagnostics::render_error(error, false);
+    let find = || crate::commands::build::find_demonstrations(spec, spec_dir, build_dir, None);
     let simulated = spec.demonstrations.iter().any(|s| matches!(s, DemoSource::Simulated { .. }));
-    if let Some(wanted) = wanted.filter(|&wanted| paths.len() < wanted && simulated) {
-        let folder = build_dir.join(lamp_build::SIMULATED_DEMOS_DIR);
-        generated = generate_missing(spec, world, &folder, wanted, show)?;
-        paths = find();
-    }
-    if paths.is_empty() {
-        let searched: Vec<String> =
-            patterns.iter().map(|pattern| format!("`{}`", pattern.display())).collect();
-        return Err(format!(
-            "no demonstration files found (searched {})\nhelp: run `lampc demos` on the spec first, or ask for counts with `--demos`",
-            if searched.is_empty() {
-                "nothing: the spec declares no source".into()
-            } else {
-                searched.join(", ")
-            }
-        ));
-    }
+    let mut generated = 0;
+    let found = find();
+    let short =
+        found.as_ref().map_or(true, |paths| wanted.is_some_and(|wanted| paths.len() < wanted));
+    let paths = match wanted {
+        // No files yet, or fewer than the largest count: a simulated source is topped up.
+        Some(wanted) if short && simulated => {
+            let folder = build_dir.join(lamp_build::SIMULATED_DEMOS_DIR);
+            generated = generate_missing(spec, world, &folder, wanted, show)?;
+            find().map_err(|error| render(&error))?
+        }
+        _ => found.map_err(|error| render(&error))?,
+    };
     let movable = movable_types(spec);
     let mut pool = Pool {
         files: Vec::with_capacity(paths.len()),
@@ -95,20 +82,17 @@ pub(super) fn gather(
     };
     for path in &paths {
         let name = lamp_build::demo_name(path, spec_dir);
-        let bytes = std::fs::read(path)
+        let limit = crate::files::DEMONSTRATION_FILE_LIMIT;
+        let bytes = crate::files::read_limited(path, limit, "demonstration file")
             .map_err(|error| format!("cannot read {}: {error}", path.display()))?;
         let file = DemoFile { name, bytes };
         let reader = lamp_trajectory::TrajectoryReader::from_bytes(&file.bytes, file.name.as_str())
-            .map_err(|error| crate::diagnostics::render_error(&error, false))?;
+            .map_err(|error| render(&error))?;
         let header = reader.header();
         let objects =
             header.bodies.iter().filter(|body| movable.contains(body.type_name.as_str())).count();
         pool.entries.push(PoolDemo { name: file.name.clone(), cut: is_cut(header), objects });
-        pool.demonstrations.push(
-            adapter
-                .demonstration(&file)
-                .map_err(|error| crate::diagnostics::render_error(&error, false))?,
-        );
+        pool.demonstrations.push(adapter.demonstration(&file).map_err(|error| render(&error))?);
         pool.files.push(file);
     }
     Ok(pool)
