@@ -166,6 +166,22 @@ fn numbers_too_large_for_a_float_are_refused_wherever_they_stand() {
 }
 
 #[test]
+fn the_component_cap_is_a_whole_number_up_to_sixty_four() {
+    let source =
+        VALID.replacen("  threshold 0.5\n", "  threshold 0.5\n  components max 100000\n", 1);
+    let outcome = check(&source);
+    assert_eq!(
+        found(&source, &outcome),
+        [("lamp::check::out_of_range".to_string(), "100000".to_string())],
+        "{}",
+        render(&outcome)
+    );
+    assert!(render(&outcome).contains("a whole number from 1 to 64"));
+    let source = VALID.replacen("  threshold 0.5\n", "  threshold 0.5\n  components max 64\n", 1);
+    assert!(check(&source).diagnostics.is_empty());
+}
+
+#[test]
 fn the_demonstration_count_is_at_least_one_and_at_most_ten_thousand() {
     for (count, code) in [
         ("0", "lamp::check::out_of_range"),

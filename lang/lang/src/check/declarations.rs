@@ -382,7 +382,8 @@ impl Checker<'_> {
                 }
                 LearnItem::Components(value, span) => {
                     if self.once(&mut seen.components, "`components`", *span)
-                        && let Some(v) = self.count(value, "the component cap", 1)
+                        && let Some(v) =
+                            self.limited_count(value, "the component cap", &limits::COMPONENTS)
                     {
                         out.max_components = v;
                     }
