@@ -6,11 +6,10 @@
 //! than what is left of the chunk makes it subtract past zero (a panic where overflow is checked,
 //! records read from beyond the chunk where it is not).
 
-use std::borrow::Cow;
+use mcap::records::{ChunkHeader, Record};
 
-use mcap::records::{ChunkHeader, Record, op};
-
-use crate::reader::{MAXIMUM_RECORD_BYTES, error_chain};
+use crate::reader::MAXIMUM_RECORD_BYTES;
+use crate::record::parse_used_record;
 
 /// Bytes before a record's content: the opcode and the little-endian u64 length.
 const RECORD_PREFIX: usize = 1 + 8;
@@ -90,16 +89,5 @@ impl ChunkRecords {
         };
         self.next += RECORD_PREFIX + body.len();
         Some(parse_used_record(opcode, body))
-    }
-}
-
-/// Parses the records lamp reads (schemas, channels, messages, metadata); any other is
-/// [`Record::Unknown`] with no content. Chunks are opened by the caller, and only at the top level.
-pub(crate) fn parse_used_record(opcode: u8, body: &[u8]) -> Result<Record<'static>, String> {
-    match opcode {
-        op::SCHEMA | op::CHANNEL | op::MESSAGE | op::METADATA => mcap::parse_record(opcode, body)
-            .map(Record::into_owned)
-            .map_err(|error| error_chain(&error)),
-        _ => Ok(Record::Unknown { opcode, data: Cow::Borrowed(&[]) }),
     }
 }

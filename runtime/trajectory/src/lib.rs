@@ -30,6 +30,7 @@ mod codec;
 mod error;
 mod model;
 mod reader;
+mod record;
 mod schema;
 mod writer;
 

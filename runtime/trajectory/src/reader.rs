@@ -4,8 +4,8 @@
 //! It pulls bytes from any [`Read`] through the MCAP crate's sans-IO reader, which hands over
 //! chunks whole for [`crate::chunk`] to open, so memory holds one chunk at a time (about
 //! [`crate::CHUNK_SIZE`] for our files), never the whole file.
-//! Only the records lamp reads (schemas, channels, messages, metadata) are parsed; others are
-//! skipped unparsed.
+//! Only the records lamp reads (schemas, channels, messages, metadata) are parsed, by
+//! [`crate::record`]; others are skipped unparsed.
 //! Every checksum the file carries is verified (chunk CRCs before any of the chunk's steps are
 //! returned, and the data and summary section CRCs), so damage is reported, not decoded.
 //! Messages on other topics are skipped, so a lamp topic may live in a bag with other data.
@@ -18,10 +18,11 @@ use std::path::Path;
 use mcap::records::{Record, op};
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
-use crate::chunk::{ChunkRecords, parse_used_record};
+use crate::chunk::ChunkRecords;
 use crate::codec::{BodyLookup, decode_step};
 use crate::error::TrajectoryError;
 use crate::model::{Step, Trajectory, TrajectoryHeader};
+use crate::record::parse_used_record;
 use crate::schema::{
     MESSAGE_ENCODING, METADATA_NAME, MetadataProblem, SCHEMA_ENCODING, WORLD_STEP_SCHEMA_NAME,
     WORLD_TOPIC, header_from_metadata,

@@ -130,3 +130,36 @@ fn records_lamp_does_not_read_are_not_parsed() {
         assert!(matches!(error, TrajectoryError::Truncated { .. }), "{error:?}");
     }
 }
+
+/// `text` as an MCAP string: a u32 length and the bytes.
+fn string(text: &[u8]) -> Vec<u8> {
+    let mut bytes = (text.len() as u32).to_le_bytes().to_vec();
+    bytes.extend_from_slice(text);
+    bytes
+}
+
+#[test]
+fn a_field_longer_than_its_record_is_corrupt_before_memory_is_reserved_for_it() {
+    // A metadata name that says 4 GiB in a record of 8 bytes (found by the `trajectory` fuzz
+    // target under AddressSanitizer: the MCAP crate reserved the 4 GiB before reading).
+    let mut metadata = 0xffff_fff0_u32.to_le_bytes().to_vec();
+    metadata.extend_from_slice(b"lamp");
+    let bytes = records(&[(mcap::records::op::METADATA, metadata)]);
+    let error = Trajectory::from_bytes(&bytes, "long.mcap").unwrap_err();
+    assert!(matches!(error, TrajectoryError::Corrupt { record: 0, .. }), "{error:?}");
+    let expected = "the name field of a record says 4294967280 bytes, 4 are left in the record";
+    assert!(error.to_string().contains(expected), "{error}");
+    // A key of a channel's metadata map that runs past the map.
+    let mut channel = vec![1, 0, 1, 0];
+    channel.extend(string(b"/lamp/world"));
+    channel.extend(string(b"cdr"));
+    let mut map = 0xffff_u32.to_le_bytes().to_vec();
+    map.extend_from_slice(b"key");
+    channel.extend(string(&map));
+    let bytes = records(&[(mcap::records::op::CHANNEL, channel)]);
+    let error = Trajectory::from_bytes(&bytes, "map.mcap").unwrap_err();
+    assert!(
+        error.to_string().contains("the map key field of a record says 65535 bytes"),
+        "{error}"
+    );
+}

@@ -1,0 +1,95 @@
+//! Parsing the MCAP records lamp reads, with every length inside them checked first.
+//!
+//! The MCAP crate's parser reserves memory for a string or a byte field as long as the field's
+//! length prefix says (up to 4 GiB) before it finds that the record is shorter, so a damaged
+//! prefix in a record of a few bytes could ask for gigabytes. Here every length-prefixed field of
+//! a schema, channel or metadata record must fit in the record before the MCAP crate sees it.
+
+use std::borrow::Cow;
+
+use mcap::records::{Record, op};
+
+use crate::reader::error_chain;
+
+/// Parses the records lamp reads (schemas, channels, messages, metadata); any other is
+/// [`Record::Unknown`] with no content. Chunks are opened by the caller, and only at the top level.
+pub(crate) fn parse_used_record(opcode: u8, body: &[u8]) -> Result<Record<'static>, String> {
+    match opcode {
+        op::SCHEMA | op::CHANNEL | op::MESSAGE | op::METADATA => {
+            check_field_lengths(opcode, body)?;
+            mcap::parse_record(opcode, body)
+                .map(Record::into_owned)
+                .map_err(|error| error_chain(&error))
+        }
+        _ => Ok(Record::Unknown { opcode, data: Cow::Borrowed(&[]) }),
+    }
+}
+
+/// Checks that every length-prefixed field of a record fits in it (field layouts from the MCAP
+/// specification; a message has none, its data is the rest of the record).
+fn check_field_lengths(opcode: u8, body: &[u8]) -> Result<(), String> {
+    let mut fields = Fields { rest: body };
+    match opcode {
+        op::SCHEMA => {
+            fields.skip(2, "id")?;
+            fields.prefixed("name")?;
+            fields.prefixed("encoding")?;
+            fields.prefixed("data")?;
+        }
+        op::CHANNEL => {
+            fields.skip(4, "ids")?;
+            fields.prefixed("topic")?;
+            fields.prefixed("message encoding")?;
+            fields.map()?;
+        }
+        op::METADATA => {
+            fields.prefixed("name")?;
+            fields.map()?;
+        }
+        _ => {}
+    }
+    Ok(())
+}
+
+/// The unread part of a record.
+struct Fields<'a> {
+    rest: &'a [u8],
+}
+
+impl<'a> Fields<'a> {
+    fn skip(&mut self, count: usize, what: &str) -> Result<(), String> {
+        self.rest = self
+            .rest
+            .get(count..)
+            .ok_or_else(|| format!("a record ends inside its {what} field"))?;
+        Ok(())
+    }
+
+    /// A field of a u32 length and that many bytes.
+    fn prefixed(&mut self, what: &str) -> Result<&'a [u8], String> {
+        let (length, after) = self
+            .rest
+            .split_first_chunk::<4>()
+            .ok_or_else(|| format!("a record ends inside the length of its {what} field"))?;
+        let length = u32::from_le_bytes(*length);
+        let field = usize::try_from(length).ok().and_then(|length| after.get(..length));
+        let field = field.ok_or_else(|| {
+            format!(
+                "the {what} field of a record says {length} bytes, {} are left in the record",
+                after.len()
+            )
+        })?;
+        self.rest = &after[field.len()..];
+        Ok(field)
+    }
+
+    /// A string map: a u32 length in bytes, then keys and values as prefixed strings.
+    fn map(&mut self) -> Result<(), String> {
+        let mut map = Fields { rest: self.prefixed("map")? };
+        while !map.rest.is_empty() {
+            map.prefixed("map key")?;
+            map.prefixed("map value")?;
+        }
+        Ok(())
+    }
+}
