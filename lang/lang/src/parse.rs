@@ -63,10 +63,13 @@ fn syntax_error(file: FileId, text: &str, error: pest::error::Error<Rule>) -> Di
             }),
         );
     }
-    // Point at the whole offending token, so the label is readable.
-    let token_end = text[start..]
+    // Point at the whole offending token, at least its first character (which may be a
+    // multi-byte space), so the label is readable and never splits a character.
+    let rest = &text[start..];
+    let first = rest.chars().next().map_or(0, char::len_utf8);
+    let token_end = rest
         .find(|c: char| c.is_whitespace() || "(){},:".contains(c))
-        .map_or(text.len(), |offset| start + offset.max(1).min(text.len() - start));
+        .map_or(text.len(), |offset| start + offset.max(first));
     let end = end.max(token_end).min(text.len());
     let expected = match &error.variant {
         _ if !expected_words.is_empty() => join_alternatives(expected_words),

@@ -32,3 +32,19 @@ proptest! {
         }
     }
 }
+
+/// A label never splits a character, also where the offending character is a multi-byte space
+/// (found by the `check` fuzz target: the label took one byte of a thin space).
+#[test]
+fn a_syntax_error_at_a_multibyte_space_labels_the_whole_character() {
+    for space in ['\u{2009}', '\u{a0}', '\u{3000}'] {
+        let outcome = common::check(&format!("domain x\nseed{space} 1\n"));
+        let diagnostic = outcome.diagnostics.first().expect("a syntax error");
+        assert_eq!(diagnostic.code(), "lamp::parse::syntax");
+        let text = outcome.sources.text(diagnostic.file);
+        let range = diagnostic.range();
+        assert!(text.is_char_boundary(range.start) && text.is_char_boundary(range.end));
+        assert_eq!(&text[range], space.to_string());
+        let _ = common::render(&outcome);
+    }
+}
