@@ -57,8 +57,8 @@ impl CollisionShape {
 
     /// The world-aligned bounding box of the shape at `pose`.
     pub fn aabb(&self, pose: &Pose) -> Aabb {
-        let aabb = self.shape.compute_aabb(&boundary::pose(&(pose * self.local)));
-        Aabb { mins: boundary::from_vector(aabb.mins), maxs: boundary::from_vector(aabb.maxs) }
+        let (mins, maxs) = boundary::aabb(&self.shape, &(pose * self.local));
+        Aabb { mins, maxs }
     }
 }
 
