@@ -111,6 +111,15 @@ pub enum IkError {
         best_orientation_error: f64,
     },
 
+    /// The target is farther from the group's first moving joint than the chain below it can
+    /// stretch, so no configuration reaches it and no iteration was spent on it.
+    #[error(
+        "no IK solution for link `{link}`: the target is {distance:.3} m from the first joint \
+         that moves, beyond the chain's reach of {reach:.3} m"
+    )]
+    #[diagnostic(code(lamp::robot::ik_out_of_reach))]
+    OutOfReach { link: String, distance: f64, reach: f64 },
+
     /// The request itself is malformed (wrong seed length, unknown link, bad group).
     #[error("invalid IK request: {reason}")]
     #[diagnostic(code(lamp::robot::ik_request))]

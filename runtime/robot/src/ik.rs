@@ -4,6 +4,7 @@
 //! Each attempt runs Levenberg–Marquardt-style iterations: a damped least-squares step
 //! `Δq = Jᵀ (J Jᵀ + λ² I)⁻¹ e` on the group's columns of the geometric Jacobian, the step is clamped
 //! into the joint limits, and it is kept only if it lowers the error (λ shrinks) or rejected (λ grows).
+//! A target outside the group's reach ball (`Robot::reach_ball`) is refused before any iteration.
 //! The first attempt starts at the seed, later ones at uniform samples of the group. A converged
 //! configuration is offered to the caller's `accept` callback (e.g. a collision check) before it is
 //! returned; a rejected one counts as a failed attempt.
@@ -101,6 +102,17 @@ pub fn solve_ik(
     validate(robot, group, link, target, seed, config)?;
     if let Some(result) = solve_floating_base_exactly(robot, group, link, target, seed, accept) {
         return result;
+    }
+
+    if let Some((centre, reach)) = robot.reach_ball(group, link, seed) {
+        let distance = (target.translation.vector - centre).norm();
+        if distance > reach + config.position_tolerance {
+            return Err(IkError::OutOfReach {
+                link: robot.link_name(link).to_string(),
+                distance,
+                reach,
+            });
+        }
     }
 
     let mut solver = Solver::new(robot, group, link, target, config);

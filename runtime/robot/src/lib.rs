@@ -11,6 +11,7 @@ mod ik;
 mod kinematics;
 mod mesh;
 mod mount;
+mod reach;
 mod robot;
 mod urdf;
 

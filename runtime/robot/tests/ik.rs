@@ -186,31 +186,59 @@ fn acceptance_callback_rejections_lead_to_other_solutions_or_a_clear_error() {
 }
 
 #[test]
-fn unreachable_target_fails_with_no_solution() {
+fn unreachable_target_is_refused_without_iterating() {
     let robot = common::fetch_fixed();
     let group = robot.group("arm").expect("arm").clone();
     let link = robot.end_effector().expect("gripper");
     let mut rng = ChaCha8Rng::seed_from_u64(1);
     let target = Pose::translation(5.0, 0.0, 1.0);
-    let mut config = IkConfig::new();
-    config.restarts = 3;
+    let mut calls = 0;
     let error = solve_ik(
         &robot,
         &group,
         link,
         &target,
         &robot.neutral_configuration(),
-        &config,
+        &IkConfig::new(),
         &mut rng,
-        &mut |_| true,
+        &mut |_| {
+            calls += 1;
+            true
+        },
     )
     .unwrap_err();
     let message = error.to_string();
-    assert!(message.contains("no IK solution") && message.contains("4 attempts"), "{message}");
+    assert!(message.contains("beyond the chain's reach"), "{message}");
     match error {
-        IkError::NoSolution { best_position_error, .. } => assert!(best_position_error > 3.0),
+        IkError::OutOfReach { distance, reach, .. } => assert!(distance > reach + 3.0),
         other => panic!("unexpected error {other:?}"),
     }
+    assert_eq!(calls, 0);
+}
+
+/// Every position the arm reaches (by forward kinematics at random configurations of the group)
+/// lies inside the reach ball, and the ball is not much larger than the farthest of them.
+#[test]
+fn reach_ball_holds_every_reachable_position() {
+    let robot = common::fetch_fixed();
+    let group = robot.group("arm").expect("arm").clone();
+    let link = robot.end_effector().expect("gripper");
+    let neutral = robot.neutral_configuration();
+    let (centre, radius) = robot.reach_ball(&group, link, &neutral).expect("bounded");
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let mut q = neutral.clone();
+    let mut farthest: f64 = 0.0;
+    for _ in 0..5000 {
+        robot.sample_uniform(&group, &neutral, &mut rng, &mut q);
+        let distance = (robot.link_pose(&q, link).translation.vector - centre).norm();
+        assert!(distance <= radius + 1e-9, "{distance} > {radius}");
+        farthest = farthest.max(distance);
+    }
+    assert!(radius < 1.5 * farthest, "a loose ball: {radius} for a reach of {farthest}");
+    // A group that moves the mount has no bound.
+    let base_robot = common::load("fetch.urdf", lamp_robot::Mount::Planar);
+    let all = base_robot.group(lamp_robot::ALL_GROUP).expect("all group");
+    assert!(base_robot.reach_ball(all, link, &base_robot.neutral_configuration()).is_none());
 }
 
 #[test]
