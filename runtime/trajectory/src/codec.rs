@@ -109,7 +109,7 @@ pub fn check_step(
     Ok(())
 }
 
-fn check_pose(pose: &Isometry3<f64>) -> Result<(), String> {
+pub(crate) fn check_pose(pose: &Isometry3<f64>) -> Result<(), String> {
     let translation = &pose.translation.vector;
     if !translation.iter().all(|value| value.is_finite()) {
         return Err(format!("position {translation:?} is not finite"));
@@ -128,10 +128,7 @@ fn check_pose(pose: &Isometry3<f64>) -> Result<(), String> {
 /// Encodes a step that passed [`check_step`].
 pub fn encode_step(header: &TrajectoryHeader, step: &Step) -> Vec<u8> {
     let mut writer = CdrWriter::new(64 + step.body_poses.len() * POSE_BYTES);
-    let seconds = step.time_nanoseconds / NANOSECONDS_PER_SECOND;
-    let seconds = i32::try_from(seconds).expect("check_step bounds the time to i32 seconds");
-    let nanoseconds = u32::try_from(step.time_nanoseconds % NANOSECONDS_PER_SECOND)
-        .expect("a remainder of 1e9 fits in u32");
+    let (seconds, nanoseconds) = split_time(step.time_nanoseconds);
     writer.write_i32(seconds);
     writer.write_u32(nanoseconds);
     writer.write_length(sequence_length(step.body_poses.len()));
@@ -155,6 +152,15 @@ pub fn encode_step(header: &TrajectoryHeader, step: &Step) -> Vec<u8> {
         }
     }
     writer.into_bytes()
+}
+
+/// A time that passed [`check_step`] as `builtin_interfaces/Time` seconds and nanoseconds.
+pub(crate) fn split_time(time_nanoseconds: u64) -> (i32, u32) {
+    let seconds = time_nanoseconds / NANOSECONDS_PER_SECOND;
+    let seconds = i32::try_from(seconds).expect("check_step bounds the time to i32 seconds");
+    let nanoseconds = u32::try_from(time_nanoseconds % NANOSECONDS_PER_SECOND)
+        .expect("a remainder of 1e9 fits in u32");
+    (seconds, nanoseconds)
 }
 
 fn sequence_length(length: usize) -> u32 {

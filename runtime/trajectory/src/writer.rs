@@ -19,6 +19,13 @@ use crate::schema::{
     MESSAGE_ENCODING, METADATA_NAME, PROFILE, SCHEMA_ENCODING, WORLD_STEP_SCHEMA,
     WORLD_STEP_SCHEMA_NAME, WORLD_TOPIC, header_to_metadata,
 };
+use crate::standard::{
+    JOINT_STATE_SCHEMA, JOINT_STATE_SCHEMA_NAME, JOINT_STATES_TOPIC, LATCHED_QOS, QOS_METADATA_KEY,
+    SCENE_MESSAGE_ENCODING, SCENE_SCHEMA, SCENE_SCHEMA_ENCODING, SCENE_SCHEMA_NAME, SCENE_TOPIC,
+    STEP_LABEL_TOPIC, STRING_SCHEMA, STRING_SCHEMA_NAME, StandardChannels, StandardStep, TF_SCHEMA,
+    TF_SCHEMA_NAME, TF_STATIC_TOPIC, TF_TOPIC, encode_joint_state, encode_string, encode_tf,
+    scene_update_json,
+};
 
 /// The MCAP `library` field; no crate version, so a release does not change every file.
 pub const LIBRARY: &str = "lamp-trajectory format 1";
@@ -48,6 +55,17 @@ pub struct TrajectoryWriter<W: Write + Seek> {
     channel_id: u16,
     steps: u64,
     previous_time: Option<u64>,
+    standard: Option<StandardOutput>,
+}
+
+/// The per-step standard channels of a writer and what it last wrote on them.
+struct StandardOutput {
+    channels: StandardChannels,
+    tf: Option<u16>,
+    joint_states: Option<u16>,
+    step_labels: Option<u16>,
+    labels_written: u32,
+    previous_label: Option<String>,
 }
 
 impl TrajectoryWriter<BufWriter<File>> {
@@ -74,8 +92,35 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
         name: impl Into<String>,
         header: TrajectoryHeader,
     ) -> Result<Self, TrajectoryError> {
-        let file = name.into();
+        Self::start(sink, name.into(), header, None)
+    }
+
+    /// Starts a trajectory with the standard ROS 2 and Foxglove channels beside `/lamp/world`
+    /// (see [`StandardChannels`]): writes what [`TrajectoryWriter::new`] writes, then the robot
+    /// descriptions, `/tf_static` and the objects' scene update at time zero. Steps are then
+    /// written with [`TrajectoryWriter::write_step_with`].
+    pub fn with_standard_channels(
+        sink: W,
+        name: impl Into<String>,
+        header: TrajectoryHeader,
+        channels: StandardChannels,
+    ) -> Result<Self, TrajectoryError> {
+        Self::start(sink, name.into(), header, Some(channels))
+    }
+
+    fn start(
+        sink: W,
+        file: String,
+        header: TrajectoryHeader,
+        channels: Option<StandardChannels>,
+    ) -> Result<Self, TrajectoryError> {
         header.check().map_err(|reason| TrajectoryError::Header { file: file.clone(), reason })?;
+        if let Some(channels) = &channels {
+            channels.check().map_err(|reason| TrajectoryError::Header {
+                file: file.clone(),
+                reason: format!("standard channels: {reason}"),
+            })?;
+        }
         let write_error = |error| mcap_write_error(&file, error);
         let options = WriteOptions::new()
             .profile(PROFILE)
@@ -96,7 +141,11 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
         let channel_id = mcap
             .add_channel(schema_id, WORLD_TOPIC, MESSAGE_ENCODING, &BTreeMap::new())
             .map_err(write_error)?;
-        Ok(Self { mcap, header, file, channel_id, steps: 0, previous_time: None })
+        let standard = match channels {
+            Some(channels) => Some(start_standard(&mut mcap, channels).map_err(write_error)?),
+            None => None,
+        };
+        Ok(Self { mcap, header, file, channel_id, steps: 0, previous_time: None, standard })
     }
 
     /// The header this file was started with.
@@ -110,7 +159,72 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
     }
 
     /// Checks a step against the header and the previous step, and appends it.
+    /// A writer with standard channels refuses it: use [`TrajectoryWriter::write_step_with`].
     pub fn write_step(&mut self, step: &Step) -> Result<(), TrajectoryError> {
+        if self.standard.is_some() {
+            return Err(TrajectoryError::Inconsistent {
+                file: self.file.clone(),
+                step: self.steps,
+                reason: "the file has standard channels, so each step needs their values".into(),
+            });
+        }
+        self.write_world_step(step)
+    }
+
+    /// Checks a step and its standard channels' values, and appends them: the `/lamp/world`
+    /// message, then `/tf`, `/joint_states` and, when the label changed, `/lamp/step`, all at
+    /// the step's time.
+    pub fn write_step_with(
+        &mut self,
+        step: &Step,
+        values: &StandardStep,
+    ) -> Result<(), TrajectoryError> {
+        let Some(standard) = &self.standard else {
+            return Err(TrajectoryError::Inconsistent {
+                file: self.file.clone(),
+                step: self.steps,
+                reason: "the file has no standard channels to write values on".into(),
+            });
+        };
+        standard
+            .channels
+            .check_step(values)
+            .map_err(|problem| TrajectoryError::from_step(&self.file, self.steps, 0, problem))?;
+        let index = self.steps;
+        self.write_world_step(step)?;
+        let standard = self.standard.as_mut().expect("checked above");
+        let time = step.time_nanoseconds;
+        let sequence = u32::try_from(index).expect("write_world_step bounds the step count");
+        let channels = &standard.channels;
+        let mut messages = Vec::with_capacity(3);
+        if let Some(tf) = standard.tf {
+            let frames = channels.frames.iter().map(String::as_str).zip(&values.frame_poses);
+            messages.push((tf, sequence, encode_tf(time, &channels.world_frame, frames)));
+        }
+        if let Some(joint_states) = standard.joint_states {
+            let data = encode_joint_state(time, &channels.joints, &values.joint_positions);
+            messages.push((joint_states, sequence, data));
+        }
+        if let Some(step_labels) = standard.step_labels
+            && values.label.is_some()
+            && values.label != standard.previous_label
+        {
+            let label = values.label.as_deref().unwrap_or_default();
+            messages.push((step_labels, standard.labels_written, encode_string(label)));
+            standard.labels_written += 1;
+            standard.previous_label.clone_from(&values.label);
+        }
+        for (channel_id, sequence, data) in messages {
+            let message =
+                MessageHeader { channel_id, sequence, log_time: time, publish_time: time };
+            self.mcap
+                .write_to_known_channel(&message, &data)
+                .map_err(|error| mcap_write_error(&self.file, error))?;
+        }
+        Ok(())
+    }
+
+    fn write_world_step(&mut self, step: &Step) -> Result<(), TrajectoryError> {
         check_step(&self.header, step, self.previous_time)
             .map_err(|problem| TrajectoryError::from_step(&self.file, self.steps, 0, problem))?;
         let sequence = u32::try_from(self.steps).map_err(|_| TrajectoryError::InvalidValue {
@@ -146,6 +260,97 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
     }
 }
 
+/// Adds the standard channels and writes what is written once, at time zero: the robot
+/// descriptions, `/tf_static` and the scene update.
+fn start_standard<W: Write + Seek>(
+    mcap: &mut mcap::Writer<W>,
+    channels: StandardChannels,
+) -> Result<StandardOutput, mcap::McapError> {
+    let latched = BTreeMap::from([(QOS_METADATA_KEY.to_string(), LATCHED_QOS.to_string())]);
+    let mut once = Vec::new();
+    let mut string_schema = None;
+    for robot in &channels.robots {
+        let schema = match string_schema {
+            Some(schema) => schema,
+            None => {
+                mcap.add_schema(STRING_SCHEMA_NAME, SCHEMA_ENCODING, STRING_SCHEMA.as_bytes())?
+            }
+        };
+        string_schema = Some(schema);
+        let channel = mcap.add_channel(schema, &robot.topic, MESSAGE_ENCODING, &latched)?;
+        once.push((channel, encode_string(&robot.urdf)));
+    }
+    let mut tf_schema = None;
+    let mut tf_schema_id = |mcap: &mut mcap::Writer<W>| -> Result<u16, mcap::McapError> {
+        if let Some(schema) = tf_schema {
+            return Ok(schema);
+        }
+        let schema = mcap.add_schema(TF_SCHEMA_NAME, SCHEMA_ENCODING, TF_SCHEMA.as_bytes())?;
+        tf_schema = Some(schema);
+        Ok(schema)
+    };
+    if !channels.static_frames.is_empty() {
+        let schema = tf_schema_id(mcap)?;
+        let channel = mcap.add_channel(schema, TF_STATIC_TOPIC, MESSAGE_ENCODING, &latched)?;
+        let frames = channels.static_frames.iter().map(|frame| (frame.frame.as_str(), &frame.pose));
+        once.push((channel, encode_tf(0, &channels.world_frame, frames)));
+    }
+    if !channels.objects.is_empty() {
+        let schema =
+            mcap.add_schema(SCENE_SCHEMA_NAME, SCENE_SCHEMA_ENCODING, SCENE_SCHEMA.as_bytes())?;
+        let channel =
+            mcap.add_channel(schema, SCENE_TOPIC, SCENE_MESSAGE_ENCODING, &BTreeMap::new())?;
+        once.push((channel, scene_update_json(&channels.objects).into_bytes()));
+    }
+    let tf = match channels.frames.is_empty() {
+        true => None,
+        false => {
+            let schema = tf_schema_id(mcap)?;
+            Some(mcap.add_channel(schema, TF_TOPIC, MESSAGE_ENCODING, &BTreeMap::new())?)
+        }
+    };
+    let joint_states = match channels.joints.is_empty() {
+        true => None,
+        false => {
+            let schema = mcap.add_schema(
+                JOINT_STATE_SCHEMA_NAME,
+                SCHEMA_ENCODING,
+                JOINT_STATE_SCHEMA.as_bytes(),
+            )?;
+            Some(mcap.add_channel(
+                schema,
+                JOINT_STATES_TOPIC,
+                MESSAGE_ENCODING,
+                &BTreeMap::new(),
+            )?)
+        }
+    };
+    let step_labels = match channels.step_labels {
+        false => None,
+        true => {
+            let schema = match string_schema {
+                Some(schema) => schema,
+                None => {
+                    mcap.add_schema(STRING_SCHEMA_NAME, SCHEMA_ENCODING, STRING_SCHEMA.as_bytes())?
+                }
+            };
+            Some(mcap.add_channel(schema, STEP_LABEL_TOPIC, MESSAGE_ENCODING, &BTreeMap::new())?)
+        }
+    };
+    for (channel_id, data) in once {
+        let message = MessageHeader { channel_id, sequence: 0, log_time: 0, publish_time: 0 };
+        mcap.write_to_known_channel(&message, &data)?;
+    }
+    Ok(StandardOutput {
+        channels,
+        tf,
+        joint_states,
+        step_labels,
+        labels_written: 0,
+        previous_label: None,
+    })
+}
+
 fn mcap_write_error(file: &str, error: mcap::McapError) -> TrajectoryError {
     let source = match error {
         mcap::McapError::Io(source) => source,
@@ -171,6 +376,37 @@ impl Trajectory {
     /// The file's bytes.
     pub fn to_bytes(&self) -> Result<Vec<u8>, TrajectoryError> {
         Ok(self.write_to(Cursor::new(Vec::new()), IN_MEMORY_NAME)?.into_inner())
+    }
+
+    /// The file's bytes with the standard channels beside `/lamp/world`: `values` holds one
+    /// [`StandardStep`] per step.
+    pub fn to_bytes_with(
+        &self,
+        channels: &StandardChannels,
+        values: &[StandardStep],
+    ) -> Result<Vec<u8>, TrajectoryError> {
+        if values.len() != self.steps.len() {
+            return Err(TrajectoryError::Inconsistent {
+                file: IN_MEMORY_NAME.to_string(),
+                step: 0,
+                reason: format!(
+                    "{} steps but standard channel values for {}",
+                    self.steps.len(),
+                    values.len()
+                ),
+            });
+        }
+        let sink = Cursor::new(Vec::new());
+        let mut writer = TrajectoryWriter::with_standard_channels(
+            sink,
+            IN_MEMORY_NAME,
+            self.header.clone(),
+            channels.clone(),
+        )?;
+        for (step, values) in self.steps.iter().zip(values) {
+            writer.write_step_with(step, values)?;
+        }
+        Ok(writer.finish()?.into_inner())
     }
 
     /// Writes the trajectory to the file at `path`.

@@ -21,6 +21,8 @@ pub struct SpecWorld {
     pub robots: BTreeMap<String, Arc<Robot>>,
     /// The shapes of each object type, placed in the type's frame.
     pub type_parts: BTreeMap<String, Vec<(Pose, Shape)>>,
+    /// The URDF text of each robot by spec robot name, for viewers (`/robot_description`).
+    urdf_texts: BTreeMap<String, String>,
     spec: Spec,
 }
 
@@ -28,14 +30,26 @@ impl SpecWorld {
     /// Loads every robot and object type of `spec`; `spec_dir` is the spec file's folder.
     pub fn load(spec_dir: &Path, spec: &Spec) -> Result<SpecWorld, WorldError> {
         let mut robots = BTreeMap::new();
+        let mut urdf_texts = BTreeMap::new();
         for robot in &spec.robots {
             robots.insert(robot.name.clone(), Arc::new(load_robot(spec_dir, robot)?));
+            // Loading checked the file's size, so reading it whole is safe.
+            let path = spec_dir.join(&robot.urdf);
+            let text = std::fs::read_to_string(&path).map_err(|source| {
+                robot_error(robot, lamp_robot::RobotError::Read { file: path.clone(), source })
+            })?;
+            urdf_texts.insert(robot.name.clone(), text);
         }
         let mut type_parts = BTreeMap::new();
         for object_type in &spec.object_types {
             type_parts.insert(object_type.name.clone(), type_parts_of(spec_dir, object_type)?);
         }
-        Ok(SpecWorld { robots, type_parts, spec: spec.clone() })
+        Ok(SpecWorld { robots, type_parts, urdf_texts, spec: spec.clone() })
+    }
+
+    /// The URDF text of robot `name`, as its file holds it.
+    pub fn urdf_text(&self, name: &str) -> Option<&str> {
+        self.urdf_texts.get(name).map(String::as_str)
     }
 
     /// The spec this world was loaded from.

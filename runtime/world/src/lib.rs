@@ -15,6 +15,7 @@ mod recording;
 mod rrt;
 mod scene;
 mod straight;
+mod viewing;
 
 pub use checking::Contact;
 pub use error::WorldError;
@@ -29,3 +30,4 @@ pub use recording::{Recorder, STEP_NANOSECONDS, trajectory_header};
 pub use rrt::{RrtConfig, RrtError, RrtStats, Space, rrt_connect, shortcut};
 pub use scene::{Body, Gripper, Held, Scene, SceneRobot};
 pub use straight::{StraightLineError, straight_line};
+pub use viewing::{WORLD_FRAME, standard_channels};

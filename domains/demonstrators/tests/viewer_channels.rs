@@ -1,0 +1,347 @@
+//! The standard ROS 2 and Foxglove channels of a Packing and a Café demonstration, decoded by the
+//! reference Python readers (`mcap`, `mcap-ros2-support`): every channel is there in its standard
+//! schema, `/tf` agrees with `/lamp/world` (bodies) and with forward kinematics of its robot
+//! configuration (links) within 1e-9, `/joint_states` carries the configuration's joint values,
+//! held objects keep their pose in the gripper, and the `foxglove.SceneUpdate` messages satisfy
+//! the file's JSON schema and build the `foxglove-sdk` message types (where it is installed).
+//! Skips when the packages are missing unless `LAMP_REQUIRE_ORACLES=1`.
+
+// The oracle helper reports why it skipped, as the test harness shows.
+#![allow(clippy::print_stdout, clippy::unwrap_used)] // and a failed step is a failed test
+
+mod support;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::process::Command;
+
+use lamp_demonstrators::{Demonstrator, Simulation, generate};
+use lamp_geometry::Pose;
+use lamp_test_support::{domains_dir, oracles_required, python_oracle};
+use lamp_trajectory::{
+    JOINT_STATE_SCHEMA_NAME, JOINT_STATES_TOPIC, ROBOT_DESCRIPTION_TOPIC, SCENE_SCHEMA_NAME,
+    SCENE_TOPIC, STRING_SCHEMA_NAME, TF_SCHEMA_NAME, TF_STATIC_TOPIC, TF_TOPIC, Trajectory,
+    TrajectoryReader, WORLD_TOPIC,
+};
+use lamp_world::SpecWorld;
+use nalgebra::{Quaternion, Translation3, UnitQuaternion};
+
+/// How far a decoded pose may be from the expected one: the acceptance bound of the channels.
+const POSE_TOLERANCE: f64 = 1e-9;
+
+/// Decodes every channel and prints one JSON document; floats survive exactly (`repr`).
+const DECODE_SCRIPT: &str = r#"
+import json, sys
+from mcap.reader import make_reader
+from mcap_ros2.decoder import DecoderFactory
+
+def pose(p, q):
+    return [p.x, p.y, p.z, q.x, q.y, q.z, q.w]
+
+out = {"channels": [], "world": [], "tf": [], "tf_static": [], "joint_states": [],
+       "descriptions": {}, "scene": [], "qos": {}}
+with open(sys.argv[1], "rb") as stream:
+    reader = make_reader(stream, validate_crcs=True, decoder_factories=[DecoderFactory()])
+    summary = reader.get_summary()
+    schemas = {}
+    for channel in summary.channels.values():
+        schema = summary.schemas[channel.schema_id]
+        schemas[channel.topic] = schema
+        out["channels"].append([channel.topic, channel.message_encoding, schema.name, schema.encoding])
+        if "offered_qos_profiles" in channel.metadata:
+            out["qos"][channel.topic] = channel.metadata["offered_qos_profiles"]
+    for schema, channel, message in reader.iter_messages(topics=["/lamp/scene"]):
+        update = json.loads(message.data)
+        out["scene"].append({"t": message.log_time, "update": update, "schema": json.loads(schema.data)})
+    cdr_topics = [c.topic for c in summary.channels.values() if c.message_encoding == "cdr"]
+    for schema, channel, message, decoded in reader.iter_decoded_messages(topics=cdr_topics):
+        t = message.log_time
+        if channel.topic == "/lamp/world":
+            out["world"].append({"t": t,
+                "bodies": [pose(b.position, b.orientation) for b in decoded.body_poses],
+                "robots": [{"positions": list(r.positions), "held": list(r.held)} for r in decoded.robots]})
+        elif channel.topic in ("/tf", "/tf_static"):
+            out[channel.topic[1:]].append({"t": t, "transforms": [
+                [x.header.frame_id, x.child_frame_id, x.header.stamp.sec, x.header.stamp.nanosec,
+                 pose(x.transform.translation, x.transform.rotation)] for x in decoded.transforms]})
+        elif channel.topic == "/joint_states":
+            out["joint_states"].append({"t": t, "stamp": [decoded.header.stamp.sec, decoded.header.stamp.nanosec],
+                "name": list(decoded.name), "position": list(decoded.position),
+                "velocity": len(decoded.velocity), "effort": len(decoded.effort)})
+        elif channel.topic.endswith("robot_description"):
+            out["descriptions"][channel.topic] = decoded.data
+json.dump(out, sys.stdout)
+"#;
+
+/// Checks each scene update against the file's JSON schema, and builds the official Foxglove
+/// message types from it when `foxglove-sdk` is installed (unknown fields and wrong types fail).
+const SCENE_SCRIPT: &str = r#"
+import json, sys
+import jsonschema
+from mcap.reader import make_reader
+
+with open(sys.argv[1], "rb") as stream:
+    reader = make_reader(stream, validate_crcs=True)
+    count = 0
+    checked_by = ["jsonschema"]
+    try:
+        import foxglove.messages as fm
+    except ImportError:
+        fm = None
+    for schema, channel, message in reader.iter_messages(topics=["/lamp/scene"]):
+        update = json.loads(message.data)
+        jsonschema.validate(update, json.loads(schema.data))
+        count += 1
+        if fm is None:
+            continue
+        kinds = {"timestamp": fm.Timestamp, "lifetime": fm.Duration, "metadata": fm.KeyValuePair,
+                 "cubes": fm.CubePrimitive, "spheres": fm.SpherePrimitive,
+                 "cylinders": fm.CylinderPrimitive, "triangles": fm.TriangleListPrimitive,
+                 "pose": fm.Pose, "position": fm.Vector3, "orientation": fm.Quaternion,
+                 "size": fm.Vector3, "color": fm.Color, "points": fm.Point3,
+                 "entities": fm.SceneEntity, "deletions": fm.SceneEntityDeletion}
+        def build(kind, value):
+            if isinstance(value, list):
+                return [build(kind, item) for item in value]
+            if isinstance(value, dict):
+                return kind(**{k: build(kinds.get(k), v) for k, v in value.items()})
+            return value
+        encoded = fm.SceneUpdate(**{k: build(kinds[k], v) for k, v in update.items()}).encode()
+        assert len(encoded) > 0
+        if "foxglove-sdk" not in checked_by:
+            checked_by.append("foxglove-sdk")
+    print(count, "+".join(checked_by))
+"#;
+
+fn run_python(script: &str, file: &Path) -> String {
+    let output =
+        Command::new("python3").arg("-c").arg(script).arg(file).output().expect("python3 runs");
+    assert!(output.status.success(), "python failed:\n{}", String::from_utf8_lossy(&output.stderr));
+    String::from_utf8(output.stdout).expect("python prints UTF-8")
+}
+
+fn pose_of(values: &serde_json::Value) -> Pose {
+    let v: Vec<f64> = values.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    Pose::from_parts(
+        Translation3::new(v[0], v[1], v[2]),
+        UnitQuaternion::new_unchecked(Quaternion::new(v[6], v[3], v[4], v[5])),
+    )
+}
+
+fn assert_close(found: &Pose, expected: &Pose, what: &str) {
+    let position = (found.translation.vector - expected.translation.vector).norm();
+    let rotation = (found.rotation.coords - expected.rotation.coords).norm();
+    assert!(
+        position <= POSE_TOLERANCE && rotation <= POSE_TOLERANCE,
+        "{what}: {found:?} differs from {expected:?} by {position} m, {rotation} in the quaternion"
+    );
+}
+
+/// Writes the demonstration with its channels, decodes it in Python and checks every channel.
+fn check_demonstration(world: &SpecWorld, urdf_path: &Path, trajectory: &Trajectory) {
+    let (channels, values) = lamp_world::standard_channels(world, trajectory).unwrap();
+    let bytes = trajectory.to_bytes_with(&channels, &values).unwrap();
+    // The lamp reader ignores the standard channels and reads the same steps.
+    assert_eq!(
+        &TrajectoryReader::from_bytes(&bytes, "demo").unwrap().read_all().unwrap(),
+        trajectory
+    );
+
+    let folder = tempfile::tempdir().unwrap();
+    let file = folder.path().join("demo.mcap");
+    std::fs::write(&file, &bytes).unwrap();
+    let decoded: serde_json::Value =
+        serde_json::from_str(&run_python(DECODE_SCRIPT, &file)).unwrap();
+
+    let topics: BTreeMap<String, (String, String, String)> = decoded["channels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            let s = |i: usize| c[i].as_str().unwrap().to_string();
+            (s(0), (s(1), s(2), s(3)))
+        })
+        .collect();
+    let ros2 = |schema: &str| ("cdr".to_string(), schema.to_string(), "ros2msg".to_string());
+    assert_eq!(topics[TF_TOPIC], ros2(TF_SCHEMA_NAME));
+    assert_eq!(topics[ROBOT_DESCRIPTION_TOPIC], ros2(STRING_SCHEMA_NAME));
+    assert_eq!(
+        topics[SCENE_TOPIC],
+        ("json".to_string(), SCENE_SCHEMA_NAME.to_string(), "jsonschema".to_string())
+    );
+    assert!(topics.contains_key(WORLD_TOPIC));
+    assert_eq!(
+        decoded["descriptions"][ROBOT_DESCRIPTION_TOPIC],
+        std::fs::read_to_string(urdf_path).unwrap()
+    );
+    assert!(decoded["qos"][ROBOT_DESCRIPTION_TOPIC].as_str().unwrap().contains("durability: 1"));
+
+    let header = &trajectory.header;
+    let robot_name = &header.robots[0].name;
+    let model = &world.robots[robot_name];
+    let world_steps = decoded["world"].as_array().unwrap();
+    let tf = decoded["tf"].as_array().unwrap();
+    assert_eq!(world_steps.len(), trajectory.steps.len());
+    assert_eq!(tf.len(), trajectory.steps.len());
+
+    // Fixed bodies are on /tf_static once, at time zero.
+    let mut static_poses = BTreeMap::new();
+    if let Some(messages) = decoded["tf_static"].as_array().filter(|m| !m.is_empty()) {
+        assert_eq!(topics[TF_STATIC_TOPIC], ros2(TF_SCHEMA_NAME));
+        assert_eq!(messages.len(), 1);
+        for transform in messages[0]["transforms"].as_array().unwrap() {
+            assert_eq!(transform[0], "world");
+            static_poses.insert(transform[1].as_str().unwrap().to_string(), pose_of(&transform[4]));
+        }
+    }
+
+    let joint_states = decoded["joint_states"].as_array().unwrap();
+    let joints: Vec<(String, usize)> = (0..model.link_count())
+        .filter_map(|link| model.parent_joint_name(link))
+        .filter_map(|joint| match model.joint_coordinates(joint).unwrap()[..] {
+            [coordinate] => Some((joint.to_string(), coordinate)),
+            _ => None,
+        })
+        .collect();
+    if joints.is_empty() {
+        assert!(joint_states.is_empty() && !topics.contains_key(JOINT_STATES_TOPIC));
+    } else {
+        assert_eq!(topics[JOINT_STATES_TOPIC], ros2(JOINT_STATE_SCHEMA_NAME));
+        assert_eq!(joint_states.len(), trajectory.steps.len());
+    }
+
+    let gripper = world.spec().robot(robot_name).unwrap().gripper_part().unwrap().link.clone();
+    let mut grasp: Option<(usize, Pose)> = None;
+    let mut grasps_seen = 0;
+    for (index, step) in trajectory.steps.iter().enumerate() {
+        let message = &tf[index];
+        assert_eq!(message["t"].as_u64().unwrap(), step.time_nanoseconds);
+        assert_eq!(world_steps[index]["t"].as_u64().unwrap(), step.time_nanoseconds);
+        let mut frames = BTreeMap::new();
+        for transform in message["transforms"].as_array().unwrap() {
+            assert_eq!(transform[0], "world");
+            let stamp =
+                transform[2].as_u64().unwrap() * 1_000_000_000 + transform[3].as_u64().unwrap();
+            assert_eq!(stamp, step.time_nanoseconds);
+            frames.insert(transform[1].as_str().unwrap().to_string(), pose_of(&transform[4]));
+        }
+        // Bodies: as /lamp/world says (decoded by Python too).
+        for (body, description) in header.bodies.iter().enumerate() {
+            let from_world = pose_of(&world_steps[index]["bodies"][body]);
+            assert_close(&from_world, &step.body_poses[body], "the /lamp/world pose");
+            let found = frames.get(&description.name).or(static_poses.get(&description.name));
+            let found =
+                found.unwrap_or_else(|| panic!("no tf frame for body {}", description.name));
+            assert_close(found, &from_world, &format!("step {index}, body {}", description.name));
+        }
+        // Links: forward kinematics of the recorded configuration, walked link by link.
+        let q = &step.robots[0].positions;
+        for link in 0..model.link_count() {
+            let expected = model.link_pose(q, link);
+            let found = &frames[model.link_name(link)];
+            assert_close(
+                found,
+                &expected,
+                &format!("step {index}, link {}", model.link_name(link)),
+            );
+        }
+        assert_eq!(frames.len(), model.link_count() + header.bodies.len() - static_poses.len());
+        if !joints.is_empty() {
+            let state = &joint_states[index];
+            assert_eq!(state["t"].as_u64().unwrap(), step.time_nanoseconds);
+            let names: Vec<&str> =
+                state["name"].as_array().unwrap().iter().map(|n| n.as_str().unwrap()).collect();
+            let expected: Vec<&str> = joints.iter().map(|(name, _)| name.as_str()).collect();
+            assert_eq!(names, expected);
+            for (value, (_, coordinate)) in
+                state["position"].as_array().unwrap().iter().zip(&joints)
+            {
+                // serde_json reads decimals to within an ulp, not always exactly.
+                assert!((value.as_f64().unwrap() - q[*coordinate]).abs() <= POSE_TOLERANCE);
+            }
+            assert_eq!((state["velocity"].as_u64(), state["effort"].as_u64()), (Some(0), Some(0)));
+        }
+        // A held object keeps its pose in the gripper link's frame.
+        match step.robots[0].held[0] {
+            Some(body) => {
+                let relative = frames[&gripper].inverse() * frames[&header.bodies[body].name];
+                match grasp {
+                    Some((held, first)) if held == body => {
+                        assert_close(&relative, &first, &format!("step {index}, held object"));
+                    }
+                    _ => {
+                        grasps_seen += 1;
+                        grasp = Some((body, relative));
+                    }
+                }
+            }
+            None => grasp = None,
+        }
+    }
+    assert!(grasps_seen >= 1, "the demonstration grasps something");
+
+    // One scene update at time zero: one entity per body in its own frame, one primitive per shape.
+    let scene = decoded["scene"].as_array().unwrap();
+    assert_eq!(scene.len(), 1);
+    assert_eq!(scene[0]["t"], 0);
+    let entities = scene[0]["update"]["entities"].as_array().unwrap();
+    assert_eq!(entities.len(), header.bodies.len());
+    for (entity, body) in entities.iter().zip(&header.bodies) {
+        assert_eq!(entity["frame_id"], body.name.as_str());
+        assert_eq!(entity["frame_locked"], true);
+        let count: usize = ["cubes", "spheres", "cylinders", "triangles"]
+            .iter()
+            .map(|list| entity[list].as_array().unwrap().len())
+            .sum();
+        assert_eq!(count, world.type_parts[&body.type_name].len(), "shapes of {}", body.name);
+    }
+
+    if python_oracle("jsonschema", "jsonschema") {
+        let checked = run_python(SCENE_SCRIPT, &file);
+        println!("scene update checked: {checked}");
+        assert!(checked.starts_with("1 jsonschema"), "{checked}");
+        if oracles_required() {
+            assert!(checked.contains("foxglove-sdk"), "foxglove-sdk is required: {checked}");
+        }
+    }
+}
+
+fn readers_available() -> bool {
+    python_oracle("mcap, mcap_ros2.decoder", "mcap mcap-ros2-support")
+}
+
+#[test]
+fn a_packing_demonstration_decodes_with_every_standard_channel_consistent() {
+    if !readers_available() {
+        return;
+    }
+    let (spec, world) = support::domain("packing");
+    let simulation = Simulation {
+        demonstrator: Demonstrator::Packing,
+        count: 1,
+        cut_fraction: 0.0,
+        objects: 1,
+        seed: 5,
+    };
+    let demo = generate(&world, &simulation, 0).unwrap();
+    let urdf = domains_dir().join("packing").join(&spec.robots[0].urdf);
+    check_demonstration(&world, &urdf, &demo.trajectory);
+}
+
+#[test]
+fn a_cafe_demonstration_decodes_with_every_standard_channel_consistent() {
+    if !readers_available() {
+        return;
+    }
+    let (spec, world) = support::domain("cafe");
+    let simulation = Simulation {
+        demonstrator: Demonstrator::Cafe,
+        count: 1,
+        cut_fraction: 0.0,
+        objects: 1,
+        seed: 3,
+    };
+    let demo = generate(&world, &simulation, 0).unwrap();
+    let urdf = domains_dir().join("cafe").join(&spec.robots[0].urdf);
+    check_demonstration(&world, &urdf, &demo.trajectory);
+}

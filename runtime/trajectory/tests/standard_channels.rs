@@ -1,0 +1,158 @@
+//! The standard ROS 2 and Foxglove channels beside `/lamp/world`: the reader ignores them and
+//! returns the same steps, the `/lamp/world` messages are the same bytes as in a file without
+//! them, the bytes are deterministic, what is written once is at time zero, labels are written
+//! only when they change, and the writer refuses values that do not fit the layout.
+
+#![allow(clippy::unwrap_used)] // a failed step is a failed test
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::io::Cursor;
+
+use lamp_trajectory::{
+    IN_MEMORY_NAME, Primitive, RobotModelText, SceneObject, StandardChannels, StandardStep,
+    StaticFrame, Trajectory, TrajectoryError, TrajectoryReader, TrajectoryWriter,
+};
+use nalgebra::Isometry3;
+
+fn channels(trajectory: &Trajectory, step_labels: bool) -> StandardChannels {
+    let mut frames: Vec<String> =
+        trajectory.header.bodies.iter().map(|body| body.name.clone()).collect();
+    frames.push("base_link".into());
+    StandardChannels {
+        world_frame: "world".into(),
+        frames,
+        static_frames: vec![StaticFrame { frame: "map".into(), pose: Isometry3::identity() }],
+        joints: vec!["torso".into(), "j1".into()],
+        robots: vec![RobotModelText {
+            topic: "/robot_description".into(),
+            urdf: "<robot name=\"r\"/>".into(),
+        }],
+        objects: vec![SceneObject {
+            id: "can_0".into(),
+            frame: "can_0".into(),
+            type_name: "can".into(),
+            color: [1.0, 0.0, 0.0, 1.0],
+            primitives: vec![Primitive::Sphere { pose: Isometry3::identity(), radius: 0.1 }],
+        }],
+        step_labels,
+    }
+}
+
+/// Per step: the bodies' poses, the first robot's base at its first coordinates, two joints, and
+/// a label that changes every ten steps.
+fn values(trajectory: &Trajectory) -> Vec<StandardStep> {
+    trajectory
+        .steps
+        .iter()
+        .enumerate()
+        .map(|(index, step)| {
+            let mut frame_poses = step.body_poses.clone();
+            frame_poses
+                .push(common::random_pose(&mut rand::SeedableRng::seed_from_u64(index as u64)));
+            StandardStep {
+                frame_poses,
+                joint_positions: step.robots[0].positions[3..5].to_vec(),
+                label: Some(format!("(step {})", index / 10)),
+            }
+        })
+        .collect()
+}
+
+/// Every message of a file: topic → (log time, sequence, data), in file order.
+fn messages(bytes: &[u8]) -> BTreeMap<String, Vec<(u64, u32, Vec<u8>)>> {
+    let mut topics: BTreeMap<String, Vec<(u64, u32, Vec<u8>)>> = BTreeMap::new();
+    for message in mcap::MessageStream::new(bytes).unwrap() {
+        let message = message.unwrap();
+        topics.entry(message.channel.topic.clone()).or_default().push((
+            message.log_time,
+            message.sequence,
+            message.data.into_owned(),
+        ));
+    }
+    topics
+}
+
+#[test]
+fn the_reader_ignores_the_standard_channels_and_world_messages_are_unchanged() {
+    let trajectory = common::trajectory(3, 35, 7);
+    let plain = trajectory.to_bytes().unwrap();
+    let with =
+        trajectory.to_bytes_with(&channels(&trajectory, true), &values(&trajectory)).unwrap();
+    assert_eq!(
+        TrajectoryReader::from_bytes(&with, "with").unwrap().read_all().unwrap(),
+        trajectory
+    );
+    let (plain, with) = (messages(&plain), messages(&with));
+    assert_eq!(plain["/lamp/world"], with["/lamp/world"]);
+    assert_eq!(with["/tf"].len(), 35);
+    assert_eq!(with["/joint_states"].len(), 35);
+    let once: Vec<_> = ["/robot_description", "/tf_static", "/lamp/scene"]
+        .iter()
+        .map(|topic| (with[*topic].len(), with[*topic][0].0))
+        .collect();
+    assert_eq!(once, vec![(1, 0); 3]);
+    // Labels change at steps 0, 10, 20 and 30: four messages, at those steps' times.
+    let labels = &with["/lamp/step"];
+    let times: Vec<u64> = labels.iter().map(|(time, _, _)| *time).collect();
+    let expected: Vec<u64> =
+        [0, 10, 20, 30].iter().map(|step| trajectory.steps[*step].time_nanoseconds).collect();
+    assert_eq!(times, expected);
+    assert_eq!(labels.iter().map(|(_, sequence, _)| *sequence).collect::<Vec<_>>(), [0, 1, 2, 3]);
+    assert_eq!(&labels[1].2[8..], b"(step 1)\0");
+}
+
+#[test]
+fn files_with_standard_channels_are_deterministic() {
+    let trajectory = common::trajectory(2, 20, 3);
+    let write = || trajectory.to_bytes_with(&channels(&trajectory, true), &values(&trajectory));
+    assert_eq!(write().unwrap(), write().unwrap());
+}
+
+#[test]
+fn values_that_do_not_fit_the_layout_are_refused() {
+    let trajectory = common::trajectory(2, 5, 3);
+    let mut values = values(&trajectory);
+    // Labels on a file without the label channel.
+    let error = trajectory.to_bytes_with(&channels(&trajectory, false), &values).unwrap_err();
+    assert!(matches!(error, TrajectoryError::Inconsistent { step: 0, .. }), "{error}");
+    values[3].label = None;
+    values[3].frame_poses.pop();
+    let error = trajectory.to_bytes_with(&channels(&trajectory, true), &values).unwrap_err();
+    assert!(
+        matches!(&error, TrajectoryError::Inconsistent { step: 3, reason, .. } if reason.contains("tf frame poses")),
+        "{error}"
+    );
+    let error = trajectory.to_bytes_with(&channels(&trajectory, true), &values[..2]).unwrap_err();
+    assert!(matches!(error, TrajectoryError::Inconsistent { .. }), "{error}");
+    // A plain step on a writer with standard channels, and the other way round.
+    let header = trajectory.header.clone();
+    let sink = Cursor::new(Vec::new());
+    let mut writer = TrajectoryWriter::with_standard_channels(
+        sink,
+        IN_MEMORY_NAME,
+        header.clone(),
+        channels(&trajectory, true),
+    )
+    .unwrap();
+    assert!(writer.write_step(&trajectory.steps[0]).is_err());
+    let mut writer =
+        TrajectoryWriter::new(Cursor::new(Vec::new()), IN_MEMORY_NAME, header).unwrap();
+    assert!(writer.write_step_with(&trajectory.steps[0], &values[0]).is_err());
+}
+
+#[test]
+fn channels_that_cannot_be_written_are_refused_before_anything_is_written() {
+    let trajectory = common::trajectory(2, 5, 3);
+    let mut bad = channels(&trajectory, false);
+    bad.static_frames.push(StaticFrame { frame: "can_0".into(), pose: Isometry3::identity() });
+    let header = trajectory.header.clone();
+    let error = TrajectoryWriter::with_standard_channels(Cursor::new(Vec::new()), "x", header, bad)
+        .err()
+        .unwrap();
+    assert!(
+        matches!(&error, TrajectoryError::Header { reason, .. } if reason.contains("`can_0` is listed twice")),
+        "{error}"
+    );
+}

@@ -1,0 +1,223 @@
+//! The standard ROS 2 and Foxglove channels of a recorded trajectory, so that Foxglove and RViz
+//! show it: every robot link's and every body's world pose per step (links by forward
+//! kinematics of the recorded configuration), the joint values, the robots' URDF text and the
+//! bodies' shapes from the spec. lamp-trajectory writes them beside `/lamp/world`;
+//! `docs/formats.md` describes them.
+
+use lamp_geometry::{Pose, Shape};
+use lamp_trajectory::{
+    Primitive, ROBOT_DESCRIPTION_TOPIC, RobotModelText, SceneObject, StandardChannels,
+    StandardStep, StaticFrame, Trajectory,
+};
+
+use crate::error::WorldError;
+use crate::from_spec::SpecWorld;
+
+/// The fixed frame of every transform.
+pub const WORLD_FRAME: &str = "world";
+
+/// Colour of the static world (tables, floors): grey.
+const WORLD_COLOR: [f64; 4] = [0.6, 0.6, 0.6, 1.0];
+/// Colour of static objects (boxes, shelves): light wood.
+const STATIC_COLOR: [f64; 4] = [0.8, 0.68, 0.5, 1.0];
+/// Colours of movable objects, one per movable type in name order, repeating.
+const MOVABLE_COLORS: [[f64; 4]; 6] = [
+    [0.9, 0.3, 0.2, 1.0],
+    [0.2, 0.5, 0.9, 1.0],
+    [0.3, 0.7, 0.3, 1.0],
+    [0.95, 0.75, 0.1, 1.0],
+    [0.6, 0.35, 0.8, 1.0],
+    [0.1, 0.75, 0.75, 1.0],
+];
+
+/// The standard channels of `trajectory`, whose robots and body types are `world`'s, and their
+/// values at every step.
+///
+/// Frames: `world` is the fixed frame; each body's frame is its name; each robot link's frame is
+/// its URDF name, or `<robot>/<link>` when the file has several robots (their descriptions are
+/// then on `/<robot>/robot_description`). A body whose pose is the same at every step is a
+/// fixed frame (`/tf_static`), every other body and every link is on `/tf` at every step. Joints
+/// with one coordinate are on `/joint_states` under their URDF names (prefixed likewise).
+pub fn standard_channels(
+    world: &SpecWorld,
+    trajectory: &Trajectory,
+) -> Result<(StandardChannels, Vec<StandardStep>), WorldError> {
+    let header = &trajectory.header;
+    let several = header.robots.len() > 1;
+    let prefixed =
+        |robot: &str, name: &str| if several { format!("{robot}/{name}") } else { name.into() };
+
+    let mut frames = Vec::new();
+    let mut static_frames = Vec::new();
+    let mut moving_bodies = Vec::new();
+    for (index, body) in header.bodies.iter().enumerate() {
+        let first = trajectory.steps.first().map(|step| step.body_poses[index]);
+        let fixed = first
+            .filter(|first| trajectory.steps.iter().all(|step| step.body_poses[index] == *first));
+        match fixed {
+            Some(pose) => static_frames.push(StaticFrame { frame: body.name.clone(), pose }),
+            None => {
+                frames.push(body.name.clone());
+                moving_bodies.push(index);
+            }
+        }
+    }
+
+    let mut models = Vec::new();
+    let mut joints = Vec::new();
+    let mut robots = Vec::new();
+    for description in &header.robots {
+        let unknown = || WorldError::UnknownName { what: "robot", name: description.name.clone() };
+        let model = world.robots.get(&description.name).ok_or_else(unknown)?;
+        let urdf = world.urdf_text(&description.name).ok_or_else(unknown)?;
+        let topic = match several {
+            true => format!("/{}{ROBOT_DESCRIPTION_TOPIC}", description.name),
+            false => ROBOT_DESCRIPTION_TOPIC.to_string(),
+        };
+        robots.push(RobotModelText { topic, urdf: urdf.to_string() });
+        for link in 0..model.link_count() {
+            frames.push(prefixed(&description.name, model.link_name(link)));
+        }
+        let mut coordinates = Vec::new();
+        for link in 0..model.link_count() {
+            let Some(joint) = model.parent_joint_name(link) else { continue };
+            let indices = model.joint_coordinates(joint).map_err(|source| WorldError::Robot {
+                robot: description.name.clone(),
+                urdf: world
+                    .spec()
+                    .robot(&description.name)
+                    .map(|r| r.urdf.clone())
+                    .unwrap_or_default(),
+                source: Box::new(source),
+            })?;
+            if let [coordinate] = indices[..] {
+                joints.push(prefixed(&description.name, joint));
+                coordinates.push(coordinate);
+            }
+        }
+        models.push((model, coordinates));
+    }
+
+    let objects = scene_objects(world, trajectory)?;
+    let channels = StandardChannels {
+        world_frame: WORLD_FRAME.to_string(),
+        frames,
+        static_frames,
+        joints,
+        robots,
+        objects,
+        step_labels: false,
+    };
+
+    let mut link_poses: Vec<Vec<Pose>> =
+        models.iter().map(|(model, _)| vec![Pose::identity(); model.link_count()]).collect();
+    let mut values = Vec::with_capacity(trajectory.steps.len());
+    for step in &trajectory.steps {
+        let mut frame_poses: Vec<Pose> =
+            moving_bodies.iter().map(|index| step.body_poses[*index]).collect();
+        let mut joint_positions = Vec::new();
+        for (((model, coordinates), poses), state) in
+            models.iter().zip(&mut link_poses).zip(&step.robots)
+        {
+            if state.positions.len() != model.dof() {
+                return Err(WorldError::Configuration {
+                    robot: model.name().to_string(),
+                    reason: format!(
+                        "the trajectory has {} coordinates, the robot {}",
+                        state.positions.len(),
+                        model.dof()
+                    ),
+                });
+            }
+            model.forward_kinematics(&state.positions, poses);
+            frame_poses.extend_from_slice(poses);
+            joint_positions.extend(coordinates.iter().map(|index| state.positions[*index]));
+        }
+        values.push(StandardStep { frame_poses, joint_positions, label: None });
+    }
+    Ok((channels, values))
+}
+
+/// One scene object per body, its shapes from its type, coloured by role.
+fn scene_objects(
+    world: &SpecWorld,
+    trajectory: &Trajectory,
+) -> Result<Vec<SceneObject>, WorldError> {
+    let spec = world.spec();
+    let mut movable_types: Vec<&str> = spec
+        .object_types
+        .iter()
+        .filter(|object_type| object_type.mobility == lamp_spec::Mobility::Movable)
+        .map(|object_type| object_type.name.as_str())
+        .collect();
+    movable_types.sort_unstable();
+    trajectory
+        .header
+        .bodies
+        .iter()
+        .map(|body| {
+            let unknown =
+                || WorldError::UnknownName { what: "object type", name: body.type_name.clone() };
+            let object_type = spec.object_type(&body.type_name).ok_or_else(unknown)?;
+            let parts = world.type_parts.get(&body.type_name).ok_or_else(unknown)?;
+            let color = if object_type.world {
+                WORLD_COLOR
+            } else if let Ok(index) = movable_types.binary_search(&body.type_name.as_str()) {
+                MOVABLE_COLORS[index % MOVABLE_COLORS.len()]
+            } else {
+                STATIC_COLOR
+            };
+            Ok(SceneObject {
+                id: body.name.clone(),
+                frame: body.name.clone(),
+                type_name: body.type_name.clone(),
+                color,
+                primitives: parts.iter().map(|(pose, shape)| primitive(pose, shape)).collect(),
+            })
+        })
+        .collect()
+}
+
+/// The viewer primitive of a shape; a convex hull is drawn as its points' bounding box.
+fn primitive(pose: &Pose, shape: &Shape) -> Primitive {
+    let pose = *pose;
+    match shape {
+        Shape::Box { half_extents } => {
+            let size = half_extents * 2.0;
+            Primitive::Cube { pose, size: [size.x, size.y, size.z] }
+        }
+        Shape::Cylinder { radius, half_height } => {
+            Primitive::Cylinder { pose, radius: *radius, height: 2.0 * half_height }
+        }
+        Shape::Sphere { radius } => Primitive::Sphere { pose, radius: *radius },
+        Shape::ConvexHull { points } => {
+            let mut low = [f64::INFINITY; 3];
+            let mut high = [f64::NEG_INFINITY; 3];
+            for point in points {
+                for axis in 0..3 {
+                    low[axis] = low[axis].min(point[axis]);
+                    high[axis] = high[axis].max(point[axis]);
+                }
+            }
+            if points.is_empty() {
+                return Primitive::Cube { pose, size: [0.0; 3] };
+            }
+            let centre = nalgebra::Translation3::new(
+                0.5 * (low[0] + high[0]),
+                0.5 * (low[1] + high[1]),
+                0.5 * (low[2] + high[2]),
+            );
+            let size = [high[0] - low[0], high[1] - low[1], high[2] - low[2]];
+            Primitive::Cube { pose: pose * centre, size }
+        }
+        Shape::TriMesh { vertices, triangles } => Primitive::Triangles {
+            pose,
+            points: triangles
+                .iter()
+                .flatten()
+                .filter_map(|index| vertices.get(*index as usize))
+                .map(|point| [point.x, point.y, point.z])
+                .collect(),
+        },
+    }
+}
