@@ -128,6 +128,18 @@ fn pose_of(values: &serde_json::Value) -> Pose {
     )
 }
 
+/// The world pose of `frame`: its poses composed up to the `world` frame.
+fn world_pose(tree: &BTreeMap<String, (String, Pose)>, frame: &str) -> Pose {
+    let mut pose = Pose::identity();
+    let mut current = frame;
+    while current != "world" {
+        let (parent, local) = &tree[current];
+        pose = local * pose;
+        current = parent;
+    }
+    pose
+}
+
 fn assert_close(found: &Pose, expected: &Pose, what: &str) {
     let position = (found.translation.vector - expected.translation.vector).norm();
     let rotation = (found.rotation.coords - expected.rotation.coords).norm();
@@ -141,6 +153,14 @@ fn assert_close(found: &Pose, expected: &Pose, what: &str) {
 fn check_demonstration(world: &SpecWorld, urdf_path: &Path, trajectory: &Trajectory) {
     let (channels, values) = lamp_world::standard_channels(world, trajectory).unwrap();
     let bytes = trajectory.to_bytes_with(&channels, &values).unwrap();
+    let plain = trajectory.to_bytes().unwrap().len();
+    println!(
+        "{}: {} steps, {plain} bytes without the standard channels, {} with them ({:.2}×)",
+        trajectory.header.domain,
+        trajectory.steps.len(),
+        bytes.len(),
+        bytes.len() as f64 / plain as f64
+    );
     // The lamp reader ignores the standard channels and reads the same steps.
     assert_eq!(
         &TrajectoryReader::from_bytes(&bytes, "demo").unwrap().read_all().unwrap(),
@@ -184,14 +204,17 @@ fn check_demonstration(world: &SpecWorld, urdf_path: &Path, trajectory: &Traject
     assert_eq!(world_steps.len(), trajectory.steps.len());
     assert_eq!(tf.len(), trajectory.steps.len());
 
-    // Fixed bodies are on /tf_static once, at time zero.
+    // Fixed frames are on /tf_static once, at time zero: frame → (parent, pose in the parent).
     let mut static_poses = BTreeMap::new();
     if let Some(messages) = decoded["tf_static"].as_array().filter(|m| !m.is_empty()) {
         assert_eq!(topics[TF_STATIC_TOPIC], ros2(TF_SCHEMA_NAME));
+        assert!(decoded["qos"][TF_STATIC_TOPIC].as_str().unwrap().contains("durability: 1"));
         assert_eq!(messages.len(), 1);
+        assert_eq!(messages[0]["t"], 0);
         for transform in messages[0]["transforms"].as_array().unwrap() {
-            assert_eq!(transform[0], "world");
-            static_poses.insert(transform[1].as_str().unwrap().to_string(), pose_of(&transform[4]));
+            let parent = transform[0].as_str().unwrap().to_string();
+            let frame = transform[1].as_str().unwrap().to_string();
+            static_poses.insert(frame, (parent, pose_of(&transform[4])));
         }
     }
 
@@ -217,21 +240,30 @@ fn check_demonstration(world: &SpecWorld, urdf_path: &Path, trajectory: &Traject
         let message = &tf[index];
         assert_eq!(message["t"].as_u64().unwrap(), step.time_nanoseconds);
         assert_eq!(world_steps[index]["t"].as_u64().unwrap(), step.time_nanoseconds);
-        let mut frames = BTreeMap::new();
+        let mut tree = static_poses.clone();
         for transform in message["transforms"].as_array().unwrap() {
-            assert_eq!(transform[0], "world");
             let stamp =
                 transform[2].as_u64().unwrap() * 1_000_000_000 + transform[3].as_u64().unwrap();
             assert_eq!(stamp, step.time_nanoseconds);
-            frames.insert(transform[1].as_str().unwrap().to_string(), pose_of(&transform[4]));
+            let parent = transform[0].as_str().unwrap().to_string();
+            let frame = transform[1].as_str().unwrap().to_string();
+            assert!(
+                tree.insert(frame, (parent, pose_of(&transform[4]))).is_none(),
+                "a frame twice"
+            );
         }
+        // Every frame's world pose, composed along the tree.
+        let frames: BTreeMap<String, Pose> =
+            tree.keys().map(|frame| (frame.clone(), world_pose(&tree, frame))).collect();
         // Bodies: as /lamp/world says (decoded by Python too).
         for (body, description) in header.bodies.iter().enumerate() {
             let from_world = pose_of(&world_steps[index]["bodies"][body]);
             assert_close(&from_world, &step.body_poses[body], "the /lamp/world pose");
-            let found = frames.get(&description.name).or(static_poses.get(&description.name));
-            let found =
-                found.unwrap_or_else(|| panic!("no tf frame for body {}", description.name));
+            assert_eq!(
+                tree[&description.name].0, "world",
+                "bodies are children of the world frame"
+            );
+            let found = &frames[&description.name];
             assert_close(found, &from_world, &format!("step {index}, body {}", description.name));
         }
         // Links: forward kinematics of the recorded configuration, walked link by link.
@@ -245,7 +277,7 @@ fn check_demonstration(world: &SpecWorld, urdf_path: &Path, trajectory: &Traject
                 &format!("step {index}, link {}", model.link_name(link)),
             );
         }
-        assert_eq!(frames.len(), model.link_count() + header.bodies.len() - static_poses.len());
+        assert_eq!(frames.len(), model.link_count() + header.bodies.len());
         if !joints.is_empty() {
             let state = &joint_states[index];
             assert_eq!(state["t"].as_u64().unwrap(), step.time_nanoseconds);

@@ -31,6 +31,20 @@ impl Robot {
         }
     }
 
+    /// The pose of `link` in its parent link's frame at configuration `q`: the joint's origin
+    /// times its motion, the factor [`Robot::forward_kinematics`] applies; `None` for the root.
+    pub fn joint_transform(&self, q: &[f64], link: LinkId) -> Option<Pose> {
+        assert_eq!(q.len(), self.dof(), "configuration length must equal the robot's dof");
+        let joint = self.links[link].joint.as_ref()?;
+        Some(joint.origin * joint_motion(&joint.motion, &q[joint.first_coordinate..]))
+    }
+
+    /// Whether the joint above `link` is fixed, so that [`Robot::joint_transform`] does not
+    /// depend on the configuration; false for the root link.
+    pub fn has_fixed_joint(&self, link: LinkId) -> bool {
+        self.links[link].joint.as_ref().is_some_and(|joint| joint.motion == Motion::Fixed)
+    }
+
     /// World pose of one link (walks only the link's chain; allocation-free).
     pub fn link_pose(&self, q: &[f64], link: LinkId) -> Pose {
         assert_eq!(q.len(), self.dof(), "configuration length must equal the robot's dof");

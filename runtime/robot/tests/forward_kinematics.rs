@@ -228,3 +228,25 @@ fn forward_kinematics_agrees_with_link_pose_for_every_link() {
         );
     }
 }
+
+#[test]
+fn joint_transforms_compose_to_the_link_poses_and_fixed_joints_ignore_the_configuration() {
+    let robot = common::fetch_fixed();
+    let q = fetch_q(&robot, &[("torso_lift_joint", 0.2), ("shoulder_pan_joint", 0.7)]);
+    let neutral = robot.neutral_configuration();
+    assert_eq!(robot.joint_transform(&q, 0), None);
+    assert!(!robot.has_fixed_joint(0));
+    for link in 1..robot.link_count() {
+        let parent = robot.parent_link(link).expect("a non-root link has a parent");
+        let local = robot.joint_transform(&q, link).expect("a non-root link has a joint");
+        let composed = robot.link_pose(&q, parent) * local;
+        let direct = robot.link_pose(&q, link);
+        assert_relative_eq!(composed.to_homogeneous(), direct.to_homogeneous(), epsilon = POSE_TOLERANCE);
+        if robot.has_fixed_joint(link) {
+            assert_eq!(Some(local), robot.joint_transform(&neutral, link));
+        }
+    }
+    let torso = robot.link_id("torso_lift_link").expect("torso_lift_link");
+    assert!(!robot.has_fixed_joint(torso));
+    assert!((1..robot.link_count()).any(|link| robot.has_fixed_joint(link)));
+}

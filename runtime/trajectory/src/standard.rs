@@ -144,9 +144,18 @@ pub struct SceneObject {
     pub primitives: Vec<Primitive>,
 }
 
-/// A fixed frame: its name and its pose in the world frame.
+/// A frame on `/tf`: its name and the frame its pose is given in.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TfFrame {
+    /// The world frame or another frame of the file, for example a robot link's parent link.
+    pub parent: String,
+    pub frame: String,
+}
+
+/// A fixed frame on `/tf_static`: its name, its parent and its pose in the parent's frame.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StaticFrame {
+    pub parent: String,
     pub frame: String,
     pub pose: Isometry3<f64>,
 }
@@ -155,10 +164,10 @@ pub struct StaticFrame {
 /// ([`StandardStep`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct StandardChannels {
-    /// The fixed frame every transform is relative to, for example `world`.
+    /// The fixed frame at the root of the tf tree, for example `world`.
     pub world_frame: String,
-    /// The frames on `/tf`, in the order each [`StandardStep`] stores their world poses.
-    pub frames: Vec<String>,
+    /// The frames on `/tf`, in the order each [`StandardStep`] stores their poses.
+    pub frames: Vec<TfFrame>,
     /// The frames on `/tf_static`, written once at time zero; none: no `/tf_static` channel.
     pub static_frames: Vec<StaticFrame>,
     /// The joints on `/joint_states`, in the order each step stores their values; none: no
@@ -175,7 +184,7 @@ pub struct StandardChannels {
 /// The standard channels' values at one step.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StandardStep {
-    /// World pose of each of [`StandardChannels::frames`], in that order.
+    /// Pose of each of [`StandardChannels::frames`] in its parent's frame, in that order.
     pub frame_poses: Vec<Isometry3<f64>>,
     /// Value of each of [`StandardChannels::joints`], in that order (metres, radians).
     pub joint_positions: Vec<f64>,
@@ -186,17 +195,26 @@ pub struct StandardStep {
 
 impl StandardChannels {
     /// Checks that the channels can be written: frame and joint names are non-empty and unique,
-    /// every object's frame is a frame of the file, and every number is finite.
+    /// every parent and every object's frame is a frame of the file, and every number is finite.
     pub(crate) fn check(&self) -> Result<(), String> {
         let mut frames = BTreeSet::new();
         check_frame_name(&self.world_frame)?;
         frames.insert(self.world_frame.as_str());
-        let static_names = self.static_frames.iter().map(|frame| &frame.frame);
-        for frame in self.frames.iter().chain(static_names) {
+        let dynamic = self.frames.iter().map(|frame| (&frame.parent, &frame.frame));
+        let fixed = self.static_frames.iter().map(|frame| (&frame.parent, &frame.frame));
+        let all: Vec<(&String, &String)> = dynamic.chain(fixed).collect();
+        for (_, frame) in &all {
             check_frame_name(frame)?;
             if !frames.insert(frame.as_str()) {
                 return Err(format!("tf frame `{frame}` is listed twice"));
             }
+        }
+        if let Some((parent, frame)) =
+            all.iter().find(|(parent, _)| !frames.contains(parent.as_str()))
+        {
+            return Err(format!(
+                "tf frame `{frame}` has parent `{parent}`, which is not a frame of the file"
+            ));
         }
         for frame in &self.static_frames {
             check_pose(&frame.pose)
@@ -270,7 +288,7 @@ impl StandardChannels {
         }
         for (pose, frame) in step.frame_poses.iter().zip(&self.frames) {
             check_pose(pose).map_err(|reason| {
-                StepProblem::InvalidValue(format!("pose of tf frame `{frame}`: {reason}"))
+                StepProblem::InvalidValue(format!("pose of tf frame `{}`: {reason}", frame.frame))
             })?;
         }
         if let Some((value, joint)) =
@@ -293,16 +311,16 @@ fn check_frame_name(frame: &str) -> Result<(), String> {
 /// Bytes of one `geometry_msgs/TransformStamped` besides its two names.
 const TRANSFORM_BYTES: usize = 8 + 8 + 7 * 8 + 16;
 
-/// A CDR `tf2_msgs/msg/TFMessage`: one transform from `parent` to each frame.
+/// A CDR `tf2_msgs/msg/TFMessage`: one transform per (parent, frame, pose of the frame in the
+/// parent's frame).
 pub(crate) fn encode_tf<'a>(
     time_nanoseconds: u64,
-    parent: &str,
-    transforms: impl ExactSizeIterator<Item = (&'a str, &'a Isometry3<f64>)>,
+    transforms: impl ExactSizeIterator<Item = (&'a str, &'a str, &'a Isometry3<f64>)>,
 ) -> Vec<u8> {
     let (seconds, nanoseconds) = split_time(time_nanoseconds);
-    let mut writer = CdrWriter::new(transforms.len() * (TRANSFORM_BYTES + 2 * parent.len()));
+    let mut writer = CdrWriter::new(transforms.len() * (TRANSFORM_BYTES + 32));
     writer.write_length(length(transforms.len()));
-    for (frame, pose) in transforms {
+    for (parent, frame, pose) in transforms {
         writer.write_i32(seconds);
         writer.write_u32(nanoseconds);
         writer.write_string(parent);
@@ -488,7 +506,7 @@ mod tests {
     fn a_tf_message_has_the_documented_layout() {
         let pose =
             Isometry3::from_parts(Translation3::new(1.0, 2.0, 3.0), UnitQuaternion::identity());
-        let bytes = encode_tf(1_500_000_000, "world", [("a", &pose)].into_iter());
+        let bytes = encode_tf(1_500_000_000, [("world", "a", &pose)].into_iter());
         // Header, count, stamp, "world", "a", padding to 8, then seven float64.
         let mut expected = vec![0, 1, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0x00, 0x65, 0xcd, 0x1d];
         expected.extend([6, 0, 0, 0]);
@@ -507,7 +525,9 @@ mod tests {
     fn checks_refuse_duplicate_frames_unknown_object_frames_and_bad_counts() {
         let mut channels = StandardChannels {
             world_frame: "world".into(),
-            frames: vec!["a".into(), "b".into()],
+            frames: ["a", "b"]
+                .map(|frame| TfFrame { parent: "world".into(), frame: frame.into() })
+                .to_vec(),
             static_frames: vec![],
             joints: vec!["j".into()],
             robots: vec![],
@@ -515,8 +535,11 @@ mod tests {
             step_labels: false,
         };
         assert_eq!(channels.check(), Ok(()));
-        channels.frames.push("world".into());
+        channels.frames.push(TfFrame { parent: "a".into(), frame: "world".into() });
         assert!(channels.check().unwrap_err().contains("listed twice"));
+        channels.frames.pop();
+        channels.frames.push(TfFrame { parent: "nowhere".into(), frame: "c".into() });
+        assert!(channels.check().unwrap_err().contains("not a frame of the file"));
         channels.frames.pop();
         channels.objects.push(SceneObject {
             id: "x".into(),

@@ -198,8 +198,9 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
         let channels = &standard.channels;
         let mut messages = Vec::with_capacity(3);
         if let Some(tf) = standard.tf {
-            let frames = channels.frames.iter().map(String::as_str).zip(&values.frame_poses);
-            messages.push((tf, sequence, encode_tf(time, &channels.world_frame, frames)));
+            let frames = channels.frames.iter().zip(&values.frame_poses);
+            let frames = frames.map(|(f, pose)| (f.parent.as_str(), f.frame.as_str(), pose));
+            messages.push((tf, sequence, encode_tf(time, frames)));
         }
         if let Some(joint_states) = standard.joint_states {
             let data = encode_joint_state(time, &channels.joints, &values.joint_positions);
@@ -292,8 +293,9 @@ fn start_standard<W: Write + Seek>(
     if !channels.static_frames.is_empty() {
         let schema = tf_schema_id(mcap)?;
         let channel = mcap.add_channel(schema, TF_STATIC_TOPIC, MESSAGE_ENCODING, &latched)?;
-        let frames = channels.static_frames.iter().map(|frame| (frame.frame.as_str(), &frame.pose));
-        once.push((channel, encode_tf(0, &channels.world_frame, frames)));
+        let frames = channels.static_frames.iter();
+        let frames = frames.map(|f| (f.parent.as_str(), f.frame.as_str(), &f.pose));
+        once.push((channel, encode_tf(0, frames)));
     }
     if !channels.objects.is_empty() {
         let schema =

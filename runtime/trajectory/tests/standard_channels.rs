@@ -12,18 +12,23 @@ use std::io::Cursor;
 
 use lamp_trajectory::{
     IN_MEMORY_NAME, Primitive, RobotModelText, SceneObject, StandardChannels, StandardStep,
-    StaticFrame, Trajectory, TrajectoryError, TrajectoryReader, TrajectoryWriter,
+    StaticFrame, TfFrame, Trajectory, TrajectoryError, TrajectoryReader, TrajectoryWriter,
 };
 use nalgebra::Isometry3;
 
 fn channels(trajectory: &Trajectory, step_labels: bool) -> StandardChannels {
-    let mut frames: Vec<String> =
-        trajectory.header.bodies.iter().map(|body| body.name.clone()).collect();
-    frames.push("base_link".into());
+    let world = |frame: &str| TfFrame { parent: "world".into(), frame: frame.into() };
+    let mut frames: Vec<TfFrame> =
+        trajectory.header.bodies.iter().map(|body| world(&body.name)).collect();
+    frames.push(TfFrame { parent: "map".into(), frame: "base_link".into() });
     StandardChannels {
         world_frame: "world".into(),
         frames,
-        static_frames: vec![StaticFrame { frame: "map".into(), pose: Isometry3::identity() }],
+        static_frames: vec![StaticFrame {
+            parent: "world".into(),
+            frame: "map".into(),
+            pose: Isometry3::identity(),
+        }],
         joints: vec!["torso".into(), "j1".into()],
         robots: vec![RobotModelText {
             topic: "/robot_description".into(),
@@ -146,7 +151,8 @@ fn values_that_do_not_fit_the_layout_are_refused() {
 fn channels_that_cannot_be_written_are_refused_before_anything_is_written() {
     let trajectory = common::trajectory(2, 5, 3);
     let mut bad = channels(&trajectory, false);
-    bad.static_frames.push(StaticFrame { frame: "can_0".into(), pose: Isometry3::identity() });
+    let pose = Isometry3::identity();
+    bad.static_frames.push(StaticFrame { parent: "world".into(), frame: "can_0".into(), pose });
     let header = trajectory.header.clone();
     let error = TrajectoryWriter::with_standard_channels(Cursor::new(Vec::new()), "x", header, bad)
         .err()

@@ -5,9 +5,10 @@
 //! `docs/formats.md` describes them.
 
 use lamp_geometry::{Pose, Shape};
+use lamp_robot::LinkId;
 use lamp_trajectory::{
     Primitive, ROBOT_DESCRIPTION_TOPIC, RobotModelText, SceneObject, StandardChannels,
-    StandardStep, StaticFrame, Trajectory,
+    StandardStep, StaticFrame, TfFrame, Trajectory,
 };
 
 use crate::error::WorldError;
@@ -33,11 +34,14 @@ const MOVABLE_COLORS: [[f64; 4]; 6] = [
 /// The standard channels of `trajectory`, whose robots and body types are `world`'s, and their
 /// values at every step.
 ///
-/// Frames: `world` is the fixed frame; each body's frame is its name; each robot link's frame is
-/// its URDF name, or `<robot>/<link>` when the file has several robots (their descriptions are
-/// then on `/<robot>/robot_description`). A body whose pose is the same at every step is a
-/// fixed frame (`/tf_static`), every other body and every link is on `/tf` at every step. Joints
-/// with one coordinate are on `/joint_states` under their URDF names (prefixed likewise).
+/// Frames form the tree `robot_state_publisher` would publish: `world` is the root; each body's
+/// frame is its name, a child of `world`; each robot's root link is a child of `world` (its
+/// mount's pose) and every other link a child of its parent link (its joint's origin and
+/// motion). Link frames are the URDF's link names, or `<robot>/<link>` when the file has several
+/// robots (their descriptions are then on `/<robot>/robot_description`). Fixed frames are on
+/// `/tf_static` once: a body whose pose is the same at every step, the root link of a fixed
+/// mount, a link below a fixed joint. Every other frame is on `/tf` at every step. Joints with
+/// one coordinate are on `/joint_states` under their URDF names (prefixed likewise).
 pub fn standard_channels(
     world: &SpecWorld,
     trajectory: &Trajectory,
@@ -47,6 +51,7 @@ pub fn standard_channels(
     let prefixed =
         |robot: &str, name: &str| if several { format!("{robot}/{name}") } else { name.into() };
 
+    let world_child = |frame: &str| TfFrame { parent: WORLD_FRAME.into(), frame: frame.into() };
     let mut frames = Vec::new();
     let mut static_frames = Vec::new();
     let mut moving_bodies = Vec::new();
@@ -55,9 +60,13 @@ pub fn standard_channels(
         let fixed = first
             .filter(|first| trajectory.steps.iter().all(|step| step.body_poses[index] == *first));
         match fixed {
-            Some(pose) => static_frames.push(StaticFrame { frame: body.name.clone(), pose }),
+            Some(pose) => static_frames.push(StaticFrame {
+                parent: WORLD_FRAME.into(),
+                frame: body.name.clone(),
+                pose,
+            }),
             None => {
-                frames.push(body.name.clone());
+                frames.push(world_child(&body.name));
                 moving_bodies.push(index);
             }
         }
@@ -75,8 +84,25 @@ pub fn standard_channels(
             false => ROBOT_DESCRIPTION_TOPIC.to_string(),
         };
         robots.push(RobotModelText { topic, urdf: urdf.to_string() });
+        let neutral = model.neutral_configuration();
+        let mut moving_links: Vec<LinkId> = Vec::new();
         for link in 0..model.link_count() {
-            frames.push(prefixed(&description.name, model.link_name(link)));
+            let frame = prefixed(&description.name, model.link_name(link));
+            let parent = match model.parent_link(link) {
+                Some(parent) => prefixed(&description.name, model.link_name(parent)),
+                None => WORLD_FRAME.to_string(),
+            };
+            let fixed = match link {
+                0 => model.mount().coordinate_count() == 0,
+                _ => model.has_fixed_joint(link),
+            };
+            if fixed {
+                let pose = local_pose(model, &neutral, link);
+                static_frames.push(StaticFrame { parent, frame, pose });
+            } else {
+                frames.push(TfFrame { parent, frame });
+                moving_links.push(link);
+            }
         }
         let mut coordinates = Vec::new();
         for link in 0..model.link_count() {
@@ -95,7 +121,7 @@ pub fn standard_channels(
                 coordinates.push(coordinate);
             }
         }
-        models.push((model, coordinates));
+        models.push((model, coordinates, moving_links));
     }
 
     let objects = scene_objects(world, trajectory)?;
@@ -109,16 +135,12 @@ pub fn standard_channels(
         step_labels: false,
     };
 
-    let mut link_poses: Vec<Vec<Pose>> =
-        models.iter().map(|(model, _)| vec![Pose::identity(); model.link_count()]).collect();
     let mut values = Vec::with_capacity(trajectory.steps.len());
     for step in &trajectory.steps {
         let mut frame_poses: Vec<Pose> =
             moving_bodies.iter().map(|index| step.body_poses[*index]).collect();
         let mut joint_positions = Vec::new();
-        for (((model, coordinates), poses), state) in
-            models.iter().zip(&mut link_poses).zip(&step.robots)
-        {
+        for ((model, coordinates, moving_links), state) in models.iter().zip(&step.robots) {
             if state.positions.len() != model.dof() {
                 return Err(WorldError::Configuration {
                     robot: model.name().to_string(),
@@ -129,13 +151,19 @@ pub fn standard_channels(
                     ),
                 });
             }
-            model.forward_kinematics(&state.positions, poses);
-            frame_poses.extend_from_slice(poses);
+            let q = &state.positions;
+            frame_poses.extend(moving_links.iter().map(|link| local_pose(model, q, *link)));
             joint_positions.extend(coordinates.iter().map(|index| state.positions[*index]));
         }
         values.push(StandardStep { frame_poses, joint_positions, label: None });
     }
     Ok((channels, values))
+}
+
+/// The pose of a link in its tf parent's frame: the mount's pose for the root link, the joint's
+/// origin and motion for the others.
+fn local_pose(model: &lamp_robot::Robot, q: &[f64], link: LinkId) -> Pose {
+    model.joint_transform(q, link).unwrap_or_else(|| model.mount().root_pose(q))
 }
 
 /// One scene object per body, its shapes from its type, coloured by role.
