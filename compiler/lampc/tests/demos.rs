@@ -1,5 +1,8 @@
 //! `lampc demos` as a user runs it: three Packing demonstrations into a scratch folder that
-//! read back as demonstration files, and the diagnostic for a spec with no simulator.
+//! read back as demonstration files with the standard channels viewers read, and the diagnostic
+//! for a spec with no simulator.
+
+mod common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -52,6 +55,8 @@ fn three_packing_demonstrations_are_written_and_read_back() {
         assert_eq!(header.provenance["demo_index"], index.to_string());
         let trajectory = reader.read_all().expect("every step reads");
         assert!(trajectory.steps.len() > 10, "{name}: {} steps", trajectory.steps.len());
+        let bytes = std::fs::read(out.join(name)).expect("readable");
+        common::assert_viewer_channels(&bytes, name);
     }
 
     // The same command again gives the same bytes.

@@ -116,6 +116,7 @@ fn solve_writes_a_validated_trajectory_plan_summary_and_picture() {
     let trajectory =
         lamp_trajectory::Trajectory::from_bytes(&bytes, "trajectory.mcap").expect("it reads back");
     assert!(trajectory.steps.len() > 100);
+    common::assert_viewer_channels(&bytes, "trajectory.mcap");
 }
 
 #[test]

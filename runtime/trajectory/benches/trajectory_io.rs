@@ -1,5 +1,8 @@
-//! Writing and reading 100 000 steps of a scene with ten bodies and one 11-coordinate robot.
-//! Prints the file size per step once; criterion reports the time (divide by 100 000 for steps/s).
+//! Writing and reading 100 000 steps of a scene with ten bodies and one 11-coordinate robot,
+//! and writing them with the standard channels viewers read (`/tf` with the ten bodies and a
+//! Fetch-like tree of a moving base and eleven moving joints, `/joint_states`).
+//! Prints the file sizes per step once; criterion reports the time (divide by 100 000 for
+//! steps/s).
 
 // The benchmark reports the file size on the terminal.
 #![allow(clippy::print_stdout)]
@@ -9,8 +12,8 @@ use std::io::Cursor;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use lamp_trajectory::{
-    BodyDescription, RobotDescription, RobotState, Step, Trajectory, TrajectoryHeader,
-    TrajectoryReader, TrajectoryWriter,
+    BodyDescription, RobotDescription, RobotModelText, RobotState, StandardChannels, StandardStep,
+    StaticFrame, Step, TfFrame, Trajectory, TrajectoryHeader, TrajectoryReader, TrajectoryWriter,
 };
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 
@@ -68,6 +71,79 @@ fn write(trajectory: &Trajectory) -> Vec<u8> {
     writer.finish().expect("writing to memory succeeds").into_inner()
 }
 
+/// The channels of the scene: bodies below `world`, the base below `world`, each joint's link
+/// below the previous link, a fixed camera link on `/tf_static`.
+fn channels(trajectory: &Trajectory) -> StandardChannels {
+    let mut frames: Vec<TfFrame> = trajectory
+        .header
+        .bodies
+        .iter()
+        .map(|body| TfFrame { parent: "world".into(), frame: body.name.clone() })
+        .collect();
+    frames.push(TfFrame { parent: "world".into(), frame: "base_link".into() });
+    let mut parent = "base_link".to_string();
+    for joint in 0..COORDINATES {
+        let frame = format!("link_{joint}");
+        frames.push(TfFrame { parent: parent.clone(), frame: frame.clone() });
+        parent = frame;
+    }
+    StandardChannels {
+        world_frame: "world".into(),
+        frames,
+        static_frames: vec![StaticFrame {
+            parent: "base_link".into(),
+            frame: "camera_link".into(),
+            pose: Isometry3::identity(),
+        }],
+        joints: trajectory.header.robots[0].coordinates.clone(),
+        robots: vec![RobotModelText {
+            topic: "/robot_description".into(),
+            urdf: "<robot/>".into(),
+        }],
+        objects: vec![],
+        step_labels: false,
+    }
+}
+
+/// Per step: the bodies' poses, a base moving on a circle, each joint a rotation about z.
+fn values(trajectory: &Trajectory) -> Vec<StandardStep> {
+    trajectory
+        .steps
+        .iter()
+        .map(|step| {
+            let q = &step.robots[0].positions;
+            let mut frame_poses = step.body_poses.clone();
+            frame_poses.push(Isometry3::from_parts(
+                Translation3::new(q[0], q[1], 0.0),
+                UnitQuaternion::from_euler_angles(0.0, 0.0, q[2]),
+            ));
+            frame_poses.extend(q.iter().map(|value| {
+                Isometry3::from_parts(
+                    Translation3::new(0.1, 0.0, 0.2),
+                    UnitQuaternion::from_euler_angles(0.0, 0.0, *value),
+                )
+            }));
+            StandardStep { frame_poses, joint_positions: q.clone(), label: None }
+        })
+        .collect()
+}
+
+fn write_with_channels(
+    trajectory: &Trajectory,
+    channels: &StandardChannels,
+    values: &[StandardStep],
+) -> Vec<u8> {
+    let sink = Cursor::new(Vec::new());
+    let header = trajectory.header.clone();
+    let mut writer =
+        TrajectoryWriter::with_standard_channels(sink, "bench", header, channels.clone())
+            .expect("the header and channels are valid");
+    for (step, values) in trajectory.steps.iter().zip(values) {
+        writer.write_step_with(step, values).expect("the steps are valid");
+    }
+    writer.finish().expect("writing to memory succeeds").into_inner()
+}
+
 fn benchmark(criterion: &mut Criterion) {
     let trajectory = scene();
     let bytes = write(&trajectory);
@@ -76,10 +152,21 @@ fn benchmark(criterion: &mut Criterion) {
         bytes.len(),
         bytes.len() as f64 / STEPS as f64
     );
+    let (channels, values) = (channels(&trajectory), values(&trajectory));
+    let viewable = write_with_channels(&trajectory, &channels, &values);
+    println!(
+        "with the standard channels: {} bytes, {:.1} bytes per step ({:.2} times)",
+        viewable.len(),
+        viewable.len() as f64 / STEPS as f64,
+        viewable.len() as f64 / bytes.len() as f64
+    );
     let mut group = criterion.benchmark_group("trajectory_100k_steps_10_bodies");
     group.sample_size(10);
     group.throughput(Throughput::Elements(STEPS as u64));
     group.bench_function("write", |bencher| bencher.iter(|| black_box(write(&trajectory))));
+    group.bench_function("write_with_standard_channels", |bencher| {
+        bencher.iter(|| black_box(write_with_channels(&trajectory, &channels, &values)));
+    });
     group.bench_function("read", |bencher| {
         bencher.iter(|| {
             let reader = TrajectoryReader::from_bytes(&bytes, "bench").expect("a valid file");

@@ -81,7 +81,7 @@ fn demos(args: &Args, colour: bool) -> Result<(), Failure> {
         .map_err(|error| Failure::Write(format!("cannot create {}: {error}", out.display())))?;
     let (mut steps, mut bytes, mut cut) = (0, 0, 0);
     for demonstration in &demonstrations {
-        let contents = demonstration.to_bytes().map_err(demo_failure)?;
+        let contents = viewable_bytes(&world, &demonstration.trajectory).map_err(Failure::Demo)?;
         write_file(&out, &file_name(&spec.domain, demonstration.index), &contents)
             .map_err(Failure::Write)?;
         steps += demonstration.trajectory.steps.len();
@@ -102,6 +102,16 @@ fn demos(args: &Args, colour: bool) -> Result<(), Failure> {
         println!("  removed {stale} file(s) of an earlier, larger run");
     }
     Ok(())
+}
+
+/// The file's bytes with the standard ROS 2 and Foxglove channels beside `/lamp/world`, so
+/// that Foxglove and RViz show the robot and the objects (`docs/formats.md`).
+pub(crate) fn viewable_bytes(
+    world: &lamp_world::SpecWorld,
+    trajectory: &lamp_trajectory::Trajectory,
+) -> Result<Vec<u8>, Box<dyn miette::Diagnostic + Send + Sync>> {
+    let (channels, values) = lamp_world::standard_channels(world, trajectory)?;
+    Ok(trajectory.to_bytes_with(&channels, &values)?)
 }
 
 fn demo_failure(error: DemoError) -> Failure {

@@ -27,3 +27,15 @@ pub fn listing(dir: &Path) -> Vec<String> {
     names.sort();
     names
 }
+
+/// The standard channels Foxglove and RViz read are in a trajectory file beside `/lamp/world`
+/// (lamp-demonstrators' `viewer_channels` test decodes their contents); an MCAP channel record
+/// holds its topic as a length-prefixed string.
+#[allow(dead_code)] // only the tests that write trajectories look at them
+pub fn assert_viewer_channels(bytes: &[u8], name: &str) {
+    for topic in ["/lamp/world", "/tf", "/robot_description", "/lamp/scene"] {
+        let length = u32::try_from(topic.len()).expect("a short topic");
+        let record = [&length.to_le_bytes()[..], topic.as_bytes()].concat();
+        assert!(bytes.windows(record.len()).any(|w| w == record), "{name} has no {topic} channel");
+    }
+}
