@@ -39,7 +39,7 @@ def pose(p, q):
     return [p.x, p.y, p.z, q.x, q.y, q.z, q.w]
 
 out = {"channels": [], "world": [], "tf": [], "tf_static": [], "joint_states": [],
-       "descriptions": {}, "scene": [], "qos": {}}
+       "descriptions": {}, "scene": [], "qos": {}, "held": []}
 with open(sys.argv[1], "rb") as stream:
     reader = make_reader(stream, validate_crcs=True, decoder_factories=[DecoderFactory()])
     summary = reader.get_summary()
@@ -68,6 +68,8 @@ with open(sys.argv[1], "rb") as stream:
             out["joint_states"].append({"t": t, "stamp": [decoded.header.stamp.sec, decoded.header.stamp.nanosec],
                 "name": list(decoded.name), "position": list(decoded.position),
                 "velocity": len(decoded.velocity), "effort": len(decoded.effort)})
+        elif channel.topic == "/lamp/held":
+            out["held"].append([t, decoded.data])
         elif channel.topic.endswith("robot_description"):
             out["descriptions"][channel.topic] = decoded.data
 json.dump(out, sys.stdout)
@@ -152,14 +154,20 @@ fn assert_close(found: &Pose, expected: &Pose, what: &str) {
 /// Writes the demonstration with its channels, decodes it in Python and checks every channel.
 fn check_demonstration(world: &SpecWorld, urdf_path: &Path, trajectory: &Trajectory) {
     let (channels, values) = lamp_world::standard_channels(world, trajectory).unwrap();
+    let start = std::time::Instant::now();
     let bytes = trajectory.to_bytes_with(&channels, &values).unwrap();
+    let with_seconds = start.elapsed().as_secs_f64();
+    let start = std::time::Instant::now();
     let plain = trajectory.to_bytes().unwrap().len();
+    let plain_seconds = start.elapsed().as_secs_f64();
+    let steps = trajectory.steps.len() as f64;
     println!(
-        "{}: {} steps, {plain} bytes without the standard channels, {} with them ({:.2}×)",
+        "{}: {steps} steps, {plain} bytes without the standard channels, {} with them ({:.2}×); written at {:.0} and {:.0} steps/s (test profile)",
         trajectory.header.domain,
-        trajectory.steps.len(),
         bytes.len(),
-        bytes.len() as f64 / plain as f64
+        bytes.len() as f64 / plain as f64,
+        steps / plain_seconds,
+        steps / with_seconds,
     );
     // The lamp reader ignores the standard channels and reads the same steps.
     assert_eq!(
@@ -233,6 +241,9 @@ fn check_demonstration(world: &SpecWorld, urdf_path: &Path, trajectory: &Traject
         assert_eq!(joint_states.len(), trajectory.steps.len());
     }
 
+    let held_messages = decoded["held"].as_array().unwrap();
+    let mut held_next = 0;
+    let mut held_frame = None;
     let gripper = world.spec().robot(robot_name).unwrap().gripper_part().unwrap().link.clone();
     let mut grasp: Option<(usize, Pose)> = None;
     let mut grasps_seen = 0;
@@ -293,6 +304,16 @@ fn check_demonstration(world: &SpecWorld, urdf_path: &Path, trajectory: &Traject
             }
             assert_eq!((state["velocity"].as_u64(), state["effort"].as_u64()), (Some(0), Some(0)));
         }
+        // /lamp/held names the held object's frame, as of the latest message at or before the step.
+        while held_messages
+            .get(held_next)
+            .is_some_and(|m| m[0].as_u64().unwrap() <= step.time_nanoseconds)
+        {
+            held_frame = held_messages[held_next][1].as_str().map(String::from);
+            held_next += 1;
+        }
+        let expected = step.robots[0].held[0].map_or("", |body| header.bodies[body].name.as_str());
+        assert_eq!(held_frame.as_deref(), Some(expected), "step {index}: the held frame");
         // A held object keeps its pose in the gripper link's frame.
         match step.robots[0].held[0] {
             Some(body) => {

@@ -102,6 +102,7 @@ fn channels(trajectory: &Trajectory) -> StandardChannels {
         }],
         objects: vec![],
         step_labels: false,
+        held_topics: vec![],
     }
 }
 
@@ -123,7 +124,7 @@ fn values(trajectory: &Trajectory) -> Vec<StandardStep> {
                     UnitQuaternion::from_euler_angles(0.0, 0.0, *value),
                 )
             }));
-            StandardStep { frame_poses, joint_positions: q.clone(), label: None }
+            StandardStep { frame_poses, joint_positions: q.clone(), label: None, held: vec![] }
         })
         .collect()
 }

@@ -33,6 +33,7 @@ mod reader;
 mod record;
 mod schema;
 mod standard;
+mod standard_reader;
 mod writer;
 
 pub use codec::{MAXIMUM_TIME_NANOSECONDS, QUATERNION_NORM_TOLERANCE};
@@ -46,10 +47,13 @@ pub use schema::{
     WORLD_STEP_SCHEMA_NAME, WORLD_TOPIC,
 };
 pub use standard::{
-    JOINT_STATE_SCHEMA, JOINT_STATE_SCHEMA_NAME, JOINT_STATES_TOPIC, LATCHED_QOS, Primitive,
-    QOS_METADATA_KEY, ROBOT_DESCRIPTION_TOPIC, RobotModelText, SCENE_MESSAGE_ENCODING,
+    HELD_TOPIC, JOINT_STATE_SCHEMA, JOINT_STATE_SCHEMA_NAME, JOINT_STATES_TOPIC, LATCHED_QOS,
+    Primitive, QOS_METADATA_KEY, ROBOT_DESCRIPTION_TOPIC, RobotModelText, SCENE_MESSAGE_ENCODING,
     SCENE_SCHEMA, SCENE_SCHEMA_ENCODING, SCENE_SCHEMA_NAME, SCENE_TOPIC, STEP_LABEL_TOPIC,
     STRING_SCHEMA, STRING_SCHEMA_NAME, SceneObject, StandardChannels, StandardStep, StaticFrame,
     TF_SCHEMA, TF_SCHEMA_NAME, TF_STATIC_TOPIC, TF_TOPIC, TfFrame,
+};
+pub use standard_reader::{
+    BagJointState, BagTfMessage, BagTransform, StandardRecording, read_standard_channels,
 };
 pub use writer::{CHUNK_SIZE, IN_MEMORY_NAME, LIBRARY, TrajectoryWriter};

@@ -33,18 +33,18 @@ use crate::schema::{
 pub const MAXIMUM_RECORD_BYTES: usize = 64 * 1024 * 1024;
 
 /// Pulls parsed MCAP records from a byte source, counting them for error messages.
-struct RecordSource<R> {
+pub(crate) struct RecordSource<R> {
     source: R,
     linear: LinearReader,
-    file: String,
+    pub(crate) file: String,
     /// Records returned so far (inside chunks included); the index of the next one.
-    records: u64,
+    pub(crate) records: u64,
     /// The chunk whose records are being returned.
     chunk: Option<ChunkRecords>,
 }
 
 impl<R: Read> RecordSource<R> {
-    fn new(source: R, file: String) -> Self {
+    pub(crate) fn new(source: R, file: String) -> Self {
         let options = LinearReaderOptions::default()
             .with_validate_data_section_crc(true)
             .with_validate_summary_section_crc(true)
@@ -56,7 +56,10 @@ impl<R: Read> RecordSource<R> {
     }
 
     /// The next record, `None` at the clean end of the file. `steps` is only for error messages.
-    fn next_record(&mut self, steps: u64) -> Result<Option<Record<'static>>, TrajectoryError> {
+    pub(crate) fn next_record(
+        &mut self,
+        steps: u64,
+    ) -> Result<Option<Record<'static>>, TrajectoryError> {
         loop {
             if let Some(chunk) = &mut self.chunk {
                 match chunk.next_record() {

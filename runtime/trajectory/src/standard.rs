@@ -28,6 +28,10 @@ pub const ROBOT_DESCRIPTION_TOPIC: &str = "/robot_description";
 pub const SCENE_TOPIC: &str = "/lamp/scene";
 /// The topic of the plan step being executed (`std_msgs/msg/String`), written when it changes.
 pub const STEP_LABEL_TOPIC: &str = "/lamp/step";
+/// The topic of the frame a file's only robot's gripper holds (`std_msgs/msg/String`, empty when
+/// it holds nothing), written at the first step and when it changes; with several robots each
+/// has `/<robot>/lamp/held`.
+pub const HELD_TOPIC: &str = "/lamp/held";
 
 /// The ROS 2 type of `/tf` and `/tf_static`.
 pub const TF_SCHEMA_NAME: &str = "tf2_msgs/msg/TFMessage";
@@ -179,6 +183,8 @@ pub struct StandardChannels {
     pub objects: Vec<SceneObject>,
     /// Whether steps carry plan-step labels (`/lamp/step`).
     pub step_labels: bool,
+    /// One topic per gripper, on which the frame it holds is written ([`HELD_TOPIC`]).
+    pub held_topics: Vec<String>,
 }
 
 /// The standard channels' values at one step.
@@ -191,6 +197,9 @@ pub struct StandardStep {
     /// The plan step being executed, for example `(pick gripper can_0)`; written on
     /// `/lamp/step` whenever it differs from the previous step's.
     pub label: Option<String>,
+    /// Per held topic, the frame the gripper holds, empty when none; written at the first step
+    /// and whenever it differs from the previous step's.
+    pub held: Vec<String>,
 }
 
 impl StandardChannels {
@@ -227,12 +236,10 @@ impl StandardChannels {
             }
         }
         let mut topics = BTreeSet::new();
-        for robot in &self.robots {
-            if !robot.topic.starts_with('/') || !topics.insert(robot.topic.as_str()) {
-                return Err(format!(
-                    "robot description topic `{}` does not start with `/` or is listed twice",
-                    robot.topic
-                ));
+        let held = self.held_topics.iter();
+        for topic in self.robots.iter().map(|robot| &robot.topic).chain(held) {
+            if !topic.starts_with('/') || !topics.insert(topic.as_str()) {
+                return Err(format!("topic `{topic}` does not start with `/` or is listed twice"));
             }
         }
         for object in &self.objects {
@@ -279,6 +286,13 @@ impl StandardChannels {
                 "the step has {} joint values but the file has {} joints",
                 step.joint_positions.len(),
                 self.joints.len()
+            )));
+        }
+        if step.held.len() != self.held_topics.len() {
+            return Err(StepProblem::Inconsistent(format!(
+                "the step has {} held frames but the file has {} held topics",
+                step.held.len(),
+                self.held_topics.len()
             )));
         }
         if step.label.is_some() && !self.step_labels {
@@ -533,6 +547,7 @@ mod tests {
             robots: vec![],
             objects: vec![],
             step_labels: false,
+            held_topics: vec![],
         };
         assert_eq!(channels.check(), Ok(()));
         channels.frames.push(TfFrame { parent: "a".into(), frame: "world".into() });
@@ -553,12 +568,14 @@ mod tests {
             frame_poses: vec![Isometry3::identity()],
             joint_positions: vec![0.0],
             label: None,
+            held: vec![],
         };
         assert!(matches!(channels.check_step(&step), Err(StepProblem::Inconsistent(_))));
         let step = StandardStep {
             frame_poses: vec![Isometry3::identity(); 2],
             joint_positions: vec![f64::NAN],
             label: None,
+            held: vec![],
         };
         assert!(matches!(channels.check_step(&step), Err(StepProblem::InvalidValue(_))));
     }

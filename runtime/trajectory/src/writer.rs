@@ -66,6 +66,8 @@ struct StandardOutput {
     step_labels: Option<u16>,
     labels_written: u32,
     previous_label: Option<String>,
+    /// Per held topic: its channel, how many messages it has, and the last frame written.
+    held: Vec<(u16, u32, Option<String>)>,
 }
 
 impl TrajectoryWriter<BufWriter<File>> {
@@ -215,6 +217,13 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
             standard.labels_written += 1;
             standard.previous_label.clone_from(&values.label);
         }
+        for ((channel, written, previous), frame) in standard.held.iter_mut().zip(&values.held) {
+            if previous.as_ref() != Some(frame) {
+                messages.push((*channel, *written, encode_string(frame)));
+                *written += 1;
+                *previous = Some(frame.clone());
+            }
+        }
         for (channel_id, sequence, data) in messages {
             let message =
                 MessageHeader { channel_id, sequence, log_time: time, publish_time: time };
@@ -268,30 +277,19 @@ fn start_standard<W: Write + Seek>(
     channels: StandardChannels,
 ) -> Result<StandardOutput, mcap::McapError> {
     let latched = BTreeMap::from([(QOS_METADATA_KEY.to_string(), LATCHED_QOS.to_string())]);
+    let none = BTreeMap::new();
+    let (mut string_schema, mut tf_schema) = (None, None);
+    let mut string_channel = |mcap: &mut mcap::Writer<W>, topic: &str, metadata| {
+        let schema = schema_once(mcap, &mut string_schema, STRING_SCHEMA_NAME, STRING_SCHEMA)?;
+        mcap.add_channel(schema, topic, MESSAGE_ENCODING, metadata)
+    };
     let mut once = Vec::new();
-    let mut string_schema = None;
     for robot in &channels.robots {
-        let schema = match string_schema {
-            Some(schema) => schema,
-            None => {
-                mcap.add_schema(STRING_SCHEMA_NAME, SCHEMA_ENCODING, STRING_SCHEMA.as_bytes())?
-            }
-        };
-        string_schema = Some(schema);
-        let channel = mcap.add_channel(schema, &robot.topic, MESSAGE_ENCODING, &latched)?;
+        let channel = string_channel(mcap, &robot.topic, &latched)?;
         once.push((channel, encode_string(&robot.urdf)));
     }
-    let mut tf_schema = None;
-    let mut tf_schema_id = |mcap: &mut mcap::Writer<W>| -> Result<u16, mcap::McapError> {
-        if let Some(schema) = tf_schema {
-            return Ok(schema);
-        }
-        let schema = mcap.add_schema(TF_SCHEMA_NAME, SCHEMA_ENCODING, TF_SCHEMA.as_bytes())?;
-        tf_schema = Some(schema);
-        Ok(schema)
-    };
     if !channels.static_frames.is_empty() {
-        let schema = tf_schema_id(mcap)?;
+        let schema = schema_once(mcap, &mut tf_schema, TF_SCHEMA_NAME, TF_SCHEMA)?;
         let channel = mcap.add_channel(schema, TF_STATIC_TOPIC, MESSAGE_ENCODING, &latched)?;
         let frames = channels.static_frames.iter();
         let frames = frames.map(|f| (f.parent.as_str(), f.frame.as_str(), &f.pose));
@@ -300,15 +298,14 @@ fn start_standard<W: Write + Seek>(
     if !channels.objects.is_empty() {
         let schema =
             mcap.add_schema(SCENE_SCHEMA_NAME, SCENE_SCHEMA_ENCODING, SCENE_SCHEMA.as_bytes())?;
-        let channel =
-            mcap.add_channel(schema, SCENE_TOPIC, SCENE_MESSAGE_ENCODING, &BTreeMap::new())?;
+        let channel = mcap.add_channel(schema, SCENE_TOPIC, SCENE_MESSAGE_ENCODING, &none)?;
         once.push((channel, scene_update_json(&channels.objects).into_bytes()));
     }
     let tf = match channels.frames.is_empty() {
         true => None,
         false => {
-            let schema = tf_schema_id(mcap)?;
-            Some(mcap.add_channel(schema, TF_TOPIC, MESSAGE_ENCODING, &BTreeMap::new())?)
+            let schema = schema_once(mcap, &mut tf_schema, TF_SCHEMA_NAME, TF_SCHEMA)?;
+            Some(mcap.add_channel(schema, TF_TOPIC, MESSAGE_ENCODING, &none)?)
         }
     };
     let joint_states = match channels.joints.is_empty() {
@@ -319,26 +316,17 @@ fn start_standard<W: Write + Seek>(
                 SCHEMA_ENCODING,
                 JOINT_STATE_SCHEMA.as_bytes(),
             )?;
-            Some(mcap.add_channel(
-                schema,
-                JOINT_STATES_TOPIC,
-                MESSAGE_ENCODING,
-                &BTreeMap::new(),
-            )?)
+            Some(mcap.add_channel(schema, JOINT_STATES_TOPIC, MESSAGE_ENCODING, &none)?)
         }
     };
     let step_labels = match channels.step_labels {
         false => None,
-        true => {
-            let schema = match string_schema {
-                Some(schema) => schema,
-                None => {
-                    mcap.add_schema(STRING_SCHEMA_NAME, SCHEMA_ENCODING, STRING_SCHEMA.as_bytes())?
-                }
-            };
-            Some(mcap.add_channel(schema, STEP_LABEL_TOPIC, MESSAGE_ENCODING, &BTreeMap::new())?)
-        }
+        true => Some(string_channel(mcap, STEP_LABEL_TOPIC, &none)?),
     };
+    let mut held = Vec::new();
+    for topic in &channels.held_topics {
+        held.push((string_channel(mcap, topic, &none)?, 0, None));
+    }
     for (channel_id, data) in once {
         let message = MessageHeader { channel_id, sequence: 0, log_time: 0, publish_time: 0 };
         mcap.write_to_known_channel(&message, &data)?;
@@ -350,7 +338,23 @@ fn start_standard<W: Write + Seek>(
         step_labels,
         labels_written: 0,
         previous_label: None,
+        held,
     })
+}
+
+/// The id of a ROS 2 schema, added the first time it is asked for.
+fn schema_once<W: Write + Seek>(
+    mcap: &mut mcap::Writer<W>,
+    id: &mut Option<u16>,
+    name: &str,
+    text: &str,
+) -> Result<u16, mcap::McapError> {
+    if let Some(id) = id {
+        return Ok(*id);
+    }
+    let schema = mcap.add_schema(name, SCHEMA_ENCODING, text.as_bytes())?;
+    *id = Some(schema);
+    Ok(schema)
 }
 
 fn mcap_write_error(file: &str, error: mcap::McapError) -> TrajectoryError {

@@ -13,6 +13,7 @@ use std::io::Cursor;
 use lamp_trajectory::{
     IN_MEMORY_NAME, Primitive, RobotModelText, SceneObject, StandardChannels, StandardStep,
     StaticFrame, TfFrame, Trajectory, TrajectoryError, TrajectoryReader, TrajectoryWriter,
+    read_standard_channels,
 };
 use nalgebra::Isometry3;
 
@@ -42,6 +43,7 @@ fn channels(trajectory: &Trajectory, step_labels: bool) -> StandardChannels {
             primitives: vec![Primitive::Sphere { pose: Isometry3::identity(), radius: 0.1 }],
         }],
         step_labels,
+        held_topics: vec!["/lamp/held".into()],
     }
 }
 
@@ -60,6 +62,7 @@ fn values(trajectory: &Trajectory) -> Vec<StandardStep> {
                 frame_poses,
                 joint_positions: step.robots[0].positions[3..5].to_vec(),
                 label: Some(format!("(step {})", index / 10)),
+                held: vec![if step.robots[0].held[0].is_some() { "can_0" } else { "" }.into()],
             }
         })
         .collect()
@@ -106,6 +109,16 @@ fn the_reader_ignores_the_standard_channels_and_world_messages_are_unchanged() {
     assert_eq!(times, expected);
     assert_eq!(labels.iter().map(|(_, sequence, _)| *sequence).collect::<Vec<_>>(), [0, 1, 2, 3]);
     assert_eq!(&labels[1].2[8..], b"(step 1)\0");
+    // The gripper holds can_0 in the middle third: held at steps 0 (nothing), 11 and 23.
+    let held: Vec<(u64, Vec<u8>)> =
+        with["/lamp/held"].iter().map(|(time, _, data)| (*time, data[8..].to_vec())).collect();
+    let time = |step: usize| trajectory.steps[step].time_nanoseconds;
+    let expected = vec![
+        (time(0), b"\0".to_vec()),
+        (time(11), b"can_0\0".to_vec()),
+        (time(23), b"\0".to_vec()),
+    ];
+    assert_eq!(held, expected);
 }
 
 #[test]
@@ -161,4 +174,39 @@ fn channels_that_cannot_be_written_are_refused_before_anything_is_written() {
         matches!(&error, TrajectoryError::Header { reason, .. } if reason.contains("`can_0` is listed twice")),
         "{error}"
     );
+}
+
+#[test]
+fn the_standard_channels_read_back_as_written() {
+    let trajectory = common::trajectory(2, 12, 5);
+    let (channels, values) = (channels(&trajectory, false), values(&trajectory));
+    let values: Vec<StandardStep> =
+        values.into_iter().map(|value| StandardStep { label: None, ..value }).collect();
+    let bytes = trajectory.to_bytes_with(&channels, &values).unwrap();
+    let recording = read_standard_channels(bytes.as_slice(), "bag", &["/lamp/held"]).unwrap();
+    assert_eq!(recording.tf.len(), 12);
+    for ((message, step), value) in recording.tf.iter().zip(&trajectory.steps).zip(&values) {
+        assert_eq!(message.log_time, step.time_nanoseconds);
+        let read: Vec<(&str, &str, u64, Isometry3<f64>)> = message
+            .transforms
+            .iter()
+            .map(|t| (t.parent.as_str(), t.frame.as_str(), t.stamp_nanoseconds, t.pose))
+            .collect();
+        let written: Vec<(&str, &str, u64, Isometry3<f64>)> = channels
+            .frames
+            .iter()
+            .zip(&value.frame_poses)
+            .map(|(f, pose)| (f.parent.as_str(), f.frame.as_str(), step.time_nanoseconds, *pose))
+            .collect();
+        assert_eq!(read, written);
+    }
+    assert_eq!(recording.tf_static.len(), 1);
+    assert_eq!(recording.tf_static[0].transforms[0].frame, "map");
+    let joints: Vec<(Vec<String>, Vec<f64>)> =
+        recording.joint_states.iter().map(|j| (j.names.clone(), j.positions.clone())).collect();
+    let expected: Vec<(Vec<String>, Vec<f64>)> =
+        values.iter().map(|v| (channels.joints.clone(), v.joint_positions.clone())).collect();
+    assert_eq!(joints, expected);
+    let held: Vec<&str> = recording.strings["/lamp/held"].iter().map(|(_, t)| t.as_str()).collect();
+    assert_eq!(held, ["", "can_0", ""]);
 }

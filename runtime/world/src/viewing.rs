@@ -7,7 +7,7 @@
 use lamp_geometry::{Pose, Shape};
 use lamp_robot::LinkId;
 use lamp_trajectory::{
-    Primitive, ROBOT_DESCRIPTION_TOPIC, RobotModelText, SceneObject, StandardChannels,
+    HELD_TOPIC, Primitive, ROBOT_DESCRIPTION_TOPIC, RobotModelText, SceneObject, StandardChannels,
     StandardStep, StaticFrame, TfFrame, Trajectory,
 };
 
@@ -41,7 +41,9 @@ const MOVABLE_COLORS: [[f64; 4]; 6] = [
 /// robots (their descriptions are then on `/<robot>/robot_description`). Fixed frames are on
 /// `/tf_static` once: a body whose pose is the same at every step, the root link of a fixed
 /// mount, a link below a fixed joint. Every other frame is on `/tf` at every step. Joints with
-/// one coordinate are on `/joint_states` under their URDF names (prefixed likewise).
+/// one coordinate are on `/joint_states` under their URDF names (prefixed likewise). The frame
+/// each gripper holds (the body's name, empty when none) is on `/lamp/held`
+/// (`/<robot>/lamp/held` with several robots, `…/<gripper>` with several grippers).
 pub fn standard_channels(
     world: &SpecWorld,
     trajectory: &Trajectory,
@@ -75,6 +77,7 @@ pub fn standard_channels(
     let mut models = Vec::new();
     let mut joints = Vec::new();
     let mut robots = Vec::new();
+    let mut held_topics = Vec::new();
     for description in &header.robots {
         let unknown = || WorldError::UnknownName { what: "robot", name: description.name.clone() };
         let model = world.robots.get(&description.name).ok_or_else(unknown)?;
@@ -84,6 +87,13 @@ pub fn standard_channels(
             false => ROBOT_DESCRIPTION_TOPIC.to_string(),
         };
         robots.push(RobotModelText { topic, urdf: urdf.to_string() });
+        for gripper in &description.grippers {
+            held_topics.push(match (several, description.grippers.len() > 1) {
+                (false, false) => HELD_TOPIC.to_string(),
+                (true, false) => format!("/{}{HELD_TOPIC}", description.name),
+                (_, true) => format!("/{}{HELD_TOPIC}/{gripper}", description.name),
+            });
+        }
         let neutral = model.neutral_configuration();
         let mut moving_links: Vec<LinkId> = Vec::new();
         for link in 0..model.link_count() {
@@ -133,6 +143,7 @@ pub fn standard_channels(
         robots,
         objects,
         step_labels: false,
+        held_topics,
     };
 
     let mut values = Vec::with_capacity(trajectory.steps.len());
@@ -140,7 +151,12 @@ pub fn standard_channels(
         let mut frame_poses: Vec<Pose> =
             moving_bodies.iter().map(|index| step.body_poses[*index]).collect();
         let mut joint_positions = Vec::new();
+        let mut held = Vec::new();
         for ((model, coordinates, moving_links), state) in models.iter().zip(&step.robots) {
+            held.extend(state.held.iter().map(|body| match body {
+                Some(body) => header.bodies[*body].name.clone(),
+                None => String::new(),
+            }));
             if state.positions.len() != model.dof() {
                 return Err(WorldError::Configuration {
                     robot: model.name().to_string(),
@@ -155,7 +171,7 @@ pub fn standard_channels(
             frame_poses.extend(moving_links.iter().map(|link| local_pose(model, q, *link)));
             joint_positions.extend(coordinates.iter().map(|index| state.positions[*index]));
         }
-        values.push(StandardStep { frame_poses, joint_positions, label: None });
+        values.push(StandardStep { frame_poses, joint_positions, label: None, held });
     }
     Ok((channels, values))
 }
