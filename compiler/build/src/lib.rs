@@ -26,6 +26,7 @@ pub mod pipeline;
 pub mod problems;
 pub mod provenance;
 pub mod region_plots;
+pub mod ros2;
 pub mod samplers;
 pub mod scene_state;
 
@@ -50,5 +51,6 @@ pub use pipeline::{
 pub use problems::{ProblemOutcome, problem_pddl};
 pub use provenance::Provenance;
 pub use region_plots::{REGIONS_DIR, SAMPLES_PER_REGION, region_plots};
+pub use ros2::{FrameObject, FrameRobot, MappedRobot, Ros2Error, Ros2Mapping, ros2_trajectory};
 pub use samplers::{SAMPLERS_FORMAT, SAMPLERS_VERSION, SamplersFile};
 pub use scene_state::scene_snapshot;

@@ -1,0 +1,340 @@
+//! Demonstrations from ordinary ROS 2 bags: `/tf` (and `/tf_static`), `/joint_states` and a
+//! `std_msgs/msg/String` topic naming the held frame become the same [`Trajectory`] a native
+//! lamp file holds, given a mapping from tf frames to the spec's objects and robot.
+//!
+//! The resampling rule, which `docs/demonstrations.md` repeats: one step per `/tf` message, at
+//! its log time, from the first `/tf` message at which every mapped frame is known; at a step,
+//! every frame's transform is the latest one received up to and including that message
+//! (`/tf_static` ones count from the start), the joint values are the latest `/joint_states`
+//! message logged at or before the step's time, and the held frame the latest message of the held
+//! topic logged at or before it. A mapped frame's world pose is its transforms composed up to the
+//! root of its tree, which must be the same for every mapped frame.
+
+use std::collections::BTreeMap;
+
+use lamp_robot::Robot;
+use lamp_trajectory::{
+    BodyDescription, RobotDescription, RobotState, Step, Trajectory, TrajectoryError,
+    TrajectoryHeader, read_standard_channels,
+};
+use nalgebra::Isometry3;
+
+/// The largest distance a mapped frame may move between two consecutive steps: 0.5 m.
+/// Robots and the objects they carry move a few centimetres between messages at recording rates
+/// (10 to 100 Hz); a frame that moves further is a tracking glitch or a wrong mapping.
+pub const MAX_FRAME_JUMP: f64 = 0.5;
+
+/// How many links a chain of tf frames may have before it counts as a cycle.
+const MAX_TREE_DEPTH: usize = 1000;
+
+/// Which tf frame is which object.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FrameObject {
+    /// The tf frame id, for example `can_1`.
+    pub frame: String,
+    /// The object's name in the demonstration.
+    pub name: String,
+    /// The object's type in the spec.
+    pub type_name: String,
+}
+
+/// Which tf frame carries a robot, and where its grasps are read from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FrameRobot {
+    /// The spec robot.
+    pub robot: String,
+    /// The tf frame of the robot's root link; the robot's mount coordinates are read from its
+    /// world pose, its joints from `/joint_states` by their URDF names.
+    pub base_frame: String,
+    /// A `std_msgs/msg/String` topic naming the frame the robot's gripper holds (empty: none).
+    pub held_topic: Option<String>,
+}
+
+/// The mapping from a bag's frames to a demonstration's objects and robot.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Ros2Mapping {
+    /// The objects, in the order the demonstration lists them.
+    pub objects: Vec<FrameObject>,
+    pub robot: Option<FrameRobot>,
+}
+
+/// The robot a mapping's robot is in the spec: its model and gripper.
+#[derive(Debug, Clone)]
+pub struct MappedRobot<'a> {
+    pub model: &'a Robot,
+    /// The name the gripper is listed under (the spec's gripper part type), if it has one.
+    pub gripper: Option<String>,
+}
+
+/// Why a bag could not be read as a demonstration.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
+pub enum Ros2Error {
+    /// The bag's records or standard messages could not be read.
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Read(#[from] TrajectoryError),
+
+    /// The bag has no `/tf` message.
+    #[error("{file} has no `/tf` message")]
+    #[diagnostic(
+        code(lamp::ros2::no_tf),
+        help("a demonstration bag records the frames' poses on `/tf` (tf2_msgs/msg/TFMessage)")
+    )]
+    NoTf { file: String },
+
+    /// A mapped frame never appears, or never joins the tree of the other mapped frames.
+    #[error("{file}: frame `{frame}` {reason}")]
+    #[diagnostic(
+        code(lamp::ros2::missing_frame),
+        help("check the frame names of the mapping against the bag's `/tf` and `/tf_static`")
+    )]
+    MissingFrame { file: String, frame: String, reason: String },
+
+    /// A mapped frame moves further between two steps than any recording rate allows.
+    #[error(
+        "{file}, at {time_nanoseconds} ns: frame `{frame}` jumps {distance:.3} m since the previous step"
+    )]
+    #[diagnostic(
+        code(lamp::ros2::jump),
+        help(
+            "a frame may move at most 0.5 m between two `/tf` messages; check the tracking or the mapping"
+        )
+    )]
+    Jump { file: String, frame: String, time_nanoseconds: u64, distance: f64 },
+
+    /// Message times go backwards.
+    #[error("{file}: {reason}")]
+    #[diagnostic(
+        code(lamp::ros2::timing),
+        help(
+            "`/tf` messages must be logged in time order, and each frame's stamps must not decrease"
+        )
+    )]
+    Timing { file: String, reason: String },
+
+    /// The held topic names a frame the mapping does not list.
+    #[error(
+        "{file}, at {time_nanoseconds} ns: the gripper holds frame `{frame}`, which the mapping does not list"
+    )]
+    #[diagnostic(
+        code(lamp::ros2::held),
+        help("map every frame the robot may hold to an object, or check the held topic")
+    )]
+    UnknownHeld { file: String, frame: String, time_nanoseconds: u64 },
+
+    /// A joint of the robot has no value in `/joint_states`.
+    #[error(
+        "{file}: joint `{joint}` of robot `{robot}` has no value on `/joint_states` by the first step"
+    )]
+    #[diagnostic(
+        code(lamp::ros2::joint),
+        help("record the robot's joint states on `/joint_states` under the URDF's joint names")
+    )]
+    MissingJoint { file: String, robot: String, joint: String },
+}
+
+/// Reads the bag `bytes` (named `file` in errors) as a demonstration of `domain` with `mapping`.
+pub fn ros2_trajectory(
+    bytes: &[u8],
+    file: &str,
+    domain: &str,
+    mapping: &Ros2Mapping,
+    robot: Option<&MappedRobot<'_>>,
+) -> Result<Trajectory, Ros2Error> {
+    let held_topic = mapping.robot.as_ref().and_then(|robot| robot.held_topic.as_deref());
+    let recording = read_standard_channels(bytes, file, held_topic.as_slice())?;
+    if recording.tf.is_empty() {
+        return Err(Ros2Error::NoTf { file: file.to_string() });
+    }
+    let held_messages = held_topic.map(|topic| recording.strings[topic].as_slice()).unwrap_or(&[]);
+
+    // Frame → (parent, pose in the parent, stamp), updated message by message.
+    let mut tree: BTreeMap<&str, (&str, Isometry3<f64>, u64)> = BTreeMap::new();
+    for message in &recording.tf_static {
+        for transform in &message.transforms {
+            tree.insert(&transform.frame, (&transform.parent, transform.pose, 0));
+        }
+    }
+    let mut frames: Vec<&str> =
+        mapping.objects.iter().map(|object| object.frame.as_str()).collect();
+    if let Some(robot) = &mapping.robot {
+        frames.push(&robot.base_frame);
+    }
+
+    let mut header = TrajectoryHeader {
+        domain: domain.to_string(),
+        seed: 0,
+        provenance: [("source".to_string(), "ros2".to_string())].into(),
+        bodies: mapping
+            .objects
+            .iter()
+            .map(|object| BodyDescription {
+                name: object.name.clone(),
+                type_name: object.type_name.clone(),
+            })
+            .collect(),
+        robots: vec![],
+    };
+    // The robot's joints with one coordinate: (URDF name, coordinate index).
+    let mut joints: Vec<(&str, usize)> = Vec::new();
+    if let (Some(mapped), Some(robot)) = (&mapping.robot, robot) {
+        header.robots.push(RobotDescription {
+            name: mapped.robot.clone(),
+            coordinates: robot.model.coordinate_names().to_vec(),
+            grippers: robot.gripper.iter().cloned().collect(),
+        });
+        for link in 0..robot.model.link_count() {
+            let Some(joint) = robot.model.parent_joint_name(link) else { continue };
+            if let Ok([coordinate]) = robot.model.joint_coordinates(joint).as_deref() {
+                joints.push((joint, *coordinate));
+            }
+        }
+    }
+    let frame_index: BTreeMap<&str, usize> =
+        mapping.objects.iter().enumerate().map(|(index, o)| (o.frame.as_str(), index)).collect();
+
+    let mut steps: Vec<Step> = Vec::new();
+    let mut previous_log_time = None;
+    let mut root: Option<String> = None;
+    let (mut next_joint_state, mut next_held) = (0, 0);
+    let mut joint_values: BTreeMap<&str, f64> = BTreeMap::new();
+    let mut held: Option<usize> = None;
+    let mut previous_positions: Vec<nalgebra::Vector3<f64>> = Vec::new();
+    for message in &recording.tf {
+        let time = message.log_time;
+        if let Some(previous) = previous_log_time.filter(|previous| time < *previous) {
+            return Err(Ros2Error::Timing {
+                file: file.to_string(),
+                reason: format!("a `/tf` message at {time} ns follows one at {previous} ns"),
+            });
+        }
+        previous_log_time = Some(time);
+        for transform in &message.transforms {
+            if let Some((_, _, stamp)) = tree.get(transform.frame.as_str())
+                && transform.stamp_nanoseconds < *stamp
+            {
+                return Err(Ros2Error::Timing {
+                    file: file.to_string(),
+                    reason: format!(
+                        "the stamp of frame `{}` goes back from {stamp} ns to {} ns",
+                        transform.frame, transform.stamp_nanoseconds
+                    ),
+                });
+            }
+            tree.insert(
+                &transform.frame,
+                (&transform.parent, transform.pose, transform.stamp_nanoseconds),
+            );
+        }
+        while let Some(state) =
+            recording.joint_states.get(next_joint_state).filter(|s| s.log_time <= time)
+        {
+            for (name, value) in state.names.iter().zip(&state.positions) {
+                joint_values.insert(name, *value);
+            }
+            next_joint_state += 1;
+        }
+        while let Some((_, text)) = held_messages.get(next_held).filter(|(t, _)| *t <= time) {
+            held = match text.as_str() {
+                "" => None,
+                frame => Some(*frame_index.get(frame).ok_or_else(|| Ros2Error::UnknownHeld {
+                    file: file.to_string(),
+                    frame: frame.to_string(),
+                    time_nanoseconds: time,
+                })?),
+            };
+            next_held += 1;
+        }
+        // Steps start once every mapped frame is known.
+        let mut poses = Vec::with_capacity(frames.len());
+        for frame in &frames {
+            match world_pose(&tree, frame) {
+                Some((pose, frame_root)) => poses.push((pose, frame_root)),
+                None => break,
+            }
+        }
+        if poses.len() < frames.len() {
+            continue;
+        }
+        for (frame, (_, frame_root)) in frames.iter().zip(&poses) {
+            let expected = root.get_or_insert_with(|| frame_root.to_string());
+            if frame_root != expected {
+                return Err(Ros2Error::MissingFrame {
+                    file: file.to_string(),
+                    frame: frame.to_string(),
+                    reason: format!(
+                        "is in the tree of `{frame_root}`, not in that of `{expected}` with the other frames"
+                    ),
+                });
+            }
+        }
+        let positions: Vec<_> = poses.iter().map(|(pose, _)| pose.translation.vector).collect();
+        for ((frame, position), before) in frames.iter().zip(&positions).zip(&previous_positions) {
+            let distance = (position - before).norm();
+            if distance > MAX_FRAME_JUMP {
+                return Err(Ros2Error::Jump {
+                    file: file.to_string(),
+                    frame: frame.to_string(),
+                    time_nanoseconds: time,
+                    distance,
+                });
+            }
+        }
+        previous_positions = positions;
+        let body_poses: Vec<Isometry3<f64>> =
+            poses.iter().take(mapping.objects.len()).map(|(pose, _)| *pose).collect();
+        let mut robots = Vec::new();
+        if let (Some(mapped), Some(robot)) = (&mapping.robot, robot) {
+            let mut q = robot.model.neutral_configuration();
+            let base = poses[mapping.objects.len()].0;
+            robot.model.mount().write_coordinates(&base, &mut q);
+            for (joint, coordinate) in &joints {
+                q[*coordinate] =
+                    *joint_values.get(joint).ok_or_else(|| Ros2Error::MissingJoint {
+                        file: file.to_string(),
+                        robot: mapped.robot.clone(),
+                        joint: joint.to_string(),
+                    })?;
+            }
+            let held = robot.gripper.iter().map(|_| held).collect();
+            robots.push(RobotState { positions: q, held });
+        }
+        steps.push(Step { time_nanoseconds: time, body_poses, robots });
+    }
+    if steps.is_empty() {
+        let missing = frames
+            .iter()
+            .find(|frame| world_pose(&tree, frame).is_none())
+            .map_or_else(String::new, |frame| frame.to_string());
+        return Err(Ros2Error::MissingFrame {
+            file: file.to_string(),
+            frame: missing,
+            reason: "never appears on `/tf` or `/tf_static`".to_string(),
+        });
+    }
+    // Step times start at zero, as in a native file.
+    let start = steps[0].time_nanoseconds;
+    for step in &mut steps {
+        step.time_nanoseconds -= start;
+    }
+    Ok(Trajectory { header, steps })
+}
+
+/// The pose of `frame` in the root of its tree and that root's name; `None` when the frame (or a
+/// frame on its way up) has no transform yet, or the chain is a cycle.
+fn world_pose<'a>(
+    tree: &BTreeMap<&'a str, (&'a str, Isometry3<f64>, u64)>,
+    frame: &'a str,
+) -> Option<(Isometry3<f64>, &'a str)> {
+    let (mut parent, mut pose, _) = *tree.get(frame)?;
+    for _ in 0..MAX_TREE_DEPTH {
+        match tree.get(parent) {
+            Some((grandparent, local, _)) => {
+                pose = local * pose;
+                parent = grandparent;
+            }
+            None => return Some((pose, parent)),
+        }
+    }
+    None
+}

@@ -1,0 +1,186 @@
+//! Learning from ordinary ROS 2 bags: Packing demonstrations written with their standard channels,
+//! stripped of `/lamp/world` and the `lamp` metadata so that only `/tf`, `/tf_static`,
+//! `/robot_description`, the scene and `/lamp/held` remain, read back through the frame mapping,
+//! learn the byte-identical domain; and the reader's diagnostics for a missing frame, a jump and
+//! time going backwards.
+
+#![allow(clippy::unwrap_used)] // a failed step is a failed test
+
+mod support;
+
+use std::collections::BTreeMap;
+use std::io::Cursor;
+
+use lamp_build::{DemoFile, FrameObject, FrameRobot, MappedRobot, Ros2Error, Ros2Mapping};
+use lamp_demonstrators::{Simulation, file_name, generate_all};
+use lamp_trajectory::{Trajectory, WORLD_TOPIC};
+use nalgebra::Translation3;
+
+/// Enough demonstrations to learn every relation and action of Packing quickly.
+const DEMOS: u32 = 20;
+
+/// The bag rewritten with the messages `keep` keeps, each at the log time `retime` gives it
+/// (from its topic and log time); channels and schemas as written.
+fn rewrite(
+    bytes: &[u8],
+    keep: impl Fn(&str) -> bool,
+    mut retime: impl FnMut(&str, u64) -> u64,
+) -> Vec<u8> {
+    let mut writer =
+        mcap::WriteOptions::new().profile("ros2").create(Cursor::new(Vec::new())).unwrap();
+    let mut channels = BTreeMap::new();
+    for message in mcap::MessageStream::new(bytes).unwrap() {
+        let message = message.unwrap();
+        let channel = &message.channel;
+        if !keep(&channel.topic) {
+            continue;
+        }
+        let id = *channels.entry(channel.id).or_insert_with(|| {
+            let schema = channel.schema.as_ref().unwrap();
+            let schema = writer.add_schema(&schema.name, &schema.encoding, &schema.data).unwrap();
+            writer
+                .add_channel(schema, &channel.topic, &channel.message_encoding, &channel.metadata)
+                .unwrap()
+        });
+        let log_time = retime(&channel.topic, message.log_time);
+        let header = mcap::records::MessageHeader {
+            channel_id: id,
+            sequence: message.sequence,
+            log_time,
+            publish_time: log_time,
+        };
+        writer.write_to_known_channel(&header, &message.data).unwrap();
+    }
+    writer.finish().unwrap();
+    writer.into_inner().into_inner()
+}
+
+/// The bag without `/lamp/world` (nor the `lamp` metadata, which `rewrite` does not copy).
+fn strip(bytes: &[u8]) -> Vec<u8> {
+    rewrite(bytes, |topic| topic != WORLD_TOPIC, |_, time| time)
+}
+
+fn mapping(trajectory: &Trajectory) -> Ros2Mapping {
+    Ros2Mapping {
+        objects: trajectory
+            .header
+            .bodies
+            .iter()
+            .map(|body| FrameObject {
+                frame: body.name.clone(),
+                name: body.name.clone(),
+                type_name: body.type_name.clone(),
+            })
+            .collect(),
+        robot: Some(FrameRobot {
+            robot: "gripper".into(),
+            base_frame: "gripper_link".into(),
+            held_topic: Some("/lamp/held".into()),
+        }),
+    }
+}
+
+fn domain_text(artifacts: &lamp_build::Artifacts) -> String {
+    support::artifact(artifacts, "domain.pddl").to_string()
+}
+
+#[test]
+fn packing_learned_from_tf_only_bags_is_the_domain_learned_from_native_files() {
+    let (spec, world) = support::packing();
+    let mut simulation = Simulation::from_spec(&spec).unwrap();
+    simulation.count = DEMOS;
+    let demonstrations = generate_all(&world, &simulation, |_| {}).unwrap();
+    let robot = MappedRobot { model: &world.robots["gripper"], gripper: Some("gripper".into()) };
+    let mut native = Vec::new();
+    let mut from_bags = Vec::new();
+    for demonstration in &demonstrations {
+        let trajectory = &demonstration.trajectory;
+        let name = file_name("packing", demonstration.index);
+        let (channels, values) = lamp_world::standard_channels(&world, trajectory).unwrap();
+        let bag = strip(&trajectory.to_bytes_with(&channels, &values).unwrap());
+        assert!(Trajectory::from_bytes(&bag, "bag").is_err(), "the bag is no lamp file any more");
+        let read =
+            lamp_build::ros2_trajectory(&bag, &name, "packing", &mapping(trajectory), Some(&robot))
+                .unwrap();
+        assert_eq!(read.steps.len(), trajectory.steps.len());
+        for (read, original) in read.steps.iter().zip(&trajectory.steps) {
+            assert_eq!(read.time_nanoseconds, original.time_nanoseconds);
+            assert_eq!(read.body_poses, original.body_poses);
+            assert_eq!(read.robots[0].held, original.robots[0].held);
+        }
+        native.push(DemoFile { name: name.clone(), bytes: trajectory.to_bytes().unwrap() });
+        from_bags.push(DemoFile { name, bytes: read.to_bytes().unwrap() });
+    }
+    let (_, native_artifacts) = lamp_build::build(&spec, "packing.lamp", &world, &native).unwrap();
+    let (_, bag_artifacts) = lamp_build::build(&spec, "packing.lamp", &world, &from_bags).unwrap();
+    let strip_provenance = |text: String| -> String {
+        text.lines().filter(|line| !line.starts_with(';')).collect::<Vec<_>>().join("\n")
+    };
+    let (native_domain, bag_domain) = (domain_text(&native_artifacts), domain_text(&bag_artifacts));
+    assert!(native_domain.contains("(:action"), "{native_domain}");
+    assert_eq!(strip_provenance(bag_domain), strip_provenance(native_domain));
+}
+
+/// One Packing demonstration as a bag, with its trajectory.
+fn one_bag(edit: impl FnOnce(&mut Trajectory)) -> (Trajectory, Vec<u8>) {
+    let (spec, world) = support::packing();
+    let mut simulation = Simulation::from_spec(&spec).unwrap();
+    simulation.count = 1;
+    let mut trajectory = generate_all(&world, &simulation, |_| {}).unwrap().remove(0).trajectory;
+    edit(&mut trajectory);
+    let (channels, values) = lamp_world::standard_channels(&world, &trajectory).unwrap();
+    (trajectory.clone(), strip(&trajectory.to_bytes_with(&channels, &values).unwrap()))
+}
+
+fn read(bag: &[u8], mapping: &Ros2Mapping) -> Result<Trajectory, Ros2Error> {
+    let (_, world) = support::packing();
+    let robot = MappedRobot { model: &world.robots["gripper"], gripper: Some("gripper".into()) };
+    lamp_build::ros2_trajectory(bag, "bag.mcap", "packing", mapping, Some(&robot))
+}
+
+#[test]
+fn a_mapped_frame_the_bag_lacks_is_named() {
+    let (trajectory, bag) = one_bag(|_| {});
+    let mut mapping = mapping(&trajectory);
+    mapping.objects[0].frame = "can_7".into();
+    let error = read(&bag, &mapping).unwrap_err();
+    assert!(matches!(&error, Ros2Error::MissingFrame { frame, .. } if frame == "can_7"), "{error}");
+}
+
+#[test]
+fn a_frame_that_jumps_is_refused_with_its_time() {
+    let (trajectory, bag) = one_bag(|trajectory| {
+        let body = trajectory.header.body_index("can1").unwrap();
+        let middle = trajectory.steps.len() / 2;
+        let step = &mut trajectory.steps[middle];
+        step.body_poses[body] = Translation3::new(0.0, 0.0, 1.0) * step.body_poses[body];
+    });
+    let error = read(&bag, &mapping(&trajectory)).unwrap_err();
+    let time = trajectory.steps[trajectory.steps.len() / 2].time_nanoseconds;
+    assert!(
+        matches!(&error, Ros2Error::Jump { frame, time_nanoseconds, .. } if frame == "can1" && *time_nanoseconds == time),
+        "{error}"
+    );
+    assert!(error.to_string().contains("jumps 1.000 m"), "{error}");
+}
+
+#[test]
+fn time_going_backwards_is_refused() {
+    let (trajectory, bag) = one_bag(|_| {});
+    // The tenth /tf message is logged at time zero, after the ninth at 80 ms.
+    let mut tf_seen = 0;
+    let bag = rewrite(
+        &bag,
+        |_| true,
+        |topic, time| {
+            tf_seen += usize::from(topic == "/tf");
+            if topic == "/tf" && tf_seen == 10 { 0 } else { time }
+        },
+    );
+    let error = read(&bag, &mapping(&trajectory)).unwrap_err();
+    assert!(matches!(&error, Ros2Error::Timing { .. }), "{error}");
+    assert!(
+        error.to_string().contains("a `/tf` message at 0 ns follows one at 80000000 ns"),
+        "{error}"
+    );
+}
