@@ -4,7 +4,7 @@
 //! language has no minimum support, rotation share or sample count yet, so those keep
 //! lamp-learn's defaults (see `docs/learning.md`).
 
-use lamp_learn::{LearnConfig, PairSettings, TypePair};
+use lamp_learn::{LearnConfig, PairSettings, Switch, TypePair};
 
 /// The learner's configuration for a spec: its pair settings, ignored pairs and seed.
 pub fn learn_config(spec: &lamp_spec::Spec) -> LearnConfig {
@@ -36,7 +36,16 @@ fn pair_settings(settings: &lamp_spec::PairSettings) -> PairSettings {
         threshold: settings.threshold,
         max_components: settings.max_components as usize,
         cover: settings.likelihood_cover,
-        clear: settings.clear,
+        clear: switch(settings.clear),
+        nowhere: switch(settings.nowhere),
+    }
+}
+
+fn switch(switch: lamp_spec::Switch) -> Switch {
+    match switch {
+        lamp_spec::Switch::On => Switch::On,
+        lamp_spec::Switch::Off => Switch::Off,
+        lamp_spec::Switch::Auto => Switch::Auto,
     }
 }
 
@@ -50,7 +59,8 @@ mod tests {
         let mut override_settings = lamp_spec::PairSettings::DEFAULT;
         override_settings.position_bins = [9, 9, 6];
         override_settings.threshold = 0.2;
-        override_settings.clear = false;
+        override_settings.clear = lamp_spec::Switch::Off;
+        override_settings.nowhere = lamp_spec::Switch::On;
         let learning = lamp_spec::Learning {
             defaults: lamp_spec::PairSettings::DEFAULT,
             pairs: BTreeMap::from([(("surface".into(), "can".into()), override_settings)]),
@@ -79,7 +89,8 @@ mod tests {
         assert_eq!(config.default.max_components, 6);
         let surface_can = config.settings(&TypePair::new("can", "surface"));
         assert_eq!((surface_can.position_bins, surface_can.threshold), ([9, 9, 6], 0.2));
-        assert!(!surface_can.clear && config.default.clear);
+        assert_eq!((surface_can.clear, surface_can.nowhere), (Switch::Off, Switch::On));
+        assert_eq!((config.default.clear, config.default.nowhere), (Switch::Auto, Switch::Auto));
         assert!(config.is_ignored(&TypePair::new("can", "can")));
         assert_eq!(config.validate(), Ok(()));
     }

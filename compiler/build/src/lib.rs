@@ -4,7 +4,8 @@
 //! solver cannot start from refuses the build. Demonstration files (MCAP, read by
 //! lamp-trajectory) become the learner's demonstrations through the [`adapter`], checked against
 //! the spec; the spec's `learn` block becomes the learner's
-//! configuration ([`config`]); the learned model becomes the artifacts: the PDDL domain with
+//! configuration ([`config`]) and the spec's object shapes its capacity oracle ([`shapes`]);
+//! the learned model becomes the artifacts: the PDDL domain with
 //! provenance, one PDDL problem per spec problem whose goal can be written ([`problems`], with
 //! [`aliases`] bound to learned regions), the sampler file ([`samplers`]), the vocabulary report
 //! and the [`manifest`] with every artifact's digest, which the run time checks before it trusts
@@ -29,6 +30,7 @@ pub mod region_plots;
 pub mod ros2;
 pub mod samplers;
 pub mod scene_state;
+pub mod shapes;
 
 pub use adapter::{Adapter, part_participant_name};
 pub use aliases::{ResolvedAlias, resolve_alias, resolve_aliases};
@@ -54,3 +56,4 @@ pub use region_plots::{REGIONS_DIR, SAMPLES_PER_REGION, region_plots};
 pub use ros2::{FrameObject, FrameRobot, MappedRobot, Ros2Error, Ros2Mapping, ros2_trajectory};
 pub use samplers::{SAMPLERS_FORMAT, SAMPLERS_VERSION, SamplersFile};
 pub use scene_state::scene_snapshot;
+pub use shapes::SpecShapes;

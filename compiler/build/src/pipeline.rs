@@ -22,6 +22,7 @@ use crate::manifest::{MANIFEST_FILE, Manifest};
 use crate::problems::{ProblemContext, ProblemOutcome, problem_pddl};
 use crate::provenance::Provenance;
 use crate::samplers::SamplersFile;
+use crate::shapes::SpecShapes;
 
 /// The folder inside the build folder that holds every artifact (the model); `lampc build`
 /// replaces it as a whole, beside the `demos/` and `solutions/` folders it leaves alone.
@@ -86,9 +87,14 @@ pub struct BuildContext<'a> {
     pub adapter: &'a Adapter,
 }
 
-/// Learns a model from demonstrations with the spec's settings and seed.
-pub fn learn_model(spec: &Spec, demonstrations: &[Demonstration]) -> Result<Model, BuildError> {
-    Ok(lamp_learn::learn(demonstrations, &learn_config(spec))?)
+/// Learns a model from demonstrations with the spec's settings and seed; the world's object shapes decide the
+/// `auto` clear and nowhere relations.
+pub fn learn_model(
+    spec: &Spec,
+    world: &SpecWorld,
+    demonstrations: &[Demonstration],
+) -> Result<Model, BuildError> {
+    Ok(lamp_learn::learn(demonstrations, &learn_config(spec), &SpecShapes::new(world))?)
 }
 
 /// Every artifact of a learned model.
@@ -202,7 +208,7 @@ pub fn build(
     if demonstrations.is_empty() {
         return Err(BuildError::NoDemonstrations { searched: "the given files".into() });
     }
-    let model = learn_model(spec, &demonstrations)?;
+    let model = learn_model(spec, world, &demonstrations)?;
     let context = BuildContext { spec, spec_file, world, adapter: &adapter };
     let artifacts = artifacts(&context, &model, &demonstrations, demonstration_digest(files))?;
     Ok((model, artifacts))

@@ -108,14 +108,25 @@ pub fn problem_pddl(
 
 /// The clear relations of held regions (g = 1) true in `init`: grippers that start empty must end
 /// empty, so that a plan puts down what it carries instead of stopping with the last object in
-/// hand.
+/// hand. A held region without a clear relation (two objects fit in it) says the same with its
+/// nowhere relations: what is held by no gripper at the start is held by none at the end. Where
+/// the clear relation exists, its nowhere atoms would add nothing, so they are left out.
 fn hands_free(model: &Model, init: &BTreeSet<GroundAtom>) -> BTreeSet<GroundAtom> {
     let held: BTreeSet<String> = model
         .pairs
         .iter()
         .flat_map(|pair| &pair.regions)
         .filter(|region| region.summary.g == 1)
-        .map(|region| format!("clear_{}", region.relation))
+        .filter_map(|region| {
+            let sides = &region.summary.sides;
+            if sides.clear.on {
+                Some(format!("clear_{}", region.relation))
+            } else if sides.nowhere.on {
+                Some(format!("nowhere_{}", region.relation))
+            } else {
+                None
+            }
+        })
         .collect();
     init.iter().filter(|atom| held.contains(&atom.predicate)).cloned().collect()
 }

@@ -12,7 +12,7 @@ use std::sync::LazyLock;
 
 use lamp_build::{Artifacts, DemoFile};
 use lamp_demonstrators::{Simulation, file_name, generate_all};
-use lamp_learn::{Model, Region};
+use lamp_learn::{LiftedAtom, Model, Region, SideReason};
 use lamp_planner::{Algorithm, Budget, Status};
 use lamp_trajectory::{Step, TrajectoryHeader};
 
@@ -133,8 +133,31 @@ fn relations_read_as_standing_at_tucked_grasp_holding_and_on_and_the_alias_binds
     for relation in [&at_surface, &tucked, &at_grasp, &holding, &on] {
         assert!(predicates.contains(relation), "{relation} is a predicate of the domain");
     }
-    // A surface holds several cans: no "no can on it" relation.
+    // A surface holds several cans: no "no can on it" relation; a can stands on one surface at a
+    // time: "on no surface" exists.
     assert!(!predicates.iter().any(|name| name.starts_with("clear_surface_can")));
+    assert!(predicates.contains(&format!("nowhere_{on}")));
+}
+
+#[test]
+fn a_can_is_put_on_a_surface_only_from_no_surface_and_lifting_it_off_says_so() {
+    let (model, _, _) = &*CAFE_BUILD;
+    let on = standing_on(model);
+    let on_no_surface = format!("nowhere_{on}");
+    // Decided by the shapes: two cans fit on a top at once, a can cannot stand on two tops.
+    let sides = model.region(&on).expect("the region").summary.sides;
+    assert_eq!((sides.clear.on, sides.clear.reason), (false, SideReason::TwoFit));
+    assert_eq!((sides.nowhere.on, sides.nowhere.reason), (true, SideReason::OneAtATime));
+    let put_on = actions_changing(model, "surface_can_0", &on)[0];
+    let lift_off = actions_changing(model, &on, "surface_can_0")[0];
+    let can_atom = |atoms: &[LiftedAtom]| {
+        atoms.iter().any(|atom| atom.predicate == on_no_surface && atom.arguments == ["?can_p1"])
+    };
+    assert!(can_atom(&put_on.preconditions), "put-on requires the can on no surface");
+    assert!(can_atom(&put_on.delete), "put-on deletes it");
+    assert!(can_atom(&lift_off.add), "lift-off adds it");
+    // No "surface empty" precondition anywhere.
+    assert!(model.actions.iter().all(|action| !has(&action.preconditions, &format!("clear_{on}"))));
 }
 
 #[test]

@@ -5,7 +5,7 @@
 
 mod support;
 
-use lamp_learn::{Model, Region};
+use lamp_learn::{LiftedAtom, Model, Region, SideReason};
 use lamp_planner::{Algorithm, Budget, Status};
 
 use support::{PACKING_BUILD, actions_changing, artifact, has, regions};
@@ -80,6 +80,28 @@ fn actions_approach_grab_carry_in_release_and_retreat() {
     }
     let carry_in = actions_changing(model, "surface_can_0", &in_box)[0];
     assert!(has(&carry_in.preconditions, &holding), "a can is carried into the box while held");
+}
+
+#[test]
+fn carrying_in_requires_the_can_in_no_box_and_never_an_empty_box() {
+    let (model, _) = &*PACKING_BUILD;
+    let in_box = in_box_region(model);
+    // Decided by the shapes: two cans fit in the box region at once, a can is in one box at a time.
+    let sides = model.region(&in_box).expect("the region").summary.sides;
+    assert_eq!((sides.clear.on, sides.clear.reason), (false, SideReason::TwoFit));
+    assert_eq!((sides.nowhere.on, sides.nowhere.reason), (true, SideReason::OneAtATime));
+    let carry_in = actions_changing(model, "surface_can_0", &in_box)[0];
+    let in_no_box = LiftedAtom {
+        predicate: format!("nowhere_{in_box}"),
+        arguments: vec!["?can_p1".to_string()],
+    };
+    assert!(carry_in.preconditions.contains(&in_no_box), "the can is in no box before");
+    assert!(carry_in.delete.contains(&in_no_box), "and in one after");
+    let predicates: Vec<String> = model.predicates().iter().map(|p| p.name.clone()).collect();
+    assert!(!predicates.iter().any(|name| name.starts_with("clear_surface_can")));
+    assert!(model.actions.iter().all(|action| {
+        action.preconditions.iter().all(|atom| !atom.predicate.starts_with("clear_surface"))
+    }));
 }
 
 #[test]

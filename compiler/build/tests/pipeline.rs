@@ -52,6 +52,37 @@ fn domain_and_report_snapshots() {
     insta::assert_snapshot!("packing_vocabulary", artifact(artifacts, "vocabulary.md"));
 }
 
+/// The goal's atoms of `pack4_01` other than the cans in the box.
+fn empty_gripper_goal(artifacts: &lamp_build::Artifacts) -> Vec<String> {
+    let domain = lamp_pddl::parse_domain(artifact(artifacts, "domain.pddl")).expect("parses");
+    let text = artifact(artifacts, "problems/pack4_01.pddl");
+    let problem = lamp_pddl::parse_problem(text, &domain).expect("the problem parses");
+    let relation = &artifacts.summary.aliases["in_box"];
+    problem
+        .goal
+        .iter()
+        .map(|literal| lamp_pddl::atom_text(&literal.atom))
+        .filter(|atom| !atom.starts_with(&format!("({relation} ")))
+        .collect()
+}
+
+#[test]
+fn an_empty_gripper_is_asked_for_by_clear_atoms_else_by_nowhere_atoms() {
+    let (_, artifacts) = &*PACKING_BUILD;
+    assert_eq!(empty_gripper_goal(artifacts), ["(clear_gripper_can_2 gripper_gripper)"]);
+    // Without the held region's clear relation, every can held by no gripper at the start is
+    // held by none at the end.
+    let (_, artifacts) = build_with(|spec| {
+        let pair = ("gripper".to_string(), "can".to_string());
+        spec.learning.pairs.get_mut(&pair).expect("the spec sets the pair").clear =
+            lamp_spec::Switch::Off;
+    })
+    .expect("builds");
+    let expected: Vec<String> =
+        (1..=4).map(|can| format!("(nowhere_gripper_can_2 can{can})")).collect();
+    assert_eq!(empty_gripper_goal(&artifacts), expected);
+}
+
 #[test]
 fn domain_starts_with_provenance_and_parses() {
     let (_, artifacts) = &*PACKING_BUILD;

@@ -50,6 +50,7 @@ impl RegionClassifier for CellClassifier {
 pub(crate) enum Fact {
     Relation { pair: usize, region: usize, primary: usize, secondary: usize },
     Clear { pair: usize, region: usize, object: usize },
+    Nowhere { pair: usize, region: usize, object: usize },
 }
 
 impl Fact {
@@ -57,6 +58,7 @@ impl Fact {
         match self {
             Fact::Relation { pair, region, .. } => Symbol::Relation { pair, region },
             Fact::Clear { pair, region, .. } => Symbol::Clear { pair, region },
+            Fact::Nowhere { pair, region, .. } => Symbol::Nowhere { pair, region },
         }
     }
 
@@ -64,7 +66,7 @@ impl Fact {
     pub(crate) fn arguments(self) -> Vec<usize> {
         match self {
             Fact::Relation { primary, secondary, .. } => vec![primary, secondary],
-            Fact::Clear { object, .. } => vec![object],
+            Fact::Clear { object, .. } | Fact::Nowhere { object, .. } => vec![object],
         }
     }
 }
@@ -133,7 +135,9 @@ pub(crate) fn abstract_facts<C: RegionClassifier>(
 ) -> BTreeSet<Fact> {
     let type_pairs: Vec<_> = vocabulary.iter().map(|v| v.pair.clone()).collect();
     let mut facts = BTreeSet::new();
+    // (pair, region, primary) and (pair, region, secondary) of every instance in a region.
     let mut occupied: BTreeSet<(usize, usize, usize)> = BTreeSet::new();
+    let mut placed: BTreeSet<(usize, usize, usize)> = BTreeSet::new();
     for instance in pairs::instances(&type_pairs, participants) {
         let Instance { pair, primary, secondary } = instance;
         let relative = pairs::relative_pose(snapshot, instance);
@@ -141,18 +145,22 @@ pub(crate) fn abstract_facts<C: RegionClassifier>(
         let region = region_of(&vocabulary[pair], &classifiers[pair], &relative, g);
         facts.insert(Fact::Relation { pair, region, primary, secondary });
         occupied.insert((pair, region, primary));
+        placed.insert((pair, region, secondary));
     }
     for (pair, pair_vocabulary) in vocabulary.iter().enumerate() {
-        if !pair_vocabulary.clear {
-            continue;
-        }
         for (object, participant) in participants.iter().enumerate() {
-            if participant.type_name != pair_vocabulary.pair.primary {
-                continue;
-            }
             for region in 1..=pair_vocabulary.region_count() {
-                if !occupied.contains(&(pair, region, object)) {
+                if participant.type_name == pair_vocabulary.pair.primary
+                    && pair_vocabulary.has_clear(region)
+                    && !occupied.contains(&(pair, region, object))
+                {
                     facts.insert(Fact::Clear { pair, region, object });
+                }
+                if participant.type_name == pair_vocabulary.pair.secondary
+                    && pair_vocabulary.has_nowhere(region)
+                    && !placed.contains(&(pair, region, object))
+                {
+                    facts.insert(Fact::Nowhere { pair, region, object });
                 }
             }
         }
@@ -220,7 +228,8 @@ pub(crate) mod tests {
         vec![PairVocabulary {
             pair: TypePair::new("gripper", "can"),
             region_flags: vec![0, 0, 1],
-            clear: true,
+            clear: vec![true; 3],
+            nowhere: vec![false, true, true],
         }]
     }
 
@@ -249,7 +258,13 @@ pub(crate) mod tests {
         let facts = abstract_facts(&vocabulary(), &classifiers(), &participants(), &snapshot);
         assert_eq!(
             names(&facts),
-            ["(gripper_can_2 g c2)", "(gripper_can_3 g c1)", "(clear_gripper_can_1 g)"]
+            [
+                "(gripper_can_2 g c2)",
+                "(gripper_can_3 g c1)",
+                "(clear_gripper_can_1 g)",
+                "(nowhere_gripper_can_2 c1)",
+                "(nowhere_gripper_can_3 c2)"
+            ]
         );
     }
 
@@ -271,7 +286,11 @@ pub(crate) mod tests {
                 "(gripper_can_0 g c2)",
                 "(clear_gripper_can_1 g)",
                 "(clear_gripper_can_2 g)",
-                "(clear_gripper_can_3 g)"
+                "(clear_gripper_can_3 g)",
+                "(nowhere_gripper_can_2 c1)",
+                "(nowhere_gripper_can_2 c2)",
+                "(nowhere_gripper_can_3 c1)",
+                "(nowhere_gripper_can_3 c2)"
             ]
         );
     }

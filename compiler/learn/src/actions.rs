@@ -417,9 +417,13 @@ fn preconditions(
     let mut names = changed.clone();
     names.extend(extras.iter().map(|(object, name)| (*object, name.clone())));
 
-    let changed_relation_of = |pair: usize, object: usize| {
-        transition.added.iter().chain(transition.deleted).any(|fact| {
-            matches!(*fact, Fact::Relation { pair: p, primary, .. } if p == pair && primary == object)
+    // Whether the action changes a relation of the pair with the object as its primary (or secondary).
+    let changed_relation_of = |pair: usize, object: usize, as_secondary: bool| {
+        transition.added.iter().chain(transition.deleted).any(|fact| match *fact {
+            Fact::Relation { pair: p, primary, secondary, .. } if p == pair => {
+                object == if as_secondary { secondary } else { primary }
+            }
+            _ => false,
         })
     };
     let mut result = BTreeSet::new();
@@ -441,7 +445,10 @@ fn preconditions(
                 !spurious_static && !unexplained_none
             }
             Fact::Clear { pair, object, .. } => {
-                is_changed(object) && changed_relation_of(pair, object)
+                is_changed(object) && changed_relation_of(pair, object, false)
+            }
+            Fact::Nowhere { pair, object, .. } => {
+                is_changed(object) && changed_relation_of(pair, object, true)
             }
         };
         if keep {
@@ -462,12 +469,14 @@ mod tests {
             PairVocabulary {
                 pair: TypePair::new("gripper", "can"),
                 region_flags: vec![0, 1],
-                clear: true,
+                clear: vec![true; 2],
+                nowhere: vec![false; 2],
             },
             PairVocabulary {
                 pair: TypePair::new("surface", "can"),
                 region_flags: vec![0],
-                clear: false,
+                clear: vec![false],
+                nowhere: vec![false],
             },
         ]
     }
@@ -565,6 +574,45 @@ mod tests {
             place.parameters.iter().map(|p| p.name.as_str()).collect::<Vec<_>>(),
             ["?can_p1", "?gripper_extra_p1", "?surface_p1"]
         );
+    }
+
+    #[test]
+    fn nowhere_atoms_are_kept_only_where_the_pair_changes_with_the_object_as_secondary() {
+        let participants = with_surface();
+        let mut vocabulary = vocabulary();
+        vocabulary[1].nowhere = vec![true];
+        // The can is in region 1 of no surface exactly when it is not in the box.
+        let with_nowhere = |states: Vec<BTreeSet<Fact>>| -> Vec<BTreeSet<Fact>> {
+            states
+                .into_iter()
+                .map(|mut facts| {
+                    for can in [1, 2] {
+                        if !facts.contains(&surface_can(1, can)) {
+                            facts.insert(Fact::Nowhere { pair: 1, region: 1, object: can });
+                        }
+                    }
+                    facts
+                })
+                .collect()
+        };
+        let demos = [AbstractDemonstration {
+            id: "one",
+            participants: &participants,
+            states: with_nowhere(pick_demo(1, 2)),
+        }];
+        let actions = induce(&vocabulary, &demos);
+        let place = actions
+            .iter()
+            .find(|a| strings(&a.add) == ["(surface_can_1 ?surface_p1 ?can_p1)"])
+            .expect("a place action");
+        assert!(strings(&place.preconditions).contains(&"(nowhere_surface_can_1 ?can_p1)".into()));
+        assert!(strings(&place.delete).contains(&"(nowhere_surface_can_1 ?can_p1)".into()));
+        // Approaching changes only the gripper–can pair: the can's nowhere atom is not its business.
+        let approach = actions
+            .iter()
+            .find(|a| strings(&a.add).contains(&"(gripper_can_1 ?gripper_p1 ?can_p1)".to_string()))
+            .expect("an approach action");
+        assert!(!strings(&approach.preconditions).iter().any(|p| p.starts_with("(nowhere_")));
     }
 
     #[test]

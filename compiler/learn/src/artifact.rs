@@ -15,7 +15,7 @@ use crate::region_model::RegionModel;
 use crate::relations::PairVocabulary;
 
 /// The artifact format version; bumped on any change to the serialised shape or its meaning.
-pub const SAMPLER_ARTIFACT_VERSION: u32 = 3;
+pub const SAMPLER_ARTIFACT_VERSION: u32 = 4;
 
 /// Everything the run time needs from learning besides the PDDL text.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -35,8 +35,6 @@ pub struct ArtifactPair {
     pub primary: String,
     /// The other type.
     pub secondary: String,
-    /// Whether the pair has clear relations.
-    pub clear: bool,
     /// Its regions; region k is at index k − 1.
     pub regions: Vec<ArtifactRegion>,
 }
@@ -48,6 +46,10 @@ pub struct ArtifactRegion {
     pub relation: String,
     /// Its held flag.
     pub g: u8,
+    /// Whether it has `clear_<primary>_<secondary>_<k>`.
+    pub clear: bool,
+    /// Whether it has `nowhere_<primary>_<secondary>_<k>`.
+    pub nowhere: bool,
     /// Its membership test and generator.
     pub model: RegionModel,
 }
@@ -64,13 +66,14 @@ impl SamplerArtifact {
                 .map(|learned| ArtifactPair {
                     primary: learned.pair.pair.primary.clone(),
                     secondary: learned.pair.pair.secondary.clone(),
-                    clear: learned.pair.settings.clear,
                     regions: learned
                         .regions
                         .iter()
                         .map(|region| ArtifactRegion {
                             relation: region.relation.clone(),
                             g: region.summary.g,
+                            clear: region.summary.sides.clear.on,
+                            nowhere: region.summary.sides.nowhere.on,
                             model: region.model.clone(),
                         })
                         .collect(),
@@ -118,7 +121,8 @@ impl SamplerArtifact {
             .map(|pair| PairVocabulary {
                 pair: TypePair::new(pair.primary.clone(), pair.secondary.clone()),
                 region_flags: pair.regions.iter().map(|region| region.g).collect(),
-                clear: pair.clear,
+                clear: pair.regions.iter().map(|region| region.clear).collect(),
+                nowhere: pair.regions.iter().map(|region| region.nowhere).collect(),
             })
             .collect();
         let classifiers: Vec<Vec<&RegionModel>> = self

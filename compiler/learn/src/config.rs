@@ -47,8 +47,21 @@ pub struct PairSettings {
     pub max_components: usize,
     /// The share of a region's own samples that its likelihood threshold must accept.
     pub cover: f64,
-    /// Whether `clear_<primary>_<secondary>_<k>` relations are invented for this pair.
-    pub clear: bool,
+    /// Whether `clear_<primary>_<secondary>_<k>(x)` relations ("no secondary in region k of x") are invented.
+    pub clear: Switch,
+    /// Whether `nowhere_<primary>_<secondary>_<k>(y)` relations ("y is in region k of no primary") are invented.
+    pub nowhere: Switch,
+}
+
+/// Whether one side's clear relations are invented: always, never, or where the geometry says they are sound.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Switch {
+    /// For every region.
+    On,
+    /// For no region.
+    Off,
+    /// For the regions whose capacity test says one object at a time (see [`crate::capacity`]).
+    Auto,
 }
 
 impl Default for PairSettings {
@@ -60,7 +73,8 @@ impl Default for PairSettings {
             threshold: 0.5,
             max_components: 4,
             cover: 0.99,
-            clear: true,
+            clear: Switch::Auto,
+            nowhere: Switch::Auto,
         }
     }
 }

@@ -8,15 +8,24 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::abstraction::RegionClassifier;
-use crate::synthetic::{GRASP_HEIGHT, packing_config, packing_demonstrations};
-use crate::{Model, Pose, abstract_state, domain_text, learn, vocabulary_report};
+use crate::synthetic::{
+    DiscShapes, GRASP_HEIGHT, packing_config, packing_demonstrations, packing_shapes,
+};
+use crate::{
+    Model, NoShapes, Pose, RegionSides, SideReason, abstract_state, domain_text, learn,
+    vocabulary_report,
+};
 
 const DEMONSTRATIONS: usize = 40;
 const DEMONSTRATION_SEED: u64 = 11;
 
 fn learned() -> Model {
-    learn(&packing_demonstrations(DEMONSTRATIONS, DEMONSTRATION_SEED), &packing_config())
-        .expect("learns")
+    learn(
+        &packing_demonstrations(DEMONSTRATIONS, DEMONSTRATION_SEED),
+        &packing_config(),
+        &packing_shapes(),
+    )
+    .expect("learns")
 }
 
 fn strings<T: ToString>(items: &[T]) -> Vec<String> {
@@ -35,10 +44,17 @@ fn packing_vocabulary_reads_as_expected() {
             "gripper_can_2(gripper, can)",
             "clear_gripper_can_1(gripper)",
             "clear_gripper_can_2(gripper)",
+            "nowhere_gripper_can_1(can)",
+            "nowhere_gripper_can_2(can)",
             "surface_can_0(surface, can)",
             "surface_can_1(surface, can)",
+            "nowhere_surface_can_1(can)",
         ]
     );
+    // Two 5 cm cans fit in the box's region at once, two boxes cannot hold one can: clear off, nowhere on.
+    let sides = in_box_sides(&model);
+    assert_eq!((sides.clear.on, sides.clear.reason), (false, SideReason::TwoFit));
+    assert_eq!((sides.nowhere.on, sides.nowhere.reason), (true, SideReason::OneAtATime));
     let at_grasp = model.region("gripper_can_1").expect("region 1");
     let holding = model.region("gripper_can_2").expect("region 2");
     assert_eq!((at_grasp.summary.g, holding.summary.g), (0, 1));
@@ -53,6 +69,29 @@ fn packing_vocabulary_reads_as_expected() {
     assert!(in_box.summary.representative.translation.vector.norm() < 0.02);
 }
 
+fn in_box_sides(model: &Model) -> RegionSides {
+    model.region("surface_can_1").expect("the can-in-box region").summary.sides
+}
+
+#[test]
+fn without_shapes_every_auto_side_is_on() {
+    let demonstrations = packing_demonstrations(DEMONSTRATIONS, DEMONSTRATION_SEED);
+    let model = learn(&demonstrations, &packing_config(), &NoShapes).expect("learns");
+    let sides = in_box_sides(&model);
+    assert_eq!((sides.clear.on, sides.clear.reason), (true, SideReason::UnknownShape));
+    assert!(model.predicates().iter().any(|p| p.name == "clear_surface_can_1"));
+    // Large cans (12 cm) no longer fit twice in the 4 cm voxel: clear comes back by geometry.
+    let big_cans = DiscShapes { radii: vec![("can".into(), 0.06), ("surface".into(), 0.15)] };
+    let model = learn(&demonstrations, &packing_config(), &big_cans).expect("learns");
+    assert_eq!(in_box_sides(&model).clear.reason, SideReason::OneAtATime);
+    let place = model
+        .actions
+        .iter()
+        .find(|action| action.add.iter().any(|atom| atom.predicate == "surface_can_1"))
+        .expect("a place action");
+    assert!(strings(&place.preconditions).contains(&"(clear_surface_can_1 ?surface_p1)".into()));
+}
+
 #[test]
 fn packing_actions_resemble_the_paper_domain() {
     let model = learned();
@@ -64,12 +103,22 @@ fn packing_actions_resemble_the_paper_domain() {
             .unwrap_or_else(|| panic!("no action adds {adds:?}"))
     };
     let approach = find(&["(gripper_can_1 ?gripper_p1 ?can_p1)"]);
-    let grasp = find(&["(clear_gripper_can_1 ?gripper_p1)", "(gripper_can_2 ?gripper_p1 ?can_p1)"]);
+    let grasp = find(&[
+        "(clear_gripper_can_1 ?gripper_p1)",
+        "(gripper_can_2 ?gripper_p1 ?can_p1)",
+        "(nowhere_gripper_can_1 ?can_p1)",
+    ]);
     let place = find(&["(surface_can_1 ?surface_p1 ?can_p1)"]);
-    let release =
-        find(&["(clear_gripper_can_2 ?gripper_p1)", "(gripper_can_1 ?gripper_p1 ?can_p1)"]);
-    let retreat =
-        find(&["(clear_gripper_can_1 ?gripper_p1)", "(gripper_can_0 ?gripper_p1 ?can_p1)"]);
+    let release = find(&[
+        "(clear_gripper_can_2 ?gripper_p1)",
+        "(gripper_can_1 ?gripper_p1 ?can_p1)",
+        "(nowhere_gripper_can_2 ?can_p1)",
+    ]);
+    let retreat = find(&[
+        "(clear_gripper_can_1 ?gripper_p1)",
+        "(gripper_can_0 ?gripper_p1 ?can_p1)",
+        "(nowhere_gripper_can_1 ?can_p1)",
+    ]);
     assert_eq!(model.actions.len(), 5);
     assert!(
         strings(&approach.preconditions)
@@ -88,6 +137,9 @@ fn packing_actions_resemble_the_paper_domain() {
             .contains(&"(surface_can_1 ?surface_extra_p1 ?can_p1)".to_string())
     );
     assert!(strings(&retreat.delete).contains(&"(gripper_can_2 ?gripper_p1 ?can_p1)".to_string()));
+    // Placing needs the can in the box region of no surface, and no empty box.
+    assert!(strings(&place.preconditions).contains(&"(nowhere_surface_can_1 ?can_p1)".into()));
+    assert!(!strings(&place.preconditions).iter().any(|atom| atom.starts_with("(clear_surface")));
     // Every action knows where it came from.
     assert!(model.actions.iter().all(|action| !action.transitions.is_empty()));
 }
@@ -162,12 +214,16 @@ fn the_sampler_artifact_round_trips_and_abstracts_like_the_model() {
     assert_eq!(again.expect("serialises"), text, "learning twice gives the same artifact bytes");
     let demonstrations = packing_demonstrations(1, 3);
     let demonstration = &demonstrations[0];
+    let mut nowhere_atoms = 0;
     for snapshot in &demonstration.steps {
+        let atoms = back.abstract_state(&demonstration.participants, snapshot).expect("fits");
         assert_eq!(
-            back.abstract_state(&demonstration.participants, snapshot).expect("fits"),
+            atoms,
             abstract_state(&model, &demonstration.participants, snapshot).expect("fits")
         );
+        nowhere_atoms += atoms.iter().filter(|atom| atom.predicate.starts_with("nowhere_")).count();
     }
+    assert!(nowhere_atoms > 0, "the artifact carries the nowhere sides");
     let mut old = back.clone();
     old.version += 1;
     assert!(matches!(old.validate(), Err(crate::LearnError::ArtifactVersion { .. })));

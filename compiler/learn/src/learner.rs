@@ -11,6 +11,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::abstraction::{self, RegionClassifier};
 use crate::actions::{self, AbstractDemonstration, Action};
+use crate::capacity::{self, RegionSides, ShapeOracle};
 use crate::config::{LearnConfig, PairSettings, TypePair};
 use crate::demo::{self, Demonstration, Pose, Role};
 use crate::discretise::{Grid, RotationCell, Voxel};
@@ -40,6 +41,8 @@ pub struct RegionSummary {
     pub spread: [f64; 3],
     /// The extent of its voxels per axis, `(low, high)` (m).
     pub bounds: [(f64, f64); 3],
+    /// Whether it has a clear and a nowhere relation, and why.
+    pub sides: RegionSides,
 }
 
 /// A type pair with its regions, in relation order.
@@ -55,6 +58,18 @@ pub struct PairRegions {
     pub demonstrations: usize,
     /// Its regions; region k is at index k − 1.
     pub regions: Vec<RegionSummary>,
+}
+
+impl PairRegions {
+    /// The pair's relations: its regions' held flags and the sides each region has.
+    pub fn vocabulary(&self) -> PairVocabulary {
+        PairVocabulary {
+            pair: self.pair.clone(),
+            region_flags: self.regions.iter().map(|region| region.g).collect(),
+            clear: self.regions.iter().map(|region| region.sides.clear.on).collect(),
+            nowhere: self.regions.iter().map(|region| region.sides.nowhere.on).collect(),
+        }
+    }
 }
 
 /// Everything learned, with classifiers of type `C`.
@@ -76,10 +91,12 @@ struct Observation {
     pose: Pose,
 }
 
-/// Runs the pipeline; `fit` turns a region into a classifier, drawing randomness only from the generator it gets.
+/// Runs the pipeline; `fit` turns a region into a classifier, drawing randomness only from the generator it gets;
+/// `shapes` answers the capacity tests of `auto` sides.
 pub(crate) fn induce<C: RegionClassifier>(
     demonstrations: &[Demonstration],
     config: &LearnConfig,
+    shapes: &dyn ShapeOracle,
     mut fit: impl FnMut(&PairRegions, usize, &mut ChaCha8Rng) -> Result<C, LearnError>,
 ) -> Result<Induced<C>, LearnError> {
     config.validate()?;
@@ -87,7 +104,8 @@ pub(crate) fn induce<C: RegionClassifier>(
     let mut learned = Vec::new();
     let mut empty_pairs = Vec::new();
     for pair in pairs::type_pairs(&roles, config) {
-        let pair_regions = find_regions(demonstrations, config, &pair);
+        let primary_moves = roles.get(&pair.primary).is_some_and(|role| role.is_robot_part());
+        let pair_regions = find_regions(demonstrations, config, shapes, &pair, primary_moves);
         if pair_regions.demonstrations == 0 {
             continue;
         }
@@ -109,14 +127,7 @@ pub(crate) fn induce<C: RegionClassifier>(
         }
         classifiers.push(fitted);
     }
-    let vocabulary: Vec<PairVocabulary> = learned
-        .iter()
-        .map(|p| PairVocabulary {
-            pair: p.pair.clone(),
-            region_flags: p.regions.iter().map(|r| r.g).collect(),
-            clear: p.settings.clear,
-        })
-        .collect();
+    let vocabulary: Vec<PairVocabulary> = learned.iter().map(PairRegions::vocabulary).collect();
     let abstracted: Vec<AbstractDemonstration<'_>> = demonstrations
         .iter()
         .map(|demonstration| AbstractDemonstration {
@@ -144,7 +155,9 @@ pub(crate) fn induce<C: RegionClassifier>(
 fn find_regions(
     demonstrations: &[Demonstration],
     config: &LearnConfig,
+    shapes: &dyn ShapeOracle,
     pair: &TypePair,
+    primary_moves: bool,
 ) -> PairRegions {
     let settings = config.settings(pair).clone();
     let grid = Grid::new(&settings);
@@ -173,7 +186,10 @@ fn find_regions(
         occupancy.critical(settings.threshold, config.min_support, config.rotation_share);
     let regions = regions::components(&critical)
         .into_iter()
-        .map(|cells| summarise(&grid, cells, &observations))
+        .map(|cells| {
+            let sides = capacity::decide(pair, primary_moves, &settings, &grid, &cells, shapes);
+            summarise(&grid, cells, sides, &observations)
+        })
         .collect();
     PairRegions {
         pair: pair.clone(),
@@ -184,7 +200,12 @@ fn find_regions(
     }
 }
 
-fn summarise(grid: &Grid, cells: RegionCells, observations: &[Observation]) -> RegionSummary {
+fn summarise(
+    grid: &Grid,
+    cells: RegionCells,
+    sides: RegionSides,
+    observations: &[Observation],
+) -> RegionSummary {
     let inside: Vec<&Observation> =
         observations.iter().filter(|o| cells.contains(o.g, o.voxel, o.rotation)).collect();
     let demonstrations = inside.iter().map(|o| o.demonstration).collect::<BTreeSet<_>>().len();
@@ -234,6 +255,7 @@ fn summarise(grid: &Grid, cells: RegionCells, observations: &[Observation]) -> R
         spread,
         bounds,
         cells,
+        sides,
     }
 }
 
@@ -247,6 +269,7 @@ fn first_cell_centre(grid: &Grid, cells: &RegionCells) -> Pose {
 mod tests {
     use super::*;
     use crate::abstraction::CellClassifier;
+    use crate::capacity::NoShapes;
     use crate::synthetic::{packing_config, packing_demonstrations};
 
     fn cells(
@@ -260,7 +283,7 @@ mod tests {
     #[test]
     fn packing_with_exact_cells_finds_the_paper_vocabulary() {
         let demonstrations = packing_demonstrations(40, 11);
-        let induced = induce(&demonstrations, &packing_config(), cells).expect("learns");
+        let induced = induce(&demonstrations, &packing_config(), &NoShapes, cells).expect("learns");
         let stems: Vec<String> = induced.pairs.iter().map(|p| p.pair.stem()).collect();
         assert_eq!(stems, ["gripper_can", "surface_can"]);
         let flags: Vec<u8> = induced.pairs[0].regions.iter().map(|r| r.g).collect();
@@ -289,13 +312,14 @@ mod tests {
         let mut config = packing_config();
         config.pairs.get_mut(&TypePair::new("surface", "can")).expect("configured").half_range =
             [0.001; 3];
-        let induced = induce(&packing_demonstrations(20, 5), &config, cells).expect("learns");
+        let induced =
+            induce(&packing_demonstrations(20, 5), &config, &NoShapes, cells).expect("learns");
         assert_eq!(induced.empty_pairs, vec![TypePair::new("surface", "can")]);
     }
 
     #[test]
     fn too_few_demonstrations_is_an_error_not_an_empty_domain() {
-        let result = induce(&packing_demonstrations(2, 3), &packing_config(), cells);
+        let result = induce(&packing_demonstrations(2, 3), &packing_config(), &NoShapes, cells);
         assert!(matches!(result, Err(LearnError::NoRegions { demonstrations: 2 })));
     }
 }

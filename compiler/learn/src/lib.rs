@@ -2,7 +2,8 @@
 //!
 //! The pipeline, one module per stage: [`pairs`] (which type pairs, relative poses, held flag) →
 //! [`discretise`] (voxels and rotation cells) → [`occupancy`] (criticality) → [`regions`] (connected components) →
-//! [`region_model`] (a membership test and generator per region) → [`relations`] (the vocabulary) → [`abstraction`] (states to facts)
+//! [`capacity`] (which regions get clear and nowhere relations) → [`region_model`] (a membership test and generator per
+//! region) → [`relations`] (the vocabulary) → [`abstraction`] (states to facts)
 //! → [`actions`] (induced operators) → [`emit`] (PDDL) and [`report`] (Markdown).
 //! [`learn`] runs it all and returns a [`Model`]; [`abstract_state`] abstracts new snapshots with a model.
 //! The method and every sort key are documented in `docs/learning.md`.
@@ -10,6 +11,7 @@
 pub mod abstraction;
 pub mod actions;
 pub mod artifact;
+pub mod capacity;
 pub mod config;
 pub mod demo;
 pub mod discretise;
@@ -29,7 +31,8 @@ pub mod synthetic;
 pub use abstraction::{CellClassifier, GroundAtom, RegionClassifier};
 pub use actions::{Action, LiftedAtom, Parameter, TransitionRef};
 pub use artifact::{SAMPLER_ARTIFACT_VERSION, SamplerArtifact};
-pub use config::{LearnConfig, PairSettings, TypePair};
+pub use capacity::{NoShapes, RegionSides, ShapeOracle, Side, SideReason};
+pub use config::{LearnConfig, PairSettings, Switch, TypePair};
 pub use demo::{Demonstration, Participant, Pose, Role, Snapshot};
 pub use emit::{domain, domain_text, ground_atoms};
 pub use error::LearnError;

@@ -7,6 +7,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::abstraction::{self, GroundAtom};
 use crate::actions::Action;
+use crate::capacity::ShapeOracle;
 use crate::config::{LearnConfig, TypePair};
 use crate::demo::{Demonstration, Participant, Pose, Role, Snapshot};
 use crate::error::LearnError;
@@ -53,11 +54,17 @@ pub struct Model {
     pub seed: u64,
 }
 
-/// Learns a model from demonstrations.
-pub fn learn(demonstrations: &[Demonstration], config: &LearnConfig) -> Result<Model, LearnError> {
+/// Learns a model from demonstrations; `shapes` answers the capacity tests of the `auto` clear and nowhere
+/// settings ([`crate::capacity::NoShapes`] turns every `auto` side on).
+pub fn learn(
+    demonstrations: &[Demonstration],
+    config: &LearnConfig,
+    shapes: &dyn ShapeOracle,
+) -> Result<Model, LearnError> {
     let induced = learner::induce(
         demonstrations,
         config,
+        shapes,
         |pair: &PairRegions, index: usize, rng: &mut ChaCha8Rng| {
             let relation = format!("{}_{}", pair.pair.stem(), index + 1);
             RegionModel::fit(pair, index, config.samples_per_region, rng)
@@ -98,17 +105,11 @@ pub fn learn(demonstrations: &[Demonstration], config: &LearnConfig) -> Result<M
 impl Model {
     /// The vocabulary, one entry per pair with regions.
     pub fn vocabulary(&self) -> Vec<PairVocabulary> {
-        self.pairs
-            .iter()
-            .map(|learned| PairVocabulary {
-                pair: learned.pair.pair.clone(),
-                region_flags: learned.regions.iter().map(|region| region.summary.g).collect(),
-                clear: learned.pair.settings.clear,
-            })
-            .collect()
+        self.pairs.iter().map(|learned| learned.pair.vocabulary()).collect()
     }
 
-    /// Every predicate, in declaration order (per pair: `_0` … `_K`, then its clear relations).
+    /// Every predicate, in declaration order (per pair: `_0` … `_K`, then its clear relations, then its nowhere
+    /// relations).
     pub fn predicates(&self) -> Vec<PredicateSignature> {
         let vocabulary = self.vocabulary();
         relations::symbols(&vocabulary)

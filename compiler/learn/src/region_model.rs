@@ -195,6 +195,7 @@ mod tests {
             centre: [0.0; 3],
             spread: [0.0; 3],
             bounds: [(0.0, 0.0); 3],
+            sides: crate::capacity::RegionSides::default(),
         };
         PairRegions {
             pair: TypePair::new("surface", "can"),

@@ -3,6 +3,7 @@
 use std::fmt::Write as _;
 
 use crate::actions::Action;
+use crate::capacity::SideReason;
 use crate::learner::RegionSummary;
 use crate::model::{LearnedPair, Model, Region};
 
@@ -81,16 +82,68 @@ fn pair_section(out: &mut String, learned: &LearnedPair) {
         "\n- `{}_0({primary}, {secondary})`: the {secondary} is in none of these regions.",
         pair.pair.stem()
     );
-    if settings.clear {
-        for region in &learned.regions {
-            let _ = writeln!(
-                out,
-                "- `clear_{}({primary})`: no {secondary} is in region {} of the {primary}.",
-                region.relation, region.index
-            );
-        }
+    for region in &learned.regions {
+        let _ = writeln!(out, "{}", clear_line(primary, secondary, region));
+        let _ = writeln!(out, "{}", nowhere_line(primary, secondary, region));
     }
     let _ = writeln!(out);
+}
+
+/// What `clear_<relation>` means for one region, or why it does not exist.
+fn clear_line(primary: &str, secondary: &str, region: &Region) -> String {
+    let name = format!("clear_{}", region.relation);
+    let k = region.index;
+    let side = region.summary.sides.clear;
+    let why = match side.reason {
+        SideReason::Setting => format!("`clear {}`", if side.on { "on" } else { "off" }),
+        SideReason::TwoFit => {
+            format!("two {} fit in region {k} of a {primary} at once", plural(secondary))
+        }
+        SideReason::OneAtATime => {
+            format!("two {} cannot be in region {k} of a {primary} at once", plural(secondary))
+        }
+        SideReason::UnknownShape => format!("the {secondary}'s shape is unknown"),
+        SideReason::RobotPart => {
+            format!("the {primary} is a robot part and goes to one {secondary} at a time")
+        }
+    };
+    if side.on {
+        format!("- `{name}({primary})`: no {secondary} is in region {k} of the {primary} ({why}).")
+    } else {
+        format!("- no `{name}`: {why}.")
+    }
+}
+
+/// What `nowhere_<relation>` means for one region, or why it does not exist.
+fn nowhere_line(primary: &str, secondary: &str, region: &Region) -> String {
+    let name = format!("nowhere_{}", region.relation);
+    let k = region.index;
+    let side = region.summary.sides.nowhere;
+    let why = match side.reason {
+        SideReason::Setting => format!("`nowhere {}`", if side.on { "on" } else { "off" }),
+        SideReason::TwoFit => {
+            format!("a {secondary} can be in region {k} of two {} at once", plural(primary))
+        }
+        SideReason::OneAtATime => {
+            format!("a {secondary} cannot be in region {k} of two {} at once", plural(primary))
+        }
+        SideReason::UnknownShape | SideReason::RobotPart => {
+            format!("the {primary}'s shape is unknown")
+        }
+    };
+    if side.on {
+        format!(
+            "- `{name}({secondary})`: the {secondary} is in region {k} of no {primary} ({why})."
+        )
+    } else {
+        format!("- no `{name}`: {why}.")
+    }
+}
+
+/// An English plural of a type name: `es` after a hiss, else `s`.
+fn plural(type_name: &str) -> String {
+    let hiss = ["s", "x", "z", "ch", "sh"].iter().any(|end| type_name.ends_with(end));
+    format!("{type_name}{}", if hiss { "es" } else { "s" })
 }
 
 fn region_row(out: &mut String, region: &Region) {

@@ -10,6 +10,7 @@ use nalgebra::{Translation3, UnitQuaternion, Vector3};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use crate::capacity::ShapeOracle;
 use crate::config::{LearnConfig, PairSettings, TypePair};
 use crate::demo::{Demonstration, Participant, Pose, Role, Snapshot};
 
@@ -141,9 +142,9 @@ fn packing_demonstration(index: usize, truncated: bool, rng: &mut ChaCha8Rng) ->
     Demonstration { id: format!("packing-{index:03}"), participants: participants(), steps }
 }
 
-/// Settings for the synthetic task: a fine gripper–can grid, a coarse box grid, no clear relations for the box
-/// (it holds several cans), gripper–box relations left out as the reference code does, and 25 rotation bins so that
-/// the upright poses of the task lie mid-cell rather than on a cell boundary (see `docs/learning.md` §5).
+/// Settings for the synthetic task: a fine gripper–can grid, a coarse box grid whose clear and nowhere relations
+/// [`packing_shapes`] decides, gripper–box relations left out as the reference code does, and 25 rotation bins so that the upright poses of the task lie mid-cell rather than on a
+/// cell boundary (see `docs/learning.md` §5).
 pub fn packing_config() -> LearnConfig {
     let mut config = LearnConfig { seed: 7, ..LearnConfig::default() };
     config.pairs.insert(
@@ -163,10 +164,33 @@ pub fn packing_config() -> LearnConfig {
             half_range: [0.1; 3],
             threshold: 0.4,
             rotation_bins: 25,
-            clear: false,
             ..PairSettings::default()
         },
     );
     config.ignored.insert(TypePair::new("gripper", "surface"));
     config
+}
+
+/// The synthetic task's shapes, as upright discs: two bodies fit at once iff two of the poses are at least two
+/// footprint radii apart horizontally; the gripper's shape is unknown.
+#[derive(Debug, Clone)]
+pub struct DiscShapes {
+    /// Footprint radius (m) per type name.
+    pub radii: Vec<(String, f64)>,
+}
+
+impl ShapeOracle for DiscShapes {
+    fn two_fit(&self, type_name: &str, poses: &[Pose]) -> Option<bool> {
+        let radius = self.radii.iter().find(|(name, _)| name == type_name)?.1;
+        let apart = |a: &Pose, b: &Pose| {
+            (a.translation.vector - b.translation.vector).xy().norm() >= 2.0 * radius
+        };
+        Some(poses.iter().enumerate().any(|(i, a)| poses[i + 1..].iter().any(|b| apart(a, b))))
+    }
+}
+
+/// The synthetic task's shapes: cans 5 cm across, so that two fit in the box's 4 cm voxel corner to corner
+/// (5.7 cm apart), and a box 30 cm across, of which a can is in one at a time.
+pub fn packing_shapes() -> DiscShapes {
+    DiscShapes { radii: vec![("can".into(), 0.025), ("surface".into(), 0.15)] }
 }

@@ -121,8 +121,33 @@ pub enum TypeItem {
 
 #[derive(Clone, Debug)]
 pub enum DemoSource {
-    Simulate { demonstrator: Name, options: Vec<OptionEntry> },
+    Simulate {
+        demonstrator: Name,
+        options: Vec<OptionEntry>,
+    },
     Files(Text),
+    /// `files "PATTERN" as ros2 { … }`: bags of standard messages with a frame mapping.
+    Ros2 {
+        pattern: Text,
+        objects: Vec<Ros2Object>,
+        robots: Vec<Ros2Robot>,
+    },
+}
+
+/// `object TYPE NAME frame "FRAME"` in a `ros2` mapping; the frame defaults to the name.
+#[derive(Clone, Debug)]
+pub struct Ros2Object {
+    pub type_name: Name,
+    pub name: Name,
+    pub frame: Option<Text>,
+}
+
+/// `robot NAME frame "FRAME" held topic "TOPIC"` in a `ros2` mapping.
+#[derive(Clone, Debug)]
+pub struct Ros2Robot {
+    pub robot: Name,
+    pub frame: Text,
+    pub held_topic: Option<Text>,
 }
 
 #[derive(Clone, Debug)]

@@ -142,6 +142,10 @@ fn describe(rule: Rule) -> &'static str {
         Rule::switch => "`on` or `off`",
         Rule::at => "`at`",
         Rule::simulate | Rule::files => "a demonstration source (simulate, files)",
+        Rule::ros2_map => "`as ros2 {`",
+        Rule::ros2_object | Rule::ros2_robot => {
+            "a frame mapping (`object TYPE NAME frame \"FRAME\"`, `robot NAME frame \"FRAME\"`)"
+        }
         Rule::threshold
         | Rule::position
         | Rule::rotation
@@ -165,6 +169,7 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::robot_item
         | Rule::type_item
         | Rule::demo_source
+        | Rule::ros2_item
         | Rule::learn_item
         | Rule::problem_item
         | Rule::scene_item
@@ -427,7 +432,28 @@ impl Lower {
                 let demonstrator = self.name(inner.next().expect("demonstrator name"));
                 DemoSource::Simulate { demonstrator, options: self.options(inner.next()) }
             }
-            _ => DemoSource::Files(self.text(inner.next().expect("file pattern"))),
+            _ => {
+                let pattern = self.text(inner.next().expect("file pattern"));
+                let Some(mapping) = inner.next() else { return DemoSource::Files(pattern) };
+                let (mut objects, mut robots) = (Vec::new(), Vec::new());
+                for item in mapping.into_inner() {
+                    let rule = item.as_rule();
+                    let mut parts = item.into_inner();
+                    let mut next = || parts.next();
+                    if rule == Rule::ros2_object {
+                        let type_name = self.name(next().expect("object type"));
+                        let name = self.name(next().expect("object name"));
+                        let frame = next().map(|frame| self.text(frame));
+                        objects.push(Ros2Object { type_name, name, frame });
+                    } else {
+                        let robot = self.name(next().expect("robot name"));
+                        let frame = self.text(next().expect("robot frame"));
+                        let held_topic = next().map(|topic| self.text(topic));
+                        robots.push(Ros2Robot { robot, frame, held_topic });
+                    }
+                }
+                DemoSource::Ros2 { pattern, objects, robots }
+            }
         }
     }
 

@@ -20,10 +20,24 @@ pub struct PairSettings {
     pub max_components: u32,
     /// Fraction of a region's own samples the membership threshold must accept.
     pub likelihood_cover: f64,
-    /// Whether `clear_<t1>_<t2>_<k>` relations are invented for the pair. Off for a pair whose
-    /// primary holds several secondaries at once (a box holding cans), where "region k is empty"
-    /// would wrongly become a precondition of putting one more in.
-    pub clear: bool,
+    /// Whether `clear_<t1>_<t2>_<k>(x)` relations ("no t2 in region k of x") are invented. `auto`
+    /// (the default) leaves them out of the regions where two t2 fit at once (a box holding cans),
+    /// where "region k is empty" would wrongly become a precondition of putting one more in.
+    pub clear: Switch,
+    /// Whether `nowhere_<t1>_<t2>_<k>(y)` relations ("y is in region k of no t1") are invented.
+    /// `auto` (the default) leaves them out of the regions where y fits in two t1 at once.
+    pub nowhere: Switch,
+}
+
+/// A relation family's switch: `on`, `off`, or `auto` (decided per region by the shapes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Switch {
+    /// For every region of the pair.
+    On,
+    /// For no region of the pair.
+    Off,
+    /// For the regions where the learner's capacity test says one at a time.
+    Auto,
 }
 
 impl PairSettings {
@@ -35,7 +49,8 @@ impl PairSettings {
         threshold: 0.5,
         max_components: 6,
         likelihood_cover: 0.99,
-        clear: true,
+        clear: Switch::Auto,
+        nowhere: Switch::Auto,
     };
 }
 

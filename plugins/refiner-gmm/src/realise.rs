@@ -27,7 +27,7 @@ pub(crate) enum RelationKind {
     Outside { pair: usize },
 }
 
-/// The meaning of `predicate`, or `None` for clear relations and unknown names.
+/// The meaning of `predicate`, or `None` for clear and nowhere relations and unknown names.
 pub(crate) fn relation_kind(artifact: &SamplerArtifact, predicate: &str) -> Option<RelationKind> {
     artifact.pairs.iter().enumerate().find_map(|(pair, entry)| {
         if predicate == format!("{}_{}_0", entry.primary, entry.secondary) {

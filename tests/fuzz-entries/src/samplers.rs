@@ -132,11 +132,16 @@ mod tests {
 
     #[test]
     fn a_valid_file_is_read_sampled_and_abstracted() {
-        let region = ArtifactRegion { relation: "surface_can_1".into(), g: 0, model: model() };
+        let region = ArtifactRegion {
+            relation: "surface_can_1".into(),
+            g: 0,
+            clear: true,
+            nowhere: true,
+            model: model(),
+        };
         let pair = ArtifactPair {
             primary: "surface".into(),
             secondary: "can".into(),
-            clear: true,
             regions: vec![region],
         };
         let artifact =

@@ -139,7 +139,7 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
 
     let model = timings.time("learn", || {
         let spinner = spinner("learning regions, relations and actions");
-        let model = lamp_build::learn_model(&spec, &demonstrations);
+        let model = lamp_build::learn_model(&spec, &world, &demonstrations);
         spinner.finish_and_clear();
         model
     })?;

@@ -3,7 +3,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::{Checker, Declared};
-use crate::ast::{DemoSource, Item, LearnItem, TypeItem, Value};
+use crate::ast::{DemoSource, Item, LearnItem, Name, Ros2Object, Ros2Robot, Text, TypeItem, Value};
 use crate::diagnostics::{SpecError, at, did_you_mean};
 use crate::source::Span;
 use lamp_spec::limits;
@@ -130,24 +130,22 @@ impl Checker<'_> {
         items: &[Item],
         declared: &Declared,
     ) -> Vec<lamp_spec::DemoSource> {
-        let _ = declared;
         let mut sources = Vec::new();
         for item in items {
             let Item::Demonstrations { sources: written } = item else { continue };
             for source in written {
                 match source {
                     DemoSource::Files(pattern) => {
-                        let path = self.spec_path(pattern);
-                        if self.glob(&path).is_empty() {
-                            self.report(at(pattern.span, |at| SpecError::MissingFile {
-                                path: pattern.text.clone(),
-                                at,
-                                help: "No file matches this pattern (relative to the spec's folder); `*` matches within one folder.".to_string(),
-                            }));
-                        } else {
-                            sources.push(lamp_spec::DemoSource::Files {
-                                pattern: path.display().to_string(),
-                            });
+                        if let Some(pattern) = self.demo_files(pattern) {
+                            sources.push(lamp_spec::DemoSource::Files { pattern, ros2: None });
+                        }
+                    }
+                    DemoSource::Ros2 { pattern, objects, robots } => {
+                        let mapping = self.ros2_mapping(pattern, objects, robots, declared);
+                        if let (Some(pattern), Some(mapping)) = (self.demo_files(pattern), mapping)
+                        {
+                            let ros2 = Some(mapping);
+                            sources.push(lamp_spec::DemoSource::Files { pattern, ros2 });
                         }
                     }
                     DemoSource::Simulate { demonstrator, options } => {
@@ -159,6 +157,95 @@ impl Checker<'_> {
             }
         }
         sources
+    }
+
+    /// The pattern of a `files` source, relative to the spec's folder, if any file matches it.
+    fn demo_files(&mut self, pattern: &Text) -> Option<String> {
+        let path = self.spec_path(pattern);
+        if self.glob(&path).is_empty() {
+            self.report(at(pattern.span, |at| SpecError::MissingFile {
+                path: pattern.text.clone(),
+                at,
+                help: "No file matches this pattern (relative to the spec's folder); `*` matches within one folder.".to_string(),
+            }));
+            return None;
+        }
+        Some(path.display().to_string())
+    }
+
+    /// The frame mapping of a `files … as ros2 { … }` source: declared types and robot, each
+    /// object and frame once, at least one object, at most one robot.
+    fn ros2_mapping(
+        &mut self,
+        pattern: &Text,
+        objects: &[Ros2Object],
+        robots: &[Ros2Robot],
+        declared: &Declared,
+    ) -> Option<lamp_spec::Ros2Mapping> {
+        let errors_before = self.diagnostics.len();
+        let (mut names, mut frames) = (BTreeMap::new(), BTreeMap::new());
+        let mut mapped = Vec::new();
+        for object in objects {
+            let frame = object.frame.as_ref().map_or_else(
+                || object.name.clone(),
+                |frame| Name { text: frame.text.clone(), span: frame.span },
+            );
+            let known = self.object_type(declared, &object.type_name);
+            if known
+                & self.declare(&mut names, "object", &object.name)
+                & self.declare(&mut frames, "tf frame", &frame)
+            {
+                mapped.push(lamp_spec::FrameObject {
+                    frame: frame.text,
+                    name: object.name.text.clone(),
+                    type_name: object.type_name.text.clone(),
+                });
+            }
+        }
+        if objects.is_empty() {
+            self.missing(
+                pattern.span,
+                "an `object` of the ros2 mapping",
+                "Map each tf frame to an object: `object can can1 frame \"can_1\"`.",
+            );
+        }
+        let mut robot = None;
+        let mut first = None;
+        for written in robots {
+            if !self.once(&mut first, "the robot of a ros2 mapping", written.robot.span) {
+                continue;
+            }
+            let name = &written.robot;
+            if !declared.robots.contains_key(&name.text) {
+                if !declared.invalid_robots.contains(&name.text) {
+                    let help = did_you_mean(&name.text, declared.robots.keys().map(String::as_str));
+                    self.report(at(name.span, |at| SpecError::UnknownRobot {
+                        name: name.text.clone(),
+                        at,
+                        help,
+                    }));
+                }
+                continue;
+            }
+            if let Some(topic) = written.held_topic.as_ref().filter(|t| !t.text.starts_with('/')) {
+                self.report(at(topic.span, |at| SpecError::OutOfRange {
+                    what: "the held topic".to_string(),
+                    expected: "a ROS topic name starting with `/`".to_string(),
+                    at,
+                }));
+                continue;
+            }
+            let frame = Name { text: written.frame.text.clone(), span: written.frame.span };
+            if self.declare(&mut frames, "tf frame", &frame) {
+                robot = Some(lamp_spec::FrameRobot {
+                    robot: name.text.clone(),
+                    base_frame: frame.text,
+                    held_topic: written.held_topic.as_ref().map(|topic| topic.text.clone()),
+                });
+            }
+        }
+        (self.diagnostics.len() == errors_before)
+            .then_some(lamp_spec::Ros2Mapping { objects: mapped, robot })
     }
 
     fn simulated(

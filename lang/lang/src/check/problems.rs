@@ -309,7 +309,7 @@ impl Checker<'_> {
         objects: &Objects,
     ) -> Option<lamp_spec::GoalAtom> {
         let Some(signature) = signature(&relation.text, declared) else {
-            let help = "Goal relations are learned names `<primary>_<secondary>_<k>` and `clear_<primary>_<secondary>_<k>` over declared types, or aliases declared with `relation`.".to_string();
+            let help = "Goal relations are learned names `<primary>_<secondary>_<k>`, `clear_<primary>_<secondary>_<k>` and `nowhere_<primary>_<secondary>_<k>` over declared types, or aliases declared with `relation`.".to_string();
             let help =
                 match did_you_mean(&relation.text, declared.aliases.keys().map(String::as_str)) {
                     Some(suggestion) => format!("{suggestion} {help}"),
@@ -360,7 +360,8 @@ pub(crate) fn part_instance(robot: &str, part: &str) -> String {
     format!("{robot}_{part}")
 }
 
-/// Argument types of a goal relation: an alias, `clear_<t1>_<t2>_<k>` or `<t1>_<t2>_<k>`.
+/// Argument types of a goal relation: an alias, `clear_<t1>_<t2>_<k>` (a t1), `nowhere_<t1>_<t2>_<k>` (a t2) or
+/// `<t1>_<t2>_<k>`.
 fn signature(name: &str, declared: &Declared) -> Option<Vec<String>> {
     if let Some(alias) = declared.aliases.get(name) {
         return Some(alias.parameters.to_vec());
@@ -369,6 +370,11 @@ fn signature(name: &str, declared: &Declared) -> Option<Vec<String>> {
         && let Some((primary, _)) = split_pair(rest, declared)
     {
         return Some(vec![primary]);
+    }
+    if let Some(rest) = name.strip_prefix("nowhere_")
+        && let Some((_, secondary)) = split_pair(rest, declared)
+    {
+        return Some(vec![secondary]);
     }
     split_pair(name, declared).map(|(primary, secondary)| vec![primary, secondary])
 }

@@ -438,7 +438,7 @@ fn learn(
     let started = Instant::now();
     let subset: Vec<lamp_learn::Demonstration> =
         work.indices.iter().map(|&index| demonstrations[index].clone()).collect();
-    let model = lamp_build::learn_model(context.spec, &subset)
+    let model = lamp_build::learn_model(context.spec, context.world, &subset)
         .and_then(|model| lamp_build::artifacts(context, &model, &subset, work.digest))
         .map_err(|error| {
             let code = error.code().map(|code| format!("{code}: ")).unwrap_or_default();

@@ -1,0 +1,57 @@
+//! The `clear` and `nowhere` switches of the `learn` block, and goals over the relations they invent.
+
+mod common;
+
+use common::{VALID, check, codes, render};
+use lamp_spec::Switch;
+
+fn with(from: &str, to: &str) -> String {
+    assert!(VALID.contains(from), "`{from}` is not in the valid spec");
+    VALID.replacen(from, to, 1)
+}
+
+#[test]
+fn switches_default_to_auto_and_take_on_off_and_auto_per_block() {
+    let outcome = check(VALID);
+    let spec = outcome.spec.expect("the valid spec checks");
+    assert_eq!(
+        (spec.learning.defaults.clear, spec.learning.defaults.nowhere),
+        (Switch::Auto, Switch::Auto)
+    );
+
+    let source = with(
+        "  threshold 0.5\n  pair gripper can { position bins (9, 9, 9) range (0.3, 0.3, 0.3) m }",
+        "  threshold 0.5\n  clear off\n  pair gripper can { position bins (9, 9, 9) range (0.3, 0.3, 0.3) m  clear auto  nowhere on }\n  pair surface can { nowhere off }",
+    );
+    let outcome = check(&source);
+    let spec = outcome.spec.unwrap_or_else(|| panic!("{}", render(&check(&source))));
+    let learning = &spec.learning;
+    assert_eq!((learning.defaults.clear, learning.defaults.nowhere), (Switch::Off, Switch::Auto));
+    let gripper_can = learning.settings("gripper", "can");
+    assert_eq!((gripper_can.clear, gripper_can.nowhere), (Switch::Auto, Switch::On));
+    // An override inherits the block's defaults for what it does not say.
+    let surface_can = learning.settings("can", "surface");
+    assert_eq!((surface_can.clear, surface_can.nowhere), (Switch::Off, Switch::Off));
+}
+
+#[test]
+fn a_repeated_switch_and_an_unknown_word_are_reported() {
+    let repeated = with("  threshold 0.5\n", "  threshold 0.5\n  nowhere on\n  nowhere off\n");
+    assert_eq!(codes(&check(&repeated)), ["lamp::check::duplicate_setting"]);
+    let unknown = with("  threshold 0.5\n", "  threshold 0.5\n  nowhere maybe\n");
+    let outcome = check(&unknown);
+    assert_eq!(codes(&outcome), ["lamp::parse::syntax"]);
+    assert!(render(&outcome).contains("`on`, `off` or `auto`"), "{}", render(&outcome));
+}
+
+#[test]
+fn goals_may_name_clear_and_nowhere_relations_with_their_argument_types() {
+    let goal = |atom: &str| check(&with("    surface_can_1(box1, c1)", atom));
+    for good in ["    nowhere_surface_can_1(c1)", "    clear_surface_can_1(box1)"] {
+        let outcome = goal(good);
+        assert!(outcome.diagnostics.is_empty(), "{good}: {}", render(&outcome));
+    }
+    // `nowhere_…` is about the secondary (a can), `clear_…` about the primary (a surface).
+    assert_eq!(codes(&goal("    nowhere_surface_can_1(box1)")), ["lamp::goal::argument_type"]);
+    assert_eq!(codes(&goal("    clear_surface_can_1(c1)")), ["lamp::goal::argument_type"]);
+}
