@@ -20,6 +20,11 @@ pub enum BuildError {
         searched: String,
     },
 
+    /// A ROS 2 bag could not be read as a demonstration with its source's frame mapping.
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Ros2(#[from] Box<crate::ros2::Ros2Error>),
+
     /// A demonstration file could not be read from disk.
     #[error("cannot read demonstration {file}: {reason}")]
     #[diagnostic(code(lamp::build::read), help("Check that the file exists and is readable."))]

@@ -39,7 +39,7 @@ pub fn demo_patterns(
     let simulated = build_dir.join(SIMULATED_DEMOS_DIR).join("*.mcap");
     for source in &spec.demonstrations {
         let pattern = match source {
-            DemoSource::Files { pattern } => spec_dir.join(pattern),
+            DemoSource::Files { pattern, .. } => spec_dir.join(pattern),
             DemoSource::Simulated { .. } => simulated.clone(),
         };
         if !patterns.contains(&pattern) {

@@ -13,6 +13,7 @@
 use std::collections::BTreeMap;
 
 use lamp_robot::Robot;
+pub use lamp_spec::{FrameObject, FrameRobot, Ros2Mapping};
 use lamp_trajectory::{
     BodyDescription, RobotDescription, RobotState, Step, Trajectory, TrajectoryError,
     TrajectoryHeader, read_standard_channels,
@@ -26,37 +27,6 @@ pub const MAX_FRAME_JUMP: f64 = 0.5;
 
 /// How many links a chain of tf frames may have before it counts as a cycle.
 const MAX_TREE_DEPTH: usize = 1000;
-
-/// Which tf frame is which object.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct FrameObject {
-    /// The tf frame id, for example `can_1`.
-    pub frame: String,
-    /// The object's name in the demonstration.
-    pub name: String,
-    /// The object's type in the spec.
-    pub type_name: String,
-}
-
-/// Which tf frame carries a robot, and where its grasps are read from.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct FrameRobot {
-    /// The spec robot.
-    pub robot: String,
-    /// The tf frame of the robot's root link; the robot's mount coordinates are read from its
-    /// world pose, its joints from `/joint_states` by their URDF names.
-    pub base_frame: String,
-    /// A `std_msgs/msg/String` topic naming the frame the robot's gripper holds (empty: none).
-    pub held_topic: Option<String>,
-}
-
-/// The mapping from a bag's frames to a demonstration's objects and robot.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Ros2Mapping {
-    /// The objects, in the order the demonstration lists them.
-    pub objects: Vec<FrameObject>,
-    pub robot: Option<FrameRobot>,
-}
 
 /// The robot a mapping's robot is in the spec: its model and gripper.
 #[derive(Debug, Clone)]
@@ -131,6 +101,35 @@ pub enum Ros2Error {
         help("record the robot's joint states on `/joint_states` under the URDF's joint names")
     )]
     MissingJoint { file: String, robot: String, joint: String },
+}
+
+/// A demonstration file of a `files … as ros2 { … }` source as the lamp trajectory file the
+/// adapter reads: the bag read with `mapping` against `world`'s robot, written back in lamp's
+/// format (its name unchanged).
+pub fn ros2_demo_file(
+    world: &lamp_world::SpecWorld,
+    mapping: &Ros2Mapping,
+    file: &crate::DemoFile,
+) -> Result<crate::DemoFile, crate::BuildError> {
+    let spec = world.spec();
+    let robot = match &mapping.robot {
+        Some(mapped) => {
+            let unknown = || lamp_world::WorldError::UnknownName {
+                what: "robot",
+                name: mapped.robot.clone(),
+            };
+            let model = world.robots.get(&mapped.robot).ok_or_else(unknown)?;
+            let spec_robot = spec.robot(&mapped.robot).ok_or_else(unknown)?;
+            let gripper = spec_robot.gripper_part().map(|part| part.type_name.clone());
+            Some(MappedRobot { model, gripper })
+        }
+        None => None,
+    };
+    let trajectory =
+        ros2_trajectory(&file.bytes, &file.name, &spec.domain, mapping, robot.as_ref())
+            .map_err(Box::new)?;
+    let bytes = trajectory.to_bytes().map_err(|error| Box::new(Ros2Error::Read(error)))?;
+    Ok(crate::DemoFile { name: file.name.clone(), bytes })
 }
 
 /// Reads the bag `bytes` (named `file` in errors) as a demonstration of `domain` with `mapping`.

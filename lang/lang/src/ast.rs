@@ -161,8 +161,10 @@ pub enum LearnItem {
     Rotation(Quantity, Span),
     Components(Quantity, Span),
     Likelihood(Quantity, Span),
-    /// `clear on` / `clear off`: whether `clear_…` relations are invented.
-    Clear(bool, Span),
+    /// `clear on|off|auto`: whether `clear_…` relations are invented.
+    Clear(lamp_spec::Switch, Span),
+    /// `nowhere on|off|auto`: whether `nowhere_…` relations are invented.
+    Nowhere(lamp_spec::Switch, Span),
     Pair {
         first: Name,
         second: Name,

@@ -139,7 +139,7 @@ fn describe(rule: Rule) -> &'static str {
             "a shape (box, cylinder, sphere, mesh)"
         }
         Rule::mesh_mode => "`convex` or `trimesh`",
-        Rule::switch => "`on` or `off`",
+        Rule::switch => "`on`, `off` or `auto`",
         Rule::at => "`at`",
         Rule::simulate | Rule::files => "a demonstration source (simulate, files)",
         Rule::ros2_map => "`as ros2 {`",
@@ -152,9 +152,10 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::components
         | Rule::likelihood
         | Rule::clear
+        | Rule::nowhere
         | Rule::pair_override
         | Rule::ignore_pair => {
-            "a learning setting (threshold, position, rotation, components, likelihood, clear, pair, ignore pair)"
+            "a learning setting (threshold, position, rotation, components, likelihood, clear, nowhere, pair, ignore pair)"
         }
         Rule::placement => "a placement `TYPE NAME at POSE`",
         Rule::scene_inline | Rule::scene_ref | Rule::goal => "`scene` or `goal`",
@@ -471,7 +472,8 @@ impl Lower {
             Rule::rotation => LearnItem::Rotation(self.quantity(next()), span),
             Rule::components => LearnItem::Components(self.quantity(next()), span),
             Rule::likelihood => LearnItem::Likelihood(self.quantity(next()), span),
-            Rule::clear => LearnItem::Clear(next().as_str() == "on", span),
+            Rule::clear => LearnItem::Clear(switch(next().as_str()), span),
+            Rule::nowhere => LearnItem::Nowhere(switch(next().as_str()), span),
             Rule::pair_override => {
                 let first = self.name(next());
                 let second = self.name(next());
@@ -566,5 +568,14 @@ impl Lower {
             _ => PluginRef::Builtin(self.name(source)),
         };
         Plugin { kind, source, options: self.options(inner.next()), span }
+    }
+}
+
+/// The value of a `switch` (the grammar allows only these three words).
+fn switch(word: &str) -> lamp_spec::Switch {
+    match word {
+        "on" => lamp_spec::Switch::On,
+        "off" => lamp_spec::Switch::Off,
+        _ => lamp_spec::Switch::Auto,
     }
 }

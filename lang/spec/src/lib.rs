@@ -12,7 +12,7 @@ mod problem;
 mod robot;
 mod world;
 
-pub use learning::{Learning, PairSettings, TypePair};
+pub use learning::{Learning, PairSettings, Switch, TypePair};
 pub use plugins::{
     OptionKind, OptionRule, OptionValue, PluginChoice, PluginKind, PluginSource, Plugins,
 };

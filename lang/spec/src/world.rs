@@ -46,11 +46,44 @@ pub enum MeshMode {
     TriMesh,
 }
 
+/// Which tf frame of a ROS 2 bag is which object.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FrameObject {
+    /// The tf frame id, for example `can_1`.
+    pub frame: String,
+    /// The object's name in the demonstration.
+    pub name: String,
+    /// The object's type.
+    pub type_name: String,
+}
+
+/// Which tf frame of a ROS 2 bag carries a robot, and where its grasps are read from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FrameRobot {
+    /// The spec robot.
+    pub robot: String,
+    /// The tf frame of the robot's root link; the robot's mount coordinates are read from its
+    /// world pose, its joints from `/joint_states` by their URDF names.
+    pub base_frame: String,
+    /// A `std_msgs/msg/String` topic naming the frame the robot's gripper holds (empty: none).
+    pub held_topic: Option<String>,
+}
+
+/// How a ROS 2 bag of standard messages maps to a demonstration: which frames are the objects
+/// and the robot.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Ros2Mapping {
+    /// The objects, in the order the demonstration lists them.
+    pub objects: Vec<FrameObject>,
+    pub robot: Option<FrameRobot>,
+}
+
 /// Where demonstrations come from.
 #[derive(Clone, Debug, PartialEq)]
 pub enum DemoSource {
-    /// Recorded files matching a glob pattern relative to the spec's folder.
-    Files { pattern: String },
+    /// Recorded files matching a glob pattern relative to the spec's folder: lamp trajectory
+    /// files, or, with a mapping, ROS 2 bags of standard messages (`files … as ros2 { … }`).
+    Files { pattern: String, ros2: Option<Ros2Mapping> },
     /// A simulated demonstrator shipped with lamp.
     Simulated {
         demonstrator: String,

@@ -6,7 +6,7 @@
 //! replaced as a whole once every artifact is computed (written into a staging folder beside it,
 //! then swapped in), under a lock that refuses a second build into the same folder.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -108,6 +108,10 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
     // Before any demonstration is read: a scene the solver cannot start from is a broken spec.
     lamp_build::check_initial_scenes(&spec, &world)?;
     let paths = find_demonstrations(&spec, &spec_dir, &build_dir, args.demos.as_deref())?;
+    let bags = match args.demos {
+        Some(_) => BTreeMap::new(),
+        None => ros2_bags(&spec, &spec_dir),
+    };
     let folder = OutputFolder::new(&build_dir.join(lamp_build::MODEL_DIR))?;
     *model = Some(folder.path().to_path_buf());
     let lock = folder.lock("build")?;
@@ -128,7 +132,10 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
                 file: path.display().to_string(),
                 reason: error.to_string(),
             })?;
-            let file = DemoFile { name, bytes };
+            let mut file = DemoFile { name, bytes };
+            if let Some(mapping) = bags.get(path) {
+                file = lamp_build::ros2_demo_file(&world, mapping, &file)?;
+            }
             demonstrations.push(adapter.demonstration(&file)?);
             files.push(file);
             progress.inc(1);
@@ -188,6 +195,23 @@ pub(crate) fn find_demonstrations(
         return Err(BuildError::NoDemonstrations { searched });
     }
     Ok(paths.into_iter().collect())
+}
+
+/// The files of the spec's `files … as ros2 { … }` sources, each with its frame mapping (a file
+/// two such sources match is read with the first one's).
+fn ros2_bags<'a>(
+    spec: &'a lamp_spec::Spec,
+    spec_dir: &Path,
+) -> BTreeMap<PathBuf, &'a lamp_spec::Ros2Mapping> {
+    let mut bags = BTreeMap::new();
+    for source in &spec.demonstrations {
+        if let lamp_spec::DemoSource::Files { pattern, ros2: Some(mapping) } = source {
+            for path in crate::files::glob_files(&spec_dir.join(pattern)).0 {
+                bags.entry(path).or_insert(mapping);
+            }
+        }
+    }
+    bags
 }
 
 /// A bar on a terminal, nothing at all otherwise (CI logs stay clean).

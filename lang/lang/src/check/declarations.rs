@@ -482,9 +482,14 @@ impl Checker<'_> {
                         out.likelihood_cover = v;
                     }
                 }
-                LearnItem::Clear(on, span) => {
+                LearnItem::Clear(switch, span) => {
                     if self.once(&mut seen.clear, "`clear`", *span) {
-                        out.clear = *on;
+                        out.clear = *switch;
+                    }
+                }
+                LearnItem::Nowhere(switch, span) => {
+                    if self.once(&mut seen.nowhere, "`nowhere`", *span) {
+                        out.nowhere = *switch;
                     }
                 }
                 LearnItem::Pair { .. } | LearnItem::IgnorePair(..) => {}
@@ -604,4 +609,5 @@ struct Settings {
     components: Option<Span>,
     likelihood: Option<Span>,
     clear: Option<Span>,
+    nowhere: Option<Span>,
 }
