@@ -83,60 +83,44 @@ fn pair_section(out: &mut String, learned: &LearnedPair) {
         pair.pair.stem()
     );
     for region in &learned.regions {
-        let _ = writeln!(out, "{}", clear_line(primary, secondary, region));
-        let _ = writeln!(out, "{}", nowhere_line(primary, secondary, region));
+        let _ = writeln!(out, "{}", side_line(primary, secondary, region, true));
+        let _ = writeln!(out, "{}", side_line(primary, secondary, region, false));
     }
     let _ = writeln!(out);
 }
 
-/// What `clear_<relation>` means for one region, or why it does not exist.
-fn clear_line(primary: &str, secondary: &str, region: &Region) -> String {
-    let name = format!("clear_{}", region.relation);
+/// What one side's relation of a region means (`clear_…` when `clear`, else `nowhere_…`), or why it does not exist.
+fn side_line(primary: &str, secondary: &str, region: &Region, clear: bool) -> String {
     let k = region.index;
-    let side = region.summary.sides.clear;
+    let sides = &region.summary.sides;
+    let (word, side) = if clear { ("clear", sides.clear) } else { ("nowhere", sides.nowhere) };
+    let name = format!("{word}_{}", region.relation);
+    // The type whose capacity is in question, and the one whose region holds it.
+    let (many, holder) = if clear {
+        (format!("two {}", plural(secondary)), format!("a {primary}"))
+    } else {
+        (format!("a {secondary}"), format!("two {}", plural(primary)))
+    };
     let why = match side.reason {
-        SideReason::Setting => format!("`clear {}`", if side.on { "on" } else { "off" }),
-        SideReason::TwoFit => {
-            format!("two {} fit in region {k} of a {primary} at once", plural(secondary))
-        }
-        SideReason::OneAtATime => {
-            format!("two {} cannot be in region {k} of a {primary} at once", plural(secondary))
-        }
-        SideReason::UnknownShape => format!("the {secondary}'s shape is unknown"),
-        SideReason::RobotPart => {
+        SideReason::Setting => format!("`{word} {}`", if side.on { "on" } else { "off" }),
+        SideReason::TwoFit if clear => format!("{many} fit in region {k} of {holder} at once"),
+        SideReason::TwoFit => format!("{many} can be in region {k} of {holder} at once"),
+        SideReason::OneAtATime => format!("{many} cannot be in region {k} of {holder} at once"),
+        SideReason::RobotPart if clear => {
             format!("the {primary} is a robot part and goes to one {secondary} at a time")
         }
-    };
-    if side.on {
-        format!("- `{name}({primary})`: no {secondary} is in region {k} of the {primary} ({why}).")
-    } else {
-        format!("- no `{name}`: {why}.")
-    }
-}
-
-/// What `nowhere_<relation>` means for one region, or why it does not exist.
-fn nowhere_line(primary: &str, secondary: &str, region: &Region) -> String {
-    let name = format!("nowhere_{}", region.relation);
-    let k = region.index;
-    let side = region.summary.sides.nowhere;
-    let why = match side.reason {
-        SideReason::Setting => format!("`nowhere {}`", if side.on { "on" } else { "off" }),
-        SideReason::TwoFit => {
-            format!("a {secondary} can be in region {k} of two {} at once", plural(primary))
-        }
-        SideReason::OneAtATime => {
-            format!("a {secondary} cannot be in region {k} of two {} at once", plural(primary))
-        }
         SideReason::UnknownShape | SideReason::RobotPart => {
-            format!("the {primary}'s shape is unknown")
+            format!("the {}'s shape is unknown", if clear { secondary } else { primary })
         }
     };
-    if side.on {
-        format!(
+    match (side.on, clear) {
+        (false, _) => format!("- no `{name}`: {why}."),
+        (true, true) => format!(
+            "- `{name}({primary})`: no {secondary} is in region {k} of the {primary} ({why})."
+        ),
+        (true, false) => format!(
             "- `{name}({secondary})`: the {secondary} is in region {k} of no {primary} ({why})."
-        )
-    } else {
-        format!("- no `{name}`: {why}.")
+        ),
     }
 }
 
