@@ -359,42 +359,25 @@ fn check_demonstration(world: &SpecWorld, urdf_path: &Path, trajectory: &Traject
     }
 }
 
-fn readers_available() -> bool {
-    python_oracle("mcap, mcap_ros2.decoder", "mcap mcap-ros2-support")
+/// Generates one whole demonstration of `demonstrator` with `seed` and checks its channels, when
+/// the Python readers are there.
+fn check_domain(demonstrator: Demonstrator, seed: u64) {
+    if !python_oracle("mcap, mcap_ros2.decoder", "mcap mcap-ros2-support") {
+        return;
+    }
+    let (spec, world) = support::domain(demonstrator.name());
+    let simulation = Simulation { demonstrator, count: 1, cut_fraction: 0.0, objects: 1, seed };
+    let demo = generate(&world, &simulation, 0).unwrap();
+    let urdf = domains_dir().join(demonstrator.name()).join(&spec.robots[0].urdf);
+    check_demonstration(&world, &urdf, &demo.trajectory);
 }
 
 #[test]
 fn a_packing_demonstration_decodes_with_every_standard_channel_consistent() {
-    if !readers_available() {
-        return;
-    }
-    let (spec, world) = support::domain("packing");
-    let simulation = Simulation {
-        demonstrator: Demonstrator::Packing,
-        count: 1,
-        cut_fraction: 0.0,
-        objects: 1,
-        seed: 5,
-    };
-    let demo = generate(&world, &simulation, 0).unwrap();
-    let urdf = domains_dir().join("packing").join(&spec.robots[0].urdf);
-    check_demonstration(&world, &urdf, &demo.trajectory);
+    check_domain(Demonstrator::Packing, 5);
 }
 
 #[test]
 fn a_cafe_demonstration_decodes_with_every_standard_channel_consistent() {
-    if !readers_available() {
-        return;
-    }
-    let (spec, world) = support::domain("cafe");
-    let simulation = Simulation {
-        demonstrator: Demonstrator::Cafe,
-        count: 1,
-        cut_fraction: 0.0,
-        objects: 1,
-        seed: 3,
-    };
-    let demo = generate(&world, &simulation, 0).unwrap();
-    let urdf = domains_dir().join("cafe").join(&spec.robots[0].urdf);
-    check_demonstration(&world, &urdf, &demo.trajectory);
+    check_domain(Demonstrator::Cafe, 3);
 }
