@@ -12,8 +12,8 @@ use crate::synthetic::{
     DiscShapes, GRASP_HEIGHT, packing_config, packing_demonstrations, packing_shapes,
 };
 use crate::{
-    Model, NoShapes, Pose, RegionSides, SideReason, abstract_state, domain_text, learn,
-    vocabulary_report,
+    Model, NoShapes, Pose, RegionSides, SideReason, Switch, TypePair, abstract_state, domain_text,
+    learn, vocabulary_report,
 };
 
 const DEMONSTRATIONS: usize = 40;
@@ -90,6 +90,24 @@ fn without_shapes_every_auto_side_is_on() {
         .find(|action| action.add.iter().any(|atom| atom.predicate == "surface_can_1"))
         .expect("a place action");
     assert!(strings(&place.preconditions).contains(&"(clear_surface_can_1 ?surface_p1)".into()));
+}
+
+#[test]
+fn settings_on_and_off_override_the_shapes_and_the_report_says_so() {
+    let mut config = packing_config();
+    let surface_can = config.pairs.get_mut(&TypePair::new("surface", "can")).expect("configured");
+    surface_can.clear = Switch::On;
+    surface_can.nowhere = Switch::Off;
+    let demonstrations = packing_demonstrations(DEMONSTRATIONS, DEMONSTRATION_SEED);
+    let model = learn(&demonstrations, &config, &packing_shapes()).expect("learns");
+    let names: Vec<String> = model.predicates().into_iter().map(|p| p.name).collect();
+    assert!(names.contains(&"clear_surface_can_1".to_string()));
+    assert!(!names.contains(&"nowhere_surface_can_1".to_string()));
+    let report = vocabulary_report(&model);
+    assert!(report.contains(
+        "- `clear_surface_can_1(surface)`: no can is in region 1 of the surface (`clear on`)."
+    ));
+    assert!(report.contains("- no `nowhere_surface_can_1`: `nowhere off`."));
 }
 
 #[test]
