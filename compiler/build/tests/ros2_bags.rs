@@ -184,3 +184,68 @@ fn time_going_backwards_is_refused() {
         "{error}"
     );
 }
+
+/// One Café demonstration (a Fetch: a planar base and arm joints) and its bag.
+fn cafe_bag() -> (lamp_world::SpecWorld, Trajectory, Vec<u8>) {
+    let (spec, world) = lamp_test_support::domain("cafe");
+    let mut simulation = Simulation::from_spec(&spec).unwrap();
+    simulation.count = 1;
+    simulation.cut_fraction = 0.0;
+    let trajectory = generate_all(&world, &simulation, |_| {}).unwrap().remove(0).trajectory;
+    let (channels, values) = lamp_world::standard_channels(&world, &trajectory).unwrap();
+    let bag = strip(&trajectory.to_bytes_with(&channels, &values).unwrap());
+    (world, trajectory, bag)
+}
+
+fn cafe_mapping(trajectory: &Trajectory) -> Ros2Mapping {
+    let mut mapping = mapping(trajectory);
+    mapping.robot = Some(FrameRobot {
+        robot: "fetch".into(),
+        base_frame: "base_link".into(),
+        held_topic: Some("/lamp/held".into()),
+    });
+    mapping
+}
+
+#[test]
+fn a_mobile_arm_is_read_from_its_base_frame_and_joint_states() {
+    let (world, trajectory, bag) = cafe_bag();
+    let robot = MappedRobot { model: &world.robots["fetch"], gripper: Some("gripper".into()) };
+    let read = lamp_build::ros2_trajectory(
+        &bag,
+        "cafe.mcap",
+        "cafe",
+        &cafe_mapping(&trajectory),
+        Some(&robot),
+    )
+    .unwrap();
+    assert_eq!(read.header.robots, trajectory.header.robots);
+    assert_eq!(read.steps.len(), trajectory.steps.len());
+    for (read, original) in read.steps.iter().zip(&trajectory.steps) {
+        assert_eq!(read.body_poses, original.body_poses);
+        let (read, original) = (&read.robots[0], &original.robots[0]);
+        assert_eq!(read.held, original.held);
+        // The base's x, y and yaw go through a pose (yaw within rounding, as an angle in ±π);
+        // joints come from /joint_states as written.
+        for (index, (a, b)) in read.positions.iter().zip(&original.positions).enumerate() {
+            let difference = if index == 2 {
+                (a - b + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                    - std::f64::consts::PI
+            } else {
+                a - b
+            };
+            assert!(difference.abs() < 1e-12, "coordinate {index}: {a} read, {b} written");
+        }
+    }
+    // Without /joint_states the arm's joints are unknown.
+    let no_joints = rewrite(&bag, |topic| topic != "/joint_states", |_, time| time);
+    let error = lamp_build::ros2_trajectory(
+        &no_joints,
+        "cafe.mcap",
+        "cafe",
+        &cafe_mapping(&trajectory),
+        Some(&robot),
+    )
+    .unwrap_err();
+    assert!(matches!(&error, Ros2Error::MissingJoint { robot, .. } if robot == "fetch"), "{error}");
+}
