@@ -222,6 +222,8 @@ struct Solver<'a> {
     link: LinkId,
     target: &'a Pose,
     config: &'a IkConfig,
+    /// The links from the root to `link`: the only poses the error and the Jacobian read.
+    chain: Vec<LinkId>,
     poses: Vec<Pose>,
     jacobian: Matrix6xX<f64>,
     step: Vec<f64>,
@@ -247,6 +249,7 @@ impl<'a> Solver<'a> {
             link,
             target,
             config,
+            chain: robot.chain(link),
             poses: vec![Pose::identity(); robot.link_count()],
             jacobian: Matrix6xX::zeros(robot.dof()),
             step: vec![0.0; group.coordinates.len()],
@@ -273,7 +276,7 @@ impl<'a> Solver<'a> {
     }
 
     fn error_at(&mut self, q: &[f64]) -> Vector6<f64> {
-        self.robot.forward_kinematics(q, &mut self.poses);
+        self.robot.forward_kinematics_chain(q, &self.chain, &mut self.poses);
         pose_error(&self.poses[self.link], self.target)
     }
 
@@ -315,7 +318,7 @@ impl<'a> Solver<'a> {
             } else {
                 damping *= DAMPING_INCREASE;
                 // Restore the poses of `q` for the next Jacobian.
-                self.robot.forward_kinematics(q, &mut self.poses);
+                self.robot.forward_kinematics_chain(q, &self.chain, &mut self.poses);
                 if damping > MAXIMUM_DAMPING {
                     self.candidate = candidate;
                     return false;

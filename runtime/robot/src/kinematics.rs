@@ -45,6 +45,23 @@ impl Robot {
         self.links[link].joint.as_ref().is_some_and(|joint| joint.motion == Motion::Fixed)
     }
 
+    /// World poses of the links of `chain` (root first, each link's parent before it, as
+    /// [`Robot::chain`] lists them) for configuration `q`; other entries of `out` are left as
+    /// they are. What inverse kinematics needs of a link: its chain's poses feed the Jacobian.
+    pub(crate) fn forward_kinematics_chain(&self, q: &[f64], chain: &[LinkId], out: &mut [Pose]) {
+        for &id in chain {
+            let link = &self.links[id];
+            out[id] = match (link.parent, &link.joint) {
+                (Some(parent), Some(joint)) => {
+                    out[parent]
+                        * joint.origin
+                        * joint_motion(&joint.motion, &q[joint.first_coordinate..])
+                }
+                _ => self.mount.root_pose(q),
+            };
+        }
+    }
+
     /// World pose of one link (walks only the link's chain; allocation-free).
     pub fn link_pose(&self, q: &[f64], link: LinkId) -> Pose {
         assert_eq!(q.len(), self.dof(), "configuration length must equal the robot's dof");
