@@ -64,7 +64,7 @@ pub fn report(info: &EvalInfo, rows: &[Row]) -> String {
     let settings = &info.settings;
     let _ = writeln!(
         out,
-        "Solves use `lampc solve`'s settings: planner {}, refiner {}, motion planner {}; {} plan(s) per call, {} rounds, {} wasted candidates per plan, {} RRT-Connect iterations per motion call; goal relaxation {} (a relaxed goal counts as not solved).",
+        "Solves use `lampc solve`'s settings: planner {}, refiner {}, motion planner {}; {} plan(s) per call, {} rounds, at least {} wasted candidates per plan (more for long plans, `docs/solving.md`), {} RRT-Connect iterations per motion call; goal relaxation {} (a relaxed goal counts as not solved).",
         settings.planner,
         settings.refiner,
         settings.motion,

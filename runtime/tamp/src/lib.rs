@@ -28,5 +28,6 @@ mod solve;
 
 pub use error::{Progress, SolveError};
 pub use plugins::Plugins;
+pub use refine::WASTED_PER_STEP;
 pub use solve::{Context, Solution, SolveInput, SolveSettings, solve};
 pub use summary::Summary;

@@ -25,6 +25,21 @@ use crate::planning::plan_from;
 use crate::plugins::Plugins;
 use crate::state::{abstraction, world_state};
 
+/// Wasted candidates a plan may spend per step, once that is more than `max_refused`.
+///
+/// Giving a plan up starts its refinement again from the first step, so a budget that does not
+/// grow with the plan throws away more refined steps the longer the plan is: a 175-step plan
+/// given up after 100 wasted candidates has redone its first 100 steps for nothing, while a
+/// 19-step one has lost little. Five per step is the rate of the least budget (100) on the
+/// 19-step Packing plans it was set for.
+pub const WASTED_PER_STEP: usize = 5;
+
+/// The wasted candidates a plan of `steps` steps may spend: `least`, or [`WASTED_PER_STEP`] per
+/// step when that is more.
+pub fn wasted_budget(least: usize, steps: usize) -> usize {
+    least.max(WASTED_PER_STEP * steps)
+}
+
 /// One level of the backtracking stack: the state before a step and the step's stream.
 struct Level {
     scene: Scene,
@@ -60,8 +75,9 @@ pub enum Refined {
 }
 
 /// Refines `actions` from `initial` so that they reach `goal`, recording into `recorder`.
-/// The plan is given up after `max_refused` wasted candidates: refused ones, accepted ones
-/// backtracked over, and those whose side effect needed a replan.
+/// The plan is given up after `max_refused` wasted candidates, or [`WASTED_PER_STEP`] per step
+/// of a longer plan: refused ones, accepted ones backtracked over, and those whose side effect
+/// needed a replan.
 #[allow(clippy::too_many_arguments)] // the loop's inputs are distinct and all needed
 pub fn refine_plan(
     context: &Context<'_>,
@@ -114,7 +130,7 @@ pub fn refine_plan(
                 recorder.steps.truncate(start_len);
                 return Ok(Refined::Failed);
             };
-            if refused >= context.settings.max_refused {
+            if refused >= wasted_budget(context.settings.max_refused, actions.len()) {
                 recorder.steps.truncate(start_len);
                 return Ok(Refined::Failed);
             }
@@ -228,4 +244,19 @@ pub fn mix(seed: u64, a: u64, b: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^ (z >> 31)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_plans_get_a_budget_in_proportion_to_their_length() {
+        // A Packing plan (19 steps) keeps the least budget; a Café plan of 175 steps gets 875.
+        assert_eq!(wasted_budget(100, 19), 100);
+        assert_eq!(wasted_budget(100, 20), 100);
+        assert_eq!(wasted_budget(100, 21), 105);
+        assert_eq!(wasted_budget(100, 175), 875);
+        assert_eq!(wasted_budget(10, 0), 10);
+    }
 }

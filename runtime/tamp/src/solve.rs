@@ -34,8 +34,9 @@ pub struct SolveSettings<'a> {
     /// Rounds over the plans, each with fresh samples.
     pub rounds: usize,
     /// Wasted candidates per plan before it is given up: refused, backtracked over, or needing a
-    /// replan (the steps of the plan being refined do not count, so long plans get the same
-    /// slack as short ones).
+    /// replan (the steps of the plan being refined do not count). This is the least; a plan of
+    /// more than `max_refused / WASTED_PER_STEP` steps gets
+    /// [`WASTED_PER_STEP`](crate::refine::WASTED_PER_STEP) per step.
     pub max_refused: usize,
     /// Motion settings.
     pub motion: MotionSettings<'a>,
