@@ -8,56 +8,17 @@
 
 mod support;
 
-use std::collections::BTreeMap;
-use std::io::Cursor;
-
 use lamp_build::{DemoFile, FrameObject, FrameRobot, MappedRobot, Ros2Error, Ros2Mapping};
 use lamp_demonstrators::{Simulation, file_name, generate_all};
-use lamp_trajectory::{Trajectory, WORLD_TOPIC};
+use lamp_trajectory::{Trajectory, WORLD_TOPIC, filter_bag};
 use nalgebra::Translation3;
 
 /// Enough demonstrations to learn every relation and action of Packing quickly.
 const DEMOS: u32 = 20;
 
-/// The bag rewritten with the messages `keep` keeps, each at the log time `retime` gives it
-/// (from its topic and log time); channels and schemas as written.
-fn rewrite(
-    bytes: &[u8],
-    keep: impl Fn(&str) -> bool,
-    mut retime: impl FnMut(&str, u64) -> u64,
-) -> Vec<u8> {
-    let mut writer =
-        mcap::WriteOptions::new().profile("ros2").create(Cursor::new(Vec::new())).unwrap();
-    let mut channels = BTreeMap::new();
-    for message in mcap::MessageStream::new(bytes).unwrap() {
-        let message = message.unwrap();
-        let channel = &message.channel;
-        if !keep(&channel.topic) {
-            continue;
-        }
-        let id = *channels.entry(channel.id).or_insert_with(|| {
-            let schema = channel.schema.as_ref().unwrap();
-            let schema = writer.add_schema(&schema.name, &schema.encoding, &schema.data).unwrap();
-            writer
-                .add_channel(schema, &channel.topic, &channel.message_encoding, &channel.metadata)
-                .unwrap()
-        });
-        let log_time = retime(&channel.topic, message.log_time);
-        let header = mcap::records::MessageHeader {
-            channel_id: id,
-            sequence: message.sequence,
-            log_time,
-            publish_time: log_time,
-        };
-        writer.write_to_known_channel(&header, &message.data).unwrap();
-    }
-    writer.finish().unwrap();
-    writer.into_inner().into_inner()
-}
-
-/// The bag without `/lamp/world` (nor the `lamp` metadata, which `rewrite` does not copy).
+/// The bag without `/lamp/world` (nor the `lamp` metadata, which `filter_bag` does not copy).
 fn strip(bytes: &[u8]) -> Vec<u8> {
-    rewrite(bytes, |topic| topic != WORLD_TOPIC, |_, time| time)
+    filter_bag(bytes, "bag", |topic, time| (topic != WORLD_TOPIC).then_some(time)).unwrap()
 }
 
 fn mapping(trajectory: &Trajectory) -> Ros2Mapping {
@@ -169,14 +130,11 @@ fn time_going_backwards_is_refused() {
     let (trajectory, bag) = one_bag(|_| {});
     // The tenth /tf message is logged at time zero, after the ninth at 80 ms.
     let mut tf_seen = 0;
-    let bag = rewrite(
-        &bag,
-        |_| true,
-        |topic, time| {
-            tf_seen += usize::from(topic == "/tf");
-            if topic == "/tf" && tf_seen == 10 { 0 } else { time }
-        },
-    );
+    let bag = filter_bag(&bag, "bag", |topic, time| {
+        tf_seen += usize::from(topic == "/tf");
+        Some(if topic == "/tf" && tf_seen == 10 { 0 } else { time })
+    })
+    .unwrap();
     let error = read(&bag, &mapping(&trajectory)).unwrap_err();
     assert!(matches!(&error, Ros2Error::Timing { .. }), "{error}");
     assert!(
@@ -238,7 +196,8 @@ fn a_mobile_arm_is_read_from_its_base_frame_and_joint_states() {
         }
     }
     // Without /joint_states the arm's joints are unknown.
-    let no_joints = rewrite(&bag, |topic| topic != "/joint_states", |_, time| time);
+    let no_joints =
+        filter_bag(&bag, "bag", |topic, time| (topic != "/joint_states").then_some(time)).unwrap();
     let error = lamp_build::ros2_trajectory(
         &no_joints,
         "cafe.mcap",

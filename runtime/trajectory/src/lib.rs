@@ -24,6 +24,7 @@
 //! # Ok::<(), lamp_trajectory::TrajectoryError>(())
 //! ```
 
+mod bag_filter;
 mod cdr;
 mod chunk;
 mod codec;
@@ -36,6 +37,7 @@ mod standard;
 mod standard_reader;
 mod writer;
 
+pub use bag_filter::filter_bag;
 pub use codec::{MAXIMUM_TIME_NANOSECONDS, QUATERNION_NORM_TOLERANCE};
 pub use error::TrajectoryError;
 pub use model::{

@@ -210,3 +210,29 @@ fn the_standard_channels_read_back_as_written() {
     let held: Vec<&str> = recording.strings["/lamp/held"].iter().map(|(_, t)| t.as_str()).collect();
     assert_eq!(held, ["", "can_0", ""]);
 }
+
+#[test]
+fn a_filtered_copy_keeps_the_chosen_messages_at_the_chosen_times() {
+    let trajectory = common::trajectory(2, 6, 5);
+    let (channels, values) = (channels(&trajectory, true), values(&trajectory));
+    let bytes = trajectory.to_bytes_with(&channels, &values).unwrap();
+    let bag = lamp_trajectory::filter_bag(&bytes, "bag", |topic, time| {
+        (topic != "/lamp/world").then_some(time + 1)
+    })
+    .unwrap();
+    // No lamp record and no /lamp/world: a plain bag of the other channels, one nanosecond later.
+    assert!(matches!(
+        TrajectoryReader::from_bytes(&bag, "bag").err(),
+        Some(TrajectoryError::Schema { .. })
+    ));
+    let (before, after) = (messages(&bytes), messages(&bag));
+    assert!(!after.contains_key("/lamp/world"));
+    assert_eq!(after.len(), before.len() - 1);
+    for (topic, list) in &after {
+        let shifted: Vec<_> = before[topic]
+            .iter()
+            .map(|(time, sequence, data)| (time + 1, *sequence, data.clone()))
+            .collect();
+        assert_eq!(list, &shifted, "{topic}");
+    }
+}
