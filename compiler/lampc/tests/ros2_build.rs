@@ -1,7 +1,8 @@
 //! `lampc build` of a spec whose demonstrations are ROS 2 bags read through a frame mapping
 //! (`files "…" as ros2 { … }`): the files `lampc demos` writes, read only through their standard
-//! channels, learn the domain the same files learn read natively; a mapping that names a frame
-//! the bags lack is a diagnostic naming the frame.
+//! channels, learn the domain the same files learn read natively, also from `--demos DIR` when
+//! the bags hold only standard messages, and `lampc eval` reads them too; a mapping that names a
+//! frame the bags lack is a diagnostic naming the frame.
 
 mod common;
 
@@ -71,6 +72,58 @@ fn bags_read_through_their_standard_channels_learn_the_native_domain() {
     let domain = domain_without_comments(&scratch.path().join("native"));
     assert!(domain.contains("(:action"), "{domain}");
     assert_eq!(domain_without_comments(&scratch.path().join("bags")), domain);
+
+    // The same files without /lamp/world and the lamp record: plain bags, from --demos DIR.
+    let plain = scratch.path().join("plain");
+    std::fs::create_dir_all(&plain).expect("a folder");
+    for entry in std::fs::read_dir(&demos).expect("the demonstrations") {
+        let path = entry.expect("an entry").path();
+        let bytes = std::fs::read(&path).expect("readable");
+        let keep = |topic: &str, time| (topic != lamp_trajectory::WORLD_TOPIC).then_some(time);
+        let bag = lamp_trajectory::filter_bag(&bytes, "bag", keep).expect("a bag");
+        std::fs::write(plain.join(path.file_name().expect("a name")), bag).expect("writes");
+    }
+    let output = lampc([
+        "build".as_ref(),
+        bags.as_os_str(),
+        "--demos".as_ref(),
+        plain.as_os_str(),
+        "--out".as_ref(),
+        scratch.path().join("plain_build").as_os_str(),
+    ]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert_eq!(domain_without_comments(&scratch.path().join("plain_build")), domain);
+    // Without a mapping, such a bag is no demonstration file.
+    let output = lampc([
+        "build".as_ref(),
+        native.as_os_str(),
+        "--demos".as_ref(),
+        plain.as_os_str(),
+        "--out".as_ref(),
+        scratch.path().join("unmapped").as_os_str(),
+    ]);
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("lamp::trajectory::schema"));
+
+    // lampc eval reads the pool of a ros2 source through the mapping too.
+    std::fs::remove_dir_all(&demos).expect("removes the lamp files");
+    std::fs::rename(&plain, &demos).expect("the bags take their place");
+    let output = lampc([
+        "eval".as_ref(),
+        bags.as_os_str(),
+        "--demos".as_ref(),
+        "10".as_ref(),
+        "--runs".as_ref(),
+        "1".as_ref(),
+        "--problems".as_ref(),
+        "pack4_03".as_ref(),
+        "--jobs".as_ref(),
+        "1".as_ref(),
+        "--out".as_ref(),
+        scratch.path().join("eval").as_os_str(),
+    ]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(scratch.path().join("eval/eval.json").is_file());
 
     // The mapping is what reads them: a frame the bags lack is named.
     let wrong = spec_with(scratch.path(), "wrong.lamp", &mapping("can_7"));

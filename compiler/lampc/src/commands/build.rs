@@ -108,10 +108,7 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
     // Before any demonstration is read: a scene the solver cannot start from is a broken spec.
     lamp_build::check_initial_scenes(&spec, &world)?;
     let paths = find_demonstrations(&spec, &spec_dir, &build_dir, args.demos.as_deref())?;
-    let bags = match args.demos {
-        Some(_) => BTreeMap::new(),
-        None => ros2_bags(&spec, &spec_dir),
-    };
+    let bags = BagMappings::new(&spec, &spec_dir, args.demos.is_some());
     let folder = OutputFolder::new(&build_dir.join(lamp_build::MODEL_DIR))?;
     *model = Some(folder.path().to_path_buf());
     let lock = folder.lock("build")?;
@@ -132,10 +129,7 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
                 file: path.display().to_string(),
                 reason: error.to_string(),
             })?;
-            let mut file = DemoFile { name, bytes };
-            if let Some(mapping) = bags.get(path) {
-                file = lamp_build::ros2_demo_file(&world, mapping, &file)?;
-            }
+            let file = bags.read(&world, path, DemoFile { name, bytes })?;
             demonstrations.push(adapter.demonstration(&file)?);
             files.push(file);
             progress.inc(1);
@@ -197,21 +191,62 @@ pub(crate) fn find_demonstrations(
     Ok(paths.into_iter().collect())
 }
 
-/// The files of the spec's `files … as ros2 { … }` sources, each with its frame mapping (a file
-/// two such sources match is read with the first one's).
-fn ros2_bags<'a>(
-    spec: &'a lamp_spec::Spec,
-    spec_dir: &Path,
-) -> BTreeMap<PathBuf, &'a lamp_spec::Ros2Mapping> {
-    let mut bags = BTreeMap::new();
-    for source in &spec.demonstrations {
-        if let lamp_spec::DemoSource::Files { pattern, ros2: Some(mapping) } = source {
-            for path in crate::files::glob_files(&spec_dir.join(pattern)).0 {
-                bags.entry(path).or_insert(mapping);
+/// Which demonstration files are ROS 2 bags read through a frame mapping: those a
+/// `files … as ros2 { … }` source matches (the first such source's mapping), and, with
+/// `--demos DIR`, every file of DIR that holds no `lamp` record when the spec has exactly one
+/// such source.
+pub(crate) struct BagMappings<'a> {
+    by_path: BTreeMap<PathBuf, &'a lamp_spec::Ros2Mapping>,
+    fallback: Option<&'a lamp_spec::Ros2Mapping>,
+}
+
+impl<'a> BagMappings<'a> {
+    pub(crate) fn new(spec: &'a lamp_spec::Spec, spec_dir: &Path, demos_override: bool) -> Self {
+        let mappings: Vec<(&String, &lamp_spec::Ros2Mapping)> = spec
+            .demonstrations
+            .iter()
+            .filter_map(|source| match source {
+                lamp_spec::DemoSource::Files { pattern, ros2: Some(mapping) } => {
+                    Some((pattern, mapping))
+                }
+                _ => None,
+            })
+            .collect();
+        let mut by_path = BTreeMap::new();
+        let mut fallback = None;
+        if demos_override {
+            fallback = match mappings[..] {
+                [(_, mapping)] => Some(mapping),
+                _ => None,
+            };
+        } else {
+            for (pattern, mapping) in mappings {
+                for path in crate::files::glob_files(&spec_dir.join(pattern)).0 {
+                    by_path.entry(path).or_insert(mapping);
+                }
             }
         }
+        BagMappings { by_path, fallback }
     }
-    bags
+
+    /// The file as the adapter reads it: a bag converted to a lamp file, others unchanged.
+    pub(crate) fn read(
+        &self,
+        world: &lamp_world::SpecWorld,
+        path: &Path,
+        file: DemoFile,
+    ) -> Result<DemoFile, BuildError> {
+        let mapping = self.by_path.get(path).copied().or_else(|| {
+            let reader = lamp_trajectory::TrajectoryReader::from_bytes(&file.bytes, "");
+            let no_lamp_record =
+                matches!(reader, Err(lamp_trajectory::TrajectoryError::Schema { .. }));
+            self.fallback.filter(|_| no_lamp_record)
+        });
+        match mapping {
+            Some(mapping) => lamp_build::ros2_demo_file(world, mapping, &file),
+            None => Ok(file),
+        }
+    }
 }
 
 /// A bar on a terminal, nothing at all otherwise (CI logs stay clean).

@@ -80,12 +80,14 @@ pub(super) fn gather(
         entries: Vec::with_capacity(paths.len()),
         generated,
     };
+    let bags = crate::commands::build::BagMappings::new(spec, spec_dir, false);
     for path in &paths {
         let name = lamp_build::demo_name(path, spec_dir);
         let limit = crate::files::DEMONSTRATION_FILE_LIMIT;
         let bytes = crate::files::read_limited(path, limit, "demonstration file")
             .map_err(|error| format!("cannot read {}: {error}", path.display()))?;
-        let file = DemoFile { name, bytes };
+        let file =
+            bags.read(world, path, DemoFile { name, bytes }).map_err(|error| render(&error))?;
         let reader = lamp_trajectory::TrajectoryReader::from_bytes(&file.bytes, file.name.as_str())
             .map_err(|error| render(&error))?;
         let header = reader.header();
