@@ -48,7 +48,7 @@ pub enum Ros2Error {
     #[error("{file} has no `/tf` message")]
     #[diagnostic(
         code(lamp::ros2::no_tf),
-        help("a demonstration bag records the frames' poses on `/tf` (tf2_msgs/msg/TFMessage)")
+        help("A demonstration bag records the frames' poses on `/tf` (tf2_msgs/msg/TFMessage).")
     )]
     NoTf { file: String },
 
@@ -56,7 +56,7 @@ pub enum Ros2Error {
     #[error("{file}: frame `{frame}` {reason}")]
     #[diagnostic(
         code(lamp::ros2::missing_frame),
-        help("check the frame names of the mapping against the bag's `/tf` and `/tf_static`")
+        help("Check the frame names of the mapping against the bag's `/tf` and `/tf_static`.")
     )]
     MissingFrame { file: String, frame: String, reason: String },
 
@@ -67,7 +67,7 @@ pub enum Ros2Error {
     #[diagnostic(
         code(lamp::ros2::jump),
         help(
-            "a frame may move at most 0.5 m between two `/tf` messages; check the tracking or the mapping"
+            "A frame may move at most 0.5 m between two `/tf` messages; check the tracking or the mapping."
         )
     )]
     Jump { file: String, frame: String, time_nanoseconds: u64, distance: f64 },
@@ -77,7 +77,7 @@ pub enum Ros2Error {
     #[diagnostic(
         code(lamp::ros2::timing),
         help(
-            "`/tf` messages must be logged in time order, and each frame's stamps must not decrease"
+            "Log `/tf` messages in time order, with each frame's stamps never decreasing."
         )
     )]
     Timing { file: String, reason: String },
@@ -88,7 +88,7 @@ pub enum Ros2Error {
     )]
     #[diagnostic(
         code(lamp::ros2::held),
-        help("map every frame the robot may hold to an object, or check the held topic")
+        help("Map every frame the robot may hold to an object, or check the held topic.")
     )]
     UnknownHeld { file: String, frame: String, time_nanoseconds: u64 },
 
@@ -98,7 +98,7 @@ pub enum Ros2Error {
     )]
     #[diagnostic(
         code(lamp::ros2::joint),
-        help("record the robot's joint states on `/joint_states` under the URDF's joint names")
+        help("Record the robot's joint states on `/joint_states` under the URDF's joint names.")
     )]
     MissingJoint { file: String, robot: String, joint: String },
 }
