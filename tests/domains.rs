@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use lamp_geometry::{Pose, Shape};
 use lamp_spec::Problem;
 use lamp_tests::workspace_root;
-use lamp_world::Scene;
+use lamp_world::{Scene, SpecWorld};
 
 use lamp_test_support::{check, domain as bundled};
 
@@ -121,11 +121,46 @@ fn packing_has_twelve_sound_four_can_problems() {
     }
 }
 
+/// The Café layouts: the name prefix of their problems and the can counts, in the order of the
+/// spec. The first is the bundled layout (axis-aligned); the others come from
+/// `make_problems.py cafe-layouts` and have yawed surfaces.
+const CAFE_LAYOUTS: [(&str, &[usize]); 4] = [
+    ("cafe", &[2, 2, 3, 4, 4, 6, 8, 8, 10, 16, 17, 18]),
+    ("cafe_l2_", &[4, 12, 24]),
+    ("cafe_l3_", &[8, 18, 30]),
+    ("cafe_l4_", &[6, 12, 18]),
+];
+
+/// How far (rad) a yaw may be from a multiple of 90° and still count as on that multiple: the
+/// spec writes yaws in whole degrees, so anything off the grid is at least a degree off.
+const GRID_YAW_TOLERANCE: f64 = 1e-6;
+
 #[test]
-fn cafe_has_twelve_sound_problems_with_the_promised_can_counts() {
+fn cafe_has_sound_problems_on_four_layouts_with_the_promised_can_counts() {
     let (spec, world) = bundled("cafe");
-    let counts: Vec<usize> = spec.problems.iter().map(|p| objects_of(p, "can").len()).collect();
-    assert_eq!(counts, [2, 2, 3, 4, 4, 6, 8, 8, 10, 16, 17, 18]);
+    let total: usize = CAFE_LAYOUTS.iter().map(|(_, counts)| counts.len()).sum();
+    assert_eq!(spec.problems.len(), total);
+    let mut problems = spec.problems.iter();
+    let mut yawed = Vec::new();
+    for (prefix, counts) in CAFE_LAYOUTS {
+        let group: Vec<&Problem> = problems.by_ref().take(counts.len()).collect();
+        yawed.push(check_cafe_layout(&world, prefix, counts, &group));
+    }
+    // The bundled layout is axis-aligned (table2 turned by 90°); each other one is not.
+    assert_eq!(yawed[0], 0, "surfaces off the 90° grid per layout: {yawed:?}");
+    assert!(yawed[1..].iter().all(|&n| n > 0), "surfaces off the 90° grid per layout: {yawed:?}");
+}
+
+/// Checks the Café problems of one layout and returns how many of its surfaces are yawed at
+/// an angle that is not a multiple of 90°.
+fn check_cafe_layout(
+    world: &SpecWorld,
+    prefix: &str,
+    expected_counts: &[usize],
+    problems: &[&Problem],
+) -> usize {
+    let counts: Vec<usize> = problems.iter().map(|p| objects_of(p, "can").len()).collect();
+    assert_eq!(counts, expected_counts, "the can counts of the `{prefix}` problems");
     let mut seen: BTreeMap<usize, usize> = BTreeMap::new();
     let furniture = |problem: &Problem| -> Vec<(String, String, Pose)> {
         let mut list: Vec<_> = problem
@@ -138,20 +173,43 @@ fn cafe_has_twelve_sound_problems_with_the_promised_can_counts() {
         list.sort_by(|a, b| a.0.cmp(&b.0));
         list
     };
-    let layout = furniture(&spec.problems[0]);
+    let layout = furniture(problems[0]);
     let surfaces: Vec<_> = layout.iter().filter(|(_, t, _)| t == "surface").collect();
+    assert!((4..=6).contains(&surfaces.len()), "{prefix}: 4 to 6 surfaces");
     let tables = surfaces.iter().filter(|(name, _, _)| name.starts_with("table")).count();
-    assert!(tables >= 3, "at least three tables");
-    assert!(surfaces.iter().any(|(name, _, _)| name.starts_with("counter")));
+    assert!(tables >= 3, "{prefix}: at least three tables");
+    assert!(surfaces.iter().any(|(name, _, _)| name.starts_with("counter")), "{prefix}: a counter");
+    for (name, _, pose) in &surfaces {
+        let height = if name.starts_with("table") { 0.73 } else { 0.9 };
+        assert!((pose.translation.vector.z - height).abs() < 1e-9, "{prefix}: {name} height");
+        let (stand, suffix) = if name.starts_with("table") {
+            ("table_leg", "leg")
+        } else {
+            ("counter_cabinet", "cabinet")
+        };
+        let under = format!("{name}_{suffix}");
+        assert!(
+            layout.iter().any(|(n, t, p)| *n == under && t == stand && p == pose),
+            "{prefix}: a {stand} {under} under {name}"
+        );
+    }
+    let yawed = surfaces
+        .iter()
+        .filter(|(_, _, pose)| {
+            let (_, _, yaw) = pose.rotation.euler_angles();
+            let quarter = std::f64::consts::FRAC_PI_2;
+            (yaw / quarter - (yaw / quarter).round()).abs() * quarter > GRID_YAW_TOLERANCE
+        })
+        .count();
     let top_half = |type_name: &str| match &world.type_parts[type_name][0].1 {
         Shape::Box { half_extents } => (half_extents.x, half_extents.y),
         other => panic!("the top of a {type_name} is a box, not {other:?}"),
     };
 
-    for (problem, count) in spec.problems.iter().zip(&counts) {
+    for (problem, count) in problems.iter().zip(&counts) {
         let k = seen.entry(*count).or_insert(0);
         *k += 1;
-        assert_eq!(problem.name, format!("cafe{count}_{:02}", *k));
+        assert_eq!(problem.name, format!("{prefix}{count}_{:02}", *k));
         assert_eq!(furniture(problem), layout, "{}: the same furniture everywhere", problem.name);
         let robot = &problem.scene.robots[0];
         assert_eq!(robot.configuration.as_deref(), Some("tuck"));
@@ -193,4 +251,5 @@ fn cafe_has_twelve_sound_problems_with_the_promised_can_counts() {
         }
         assert!(2 * moving >= *count, "{}: {moving} of {count} cans move", problem.name);
     }
+    yawed
 }

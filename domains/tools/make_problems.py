@@ -1,8 +1,10 @@
 """Generates the bundled test problems of the Packing and Café specs.
 
 Run `python3 domains/tools/make_problems.py packing` (or `cafe`) and paste the printed problem
-blocks into domains/packing/packing.lamp (domains/cafe/cafe.lamp) in place of the old ones.
-The output is deterministic: each domain has a fixed seed, and every layout is checked against
+blocks into domains/packing/packing.lamp (domains/cafe/cafe.lamp) in place of the old ones;
+`cafe-layouts` prints the Café problems on the other furniture layouts, which follow the `cafe`
+ones in domains/cafe/cafe.lamp.
+The output is deterministic: each mode has a fixed seed, and every layout is checked against
 the rules below after rounding, so the printed numbers are the checked ones.
 
 Packing (12 problems pack4_01 … pack4_12): the 0.9 m × 0.9 m table, the open box (outer
@@ -11,11 +13,20 @@ table at z = 0.001 m with random yaw, and the gripper above the table; the goal 
 in the box. Cans keep 2 cm from each other, from the box and from the table's edge.
 pack4_01 is the original hand-written problem, kept as it was (it satisfies the same rules).
 
-Café (12 problems with 2, 2, 3, 4, 4, 6, 8, 8, 10, 16, 17, 18 cans): one furniture layout (four
-tables, one counter, every top a 0.9 m × 0.9 m `surface`, all at least 0.8 m apart so the Fetch base, radius 0.28 m, drives between
+Café, `cafe` (12 problems with 2, 2, 3, 4, 4, 6, 8, 8, 10, 16, 17, 18 cans): one furniture
+layout (four tables, one counter, every top a 0.9 m × 0.9 m `surface`, tables 0.73 m and the
+counter 0.9 m high, all at least 0.8 m apart so the Fetch base, radius 0.28 m, drives between
 them), cans (radius 0.045 m) on the surfaces at surface z + 0.001 m, 3 cm apart and at least
 5 cm from a surface's edge; every can gets a goal surface and at least half of them move.
 The Fetch starts at the floor origin, tucked, more than 1 m from every piece of furniture.
+
+Café, `cafe-layouts` (9 problems cafe_l<layout>_<cans>_<k>): three more layouts drawn from their
+own seed, layout 2 with four tables and a counter (4, 12 and 24 cans), layout 3 with four tables
+and two counters (8, 18 and 30 cans), layout 4 with three tables and a counter (6, 12 and 18
+cans). Every surface has a random position and a random yaw in whole degrees, mostly not a
+multiple of 90°; the same rules hold, checked with exact rotated-rectangle geometry: tops at
+least 0.8 m apart, the origin at least 1 m from every top, every corner of a top within 5 m of
+the origin along each axis. Cans are placed in a surface's frame as above and turned with its yaw.
 
 The bundled tests (tests/domains.rs) check the result with lamp's own collision checker.
 """
@@ -37,13 +48,14 @@ ORIGINAL_PACK4_01 = {
 }
 
 
-def square_distance(px, py, cx, cy, yaw_deg, half):
-    """Distance from point (px, py) to a square of half side `half` centred at (cx, cy), yawed."""
+def rectangle_distance(px, py, cx, cy, yaw_deg, hx, hy):
+    """Distance from point (px, py) to a rectangle of half sizes (hx, hy) centred at (cx, cy),
+    yawed by `yaw_deg` degrees; 0 inside."""
     yaw = math.radians(yaw_deg)
     dx, dy = px - cx, py - cy
     lx = math.cos(yaw) * dx + math.sin(yaw) * dy
     ly = -math.sin(yaw) * dx + math.cos(yaw) * dy
-    ox, oy = max(abs(lx) - half, 0.0), max(abs(ly) - half, 0.0)
+    ox, oy = max(abs(lx) - hx, 0.0), max(abs(ly) - hy, 0.0)
     return math.hypot(ox, oy)
 
 
@@ -57,7 +69,7 @@ def packing_ok(layout):
     for i, (x, y, _) in enumerate(cans):
         if max(abs(x), abs(y)) + CAN_RADIUS > TABLE_HALF - PACK_CLEARANCE:
             return False
-        if square_distance(x, y, bx, by, byaw, BOX_HALF) < CAN_RADIUS + PACK_CLEARANCE:
+        if rectangle_distance(x, y, bx, by, byaw, BOX_HALF, BOX_HALF) < CAN_RADIUS + PACK_CLEARANCE:
             return False
         for (x2, y2, _) in cans[:i]:
             if math.hypot(x - x2, y - y2) < 2 * CAN_RADIUS + PACK_CLEARANCE:
@@ -135,6 +147,12 @@ CAFE_CAN_GAP = 0.03
 CAFE_EDGE = 0.05
 FURNITURE_GAP = 0.8  # Fetch base diameter 0.56 m plus room to turn
 ROBOT_CLEARANCE = 1.0
+# Every corner of a generated layout's tops stays this close to the floor origin (the floor is
+# 20 m × 20 m; a compact café keeps the drives short).
+LAYOUT_BOUND = 5.0
+TABLE_Z = 0.73
+COUNTER_Z = 0.9
+TOP_HALF = 0.45
 
 # name, the world-type body under the top, x, y, top z, yaw (deg), half sizes of the top in the
 # surface frame. Every top is a `surface` (one type, as in the paper's CafeWorld, so that "on a
@@ -151,29 +169,88 @@ STAND_SUFFIX = {"table_leg": "leg", "counter_cabinet": "cabinet"}
 
 CAFE_COUNTS = [2, 2, 3, 4, 4, 6, 8, 8, 10, 16, 17, 18]
 
+# The other layouts (`cafe-layouts`): layout number, tables, counters, and the can counts of its
+# problems. Together they cover 4 to 30 cans on 4 to 6 surfaces.
+OTHER_LAYOUTS = [
+    (2, 4, 1, [4, 12, 24]),
+    (3, 4, 2, [8, 18, 30]),
+    (4, 3, 1, [6, 12, 18]),
+]
 
-def footprint(surface):
-    """World axis-aligned half sizes of a surface (yaw is a multiple of 90 degrees)."""
+
+def corners(surface):
+    """The four world corners of a surface's top, counter-clockwise."""
     _, _, x, y, _, yaw, hx, hy = surface
-    if yaw % 180 == 90:
-        hx, hy = hy, hx
-    return x - hx, x + hx, y - hy, y + hy
+    c, s = math.cos(math.radians(yaw)), math.sin(math.radians(yaw))
+    return [(x + c * lx - s * ly, y + s * lx + c * ly)
+            for lx, ly in ((hx, hy), (-hx, hy), (-hx, -hy), (hx, -hy))]
 
 
-def furniture_ok():
-    boxes = [footprint(s) for s in SURFACES]
-    for i, a in enumerate(boxes):
-        # The robot at the origin (radius 0.28 m, tucked arm inside) keeps a metre away.
-        dx = max(a[0], -a[1], 0)
-        dy = max(a[2], -a[3], 0)
-        if math.hypot(dx, dy) < ROBOT_CLEARANCE:
-            return False
-        for b in boxes[:i]:
-            gx = max(a[0] - b[1], b[0] - a[1], 0)
-            gy = max(a[2] - b[3], b[2] - a[3], 0)
-            if math.hypot(gx, gy) < FURNITURE_GAP:
+def overlap(a, b):
+    """Whether two convex polygons (lists of corners) overlap: no edge normal separates them."""
+    for poly in (a, b):
+        for (x1, y1), (x2, y2) in zip(poly, poly[1:] + poly[:1]):
+            nx, ny = y1 - y2, x2 - x1
+            pa = [nx * px + ny * py for px, py in a]
+            pb = [nx * px + ny * py for px, py in b]
+            if max(pa) < min(pb) or max(pb) < min(pa):
                 return False
     return True
+
+
+def segment_distance(px, py, a, b):
+    """Distance from point (px, py) to the segment from a to b."""
+    (ax, ay), (bx, by) = a, b
+    ex, ey = bx - ax, by - ay
+    t = max(0.0, min(1.0, ((px - ax) * ex + (py - ay) * ey) / (ex * ex + ey * ey)))
+    return math.hypot(px - ax - t * ex, py - ay - t * ey)
+
+
+def footprint_distance(a, b):
+    """Exact distance between two surfaces' tops seen from above, at any yaw; 0 if they overlap.
+    Two disjoint convex polygons are closest at a corner of one and an edge of the other."""
+    pa, pb = corners(a), corners(b)
+    if overlap(pa, pb):
+        return 0.0
+    return min(
+        segment_distance(px, py, q1, q2)
+        for first, second in ((pa, pb), (pb, pa))
+        for px, py in first
+        for q1, q2 in zip(second, second[1:] + second[:1])
+    )
+
+
+def furniture_ok(surfaces):
+    for i, a in enumerate(surfaces):
+        _, _, x, y, _, yaw, hx, hy = a
+        # The robot at the origin (radius 0.28 m, tucked arm inside) keeps a metre away.
+        if rectangle_distance(0.0, 0.0, x, y, yaw, hx, hy) < ROBOT_CLEARANCE:
+            return False
+        if any(max(abs(cx), abs(cy)) > LAYOUT_BOUND for cx, cy in corners(a)):
+            return False
+        for b in surfaces[:i]:
+            if footprint_distance(a, b) < FURNITURE_GAP:
+                return False
+    return True
+
+
+def make_layout(rng, tables, counters):
+    """A random layout: `tables` tables then `counters` counters, each at any yaw (whole
+    degrees), drawn again until every rule of `furniture_ok` holds."""
+    kinds = [("table", "table_leg", TABLE_Z)] * tables
+    kinds += [("counter", "counter_cabinet", COUNTER_Z)] * counters
+    limit = LAYOUT_BOUND - TOP_HALF
+    while True:
+        surfaces = []
+        numbers = {}
+        for stem, stand, z in kinds:
+            numbers[stem] = numbers.get(stem, 0) + 1
+            surfaces.append((f"{stem}{numbers[stem]}", stand,
+                             round(rng.uniform(-limit, limit), 2),
+                             round(rng.uniform(-limit, limit), 2),
+                             z, rng.randrange(0, 360), TOP_HALF, TOP_HALF))
+        if furniture_ok(surfaces):
+            return surfaces
 
 
 def to_world(surface, lx, ly):
@@ -182,12 +259,20 @@ def to_world(surface, lx, ly):
     return x + c * lx - s * ly, y + s * lx + c * ly, z + 0.001
 
 
-def place_cans(rng, count):
+def inside(surface, x, y):
+    """Whether a can at world (x, y) stands on the surface, its edge CAFE_EDGE from the top's
+    edges (checked on the rounded numbers that are printed)."""
+    _, _, sx, sy, _, yaw, hx, hy = surface
+    return rectangle_distance(x, y, sx, sy, yaw, hx - CAFE_EDGE - CAFE_CAN_RADIUS,
+                              hy - CAFE_EDGE - CAFE_CAN_RADIUS) == 0.0
+
+
+def place_cans(rng, surfaces, count):
     """Cans on random surfaces; returns (surface index, world x, y, z, yaw) per can."""
     cans = []
     while len(cans) < count:
-        index = rng.randrange(len(SURFACES))
-        surface = SURFACES[index]
+        index = rng.randrange(len(surfaces))
+        surface = surfaces[index]
         hx = surface[6] - CAFE_EDGE - CAFE_CAN_RADIUS
         hy = surface[7] - CAFE_EDGE - CAFE_CAN_RADIUS
         lx, ly = round(rng.uniform(-hx, hx), 2), round(rng.uniform(-hy, hy), 2)
@@ -195,57 +280,77 @@ def place_cans(rng, count):
             continue
         x, y, z = to_world(surface, lx, ly)
         x, y = round(x, 3), round(y, 3)
+        if not inside(surface, x, y):
+            continue
         if any(math.hypot(x - c[1], y - c[2]) < 2 * CAFE_CAN_RADIUS + CAFE_CAN_GAP for c in cans):
             continue
         cans.append((index, x, y, z, rng.randrange(0, 360)))
     return cans
 
 
-def goals(rng, cans):
+def goals(rng, surfaces, cans):
     """A goal surface per can; at least half of the cans move to another surface."""
     count = len(cans)
     movers = set(rng.sample(range(count), (count + 1) // 2))
     result = []
     for k, can in enumerate(cans):
         if k in movers:
-            choices = [i for i in range(len(SURFACES)) if i != can[0]]
+            choices = [i for i in range(len(surfaces)) if i != can[0]]
         else:
-            choices = list(range(len(SURFACES)))
+            choices = list(range(len(surfaces)))
         result.append(rng.choice(choices))
     return result
 
 
+def print_cafe_problem(rng, surfaces, name, count):
+    cans = place_cans(rng, surfaces, count)
+    targets = goals(rng, surfaces, cans)
+    moving = sum(1 for can, goal in zip(cans, targets) if goal != can[0])
+    starts = [sum(1 for c in cans if c[0] == i) for i in range(len(surfaces))]
+    where = ", ".join(f"{surfaces[i][0]} {n}" for i, n in enumerate(starts) if n)
+    print(f"// {name}: {count} cans ({where}); {moving} move to another surface.")
+    print(f"problem {name} {{")
+    print("  scene {")
+    print("    floor floor1 at (0, 0, 0) m")
+    for surface in surfaces:
+        sname, stand, x, y, z, yaw, _, _ = surface
+        at = f"at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m{rpy(yaw)}"
+        print(f"    surface {sname} {at}")
+        print(f"    {stand} {sname}_{STAND_SUFFIX[stand]} {at}")
+    for k, (_, x, y, z, yaw) in enumerate(cans, start=1):
+        print(f"    can can{k} at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m{rpy(yaw)}")
+    print("    robot fetch at (0, 0, 0) m config tuck")
+    print("  }")
+    print("  goal {")
+    for k, goal in enumerate(targets, start=1):
+        print(f"    on(can{k}, {surfaces[goal][0]})")
+    print("  }")
+    print("}")
+    print()
+
+
 def print_cafe():
-    assert furniture_ok()
+    assert furniture_ok(SURFACES)
     rng = random.Random(20252)
     seen = {}
     for count in CAFE_COUNTS:
         seen[count] = seen.get(count, 0) + 1
-        name = f"cafe{count}_{seen[count]:02d}"
-        cans = place_cans(rng, count)
-        targets = goals(rng, cans)
-        moving = sum(1 for can, goal in zip(cans, targets) if goal != can[0])
-        starts = [sum(1 for c in cans if c[0] == i) for i in range(len(SURFACES))]
-        where = ", ".join(f"{SURFACES[i][0]} {n}" for i, n in enumerate(starts) if n)
-        print(f"// {name}: {count} cans ({where}); {moving} move to another surface.")
-        print(f"problem {name} {{")
-        print("  scene {")
-        print("    floor floor1 at (0, 0, 0) m")
-        for surface in SURFACES:
-            sname, stand, x, y, z, yaw, _, _ = surface
-            at = f"at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m{rpy(yaw)}"
-            print(f"    surface {sname} {at}")
-            print(f"    {stand} {sname}_{STAND_SUFFIX[stand]} {at}")
-        for k, (_, x, y, z, yaw) in enumerate(cans, start=1):
-            print(f"    can can{k} at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m{rpy(yaw)}")
-        print("    robot fetch at (0, 0, 0) m config tuck")
-        print("  }")
-        print("  goal {")
-        for k, goal in enumerate(targets, start=1):
-            print(f"    on(can{k}, {SURFACES[goal][0]})")
-        print("  }")
-        print("}")
+        print_cafe_problem(rng, SURFACES, f"cafe{count}_{seen[count]:02d}", count)
+
+
+def print_cafe_layouts():
+    rng = random.Random(20253)
+    for number, tables, counters, counts in OTHER_LAYOUTS:
+        surfaces = make_layout(rng, tables, counters)
+        print(f"// Layout {number}: {len(surfaces)} surfaces.")
+        for sname, _, x, y, z, yaw, _, _ in surfaces:
+            print(f"//   {sname} at ({fmt(x)}, {fmt(y)}) m, {fmt(z)} m high, yawed {yaw} deg.")
         print()
+        seen = {}
+        for count in counts:
+            seen[count] = seen.get(count, 0) + 1
+            name = f"cafe_l{number}_{count}_{seen[count]:02d}"
+            print_cafe_problem(rng, surfaces, name, count)
 
 
 if __name__ == "__main__":
@@ -254,5 +359,7 @@ if __name__ == "__main__":
         print_packing()
     elif which == "cafe":
         print_cafe()
+    elif which == "cafe-layouts":
+        print_cafe_layouts()
     else:
-        sys.exit("usage: make_problems.py packing|cafe")
+        sys.exit("usage: make_problems.py packing|cafe|cafe-layouts")
