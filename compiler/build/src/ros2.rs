@@ -76,9 +76,7 @@ pub enum Ros2Error {
     #[error("{file}: {reason}")]
     #[diagnostic(
         code(lamp::ros2::timing),
-        help(
-            "Log `/tf` messages in time order, with each frame's stamps never decreasing."
-        )
+        help("Log `/tf` messages in time order, with each frame's stamps never decreasing.")
     )]
     Timing { file: String, reason: String },
 
