@@ -241,7 +241,11 @@ fn joint_transforms_compose_to_the_link_poses_and_fixed_joints_ignore_the_config
         let local = robot.joint_transform(&q, link).expect("a non-root link has a joint");
         let composed = robot.link_pose(&q, parent) * local;
         let direct = robot.link_pose(&q, link);
-        assert_relative_eq!(composed.to_homogeneous(), direct.to_homogeneous(), epsilon = POSE_TOLERANCE);
+        assert_relative_eq!(
+            composed.to_homogeneous(),
+            direct.to_homogeneous(),
+            epsilon = POSE_TOLERANCE
+        );
         if robot.has_fixed_joint(link) {
             assert_eq!(Some(local), robot.joint_transform(&neutral, link));
         }
