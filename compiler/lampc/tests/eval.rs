@@ -102,6 +102,9 @@ fn an_evaluation_writes_its_rows_report_and_plots_the_same_for_any_job_count_and
         std::fs::read_dir(scratch.path().join("build/demos")).expect("the pool").count(),
         40
     );
+    // The pool's files are what `lampc demos` writes, with the channels viewers read.
+    let generated = std::fs::read(scratch.path().join("build/demos/packing_0000.mcap"));
+    common::assert_viewer_channels(&generated.expect("a generated file"), "packing_0000.mcap");
     let document = read_json(&two.join("eval.json"));
     assert_eq!(document["format"], "lamp-eval");
     assert_eq!(document["version"], 1);

@@ -134,9 +134,14 @@ fn generate_missing(
                 loop {
                     let slot = next.fetch_add(1, Ordering::Relaxed);
                     let Some(&index) = missing.get(slot) else { return };
+                    // The same bytes `lampc demos` writes, standard channels included.
                     let written = lamp_demonstrators::generate(world, &simulation, index)
-                        .and_then(|demonstration| demonstration.to_bytes())
                         .map_err(|error| render(&error))
+                        .and_then(|demonstration| {
+                            let trajectory = &demonstration.trajectory;
+                            crate::commands::demos::viewable_bytes(world, trajectory)
+                                .map_err(|error| render(error.as_ref()))
+                        })
                         .and_then(|bytes| {
                             let name = file_name(&spec.domain, index);
                             crate::commands::demos::write_file(folder, &name, &bytes)
