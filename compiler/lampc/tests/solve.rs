@@ -117,6 +117,17 @@ fn solve_writes_a_validated_trajectory_plan_summary_and_picture() {
         lamp_trajectory::Trajectory::from_bytes(&bytes, "trajectory.mcap").expect("it reads back");
     assert!(trajectory.steps.len() > 100);
     common::assert_viewer_channels(&bytes, "trajectory.mcap");
+    // The plan step being executed is on /lamp/step, each step once, in the plan's order, and
+    // the first label comes after the initial state.
+    let step_topic = lamp_trajectory::STEP_LABEL_TOPIC;
+    let recording =
+        lamp_trajectory::read_standard_channels(bytes.as_slice(), "trajectory.mcap", &[step_topic])
+            .expect("the standard channels read back");
+    let labels = &recording.strings[step_topic];
+    let texts: Vec<&str> = labels.iter().map(|(_, text)| text.as_str()).collect();
+    assert_eq!(texts, plan.lines().collect::<Vec<_>>());
+    assert!(labels[0].0 > 0, "the initial state carries no label");
+    assert!(labels.windows(2).all(|pair| pair[0].0 < pair[1].0), "labels in time order");
 }
 
 #[test]

@@ -69,7 +69,12 @@ pub struct RefineCounts {
 pub enum Refined {
     /// Every step refined: the steps (changed by replanning where a side effect broke the rest)
     /// and the final scene; the recorder holds the whole trajectory.
-    Done { steps: Vec<GroundedAction>, scene: Scene },
+    Done {
+        steps: Vec<GroundedAction>,
+        scene: Scene,
+        /// Per step, the index of the recorded state its motion begins with.
+        starts: Vec<usize>,
+    },
     /// The streams ran dry or the refusal budget ran out.
     Failed,
 }
@@ -100,7 +105,8 @@ pub fn refine_plan(
     loop {
         let index = levels.len();
         if index == actions.len() {
-            return Ok(Refined::Done { steps: actions, scene });
+            let starts = levels.iter().map(|level| level.recorded).collect();
+            return Ok(Refined::Done { steps: actions, scene, starts });
         }
         if (context.settings.motion.cancelled)() {
             return Err(SolveError::cancelled());

@@ -73,6 +73,9 @@ pub struct Context<'a> {
 pub struct Solution {
     /// The validated trajectory.
     pub trajectory: Trajectory,
+    /// Per step of `summary.plan`, the index of the trajectory step its motion begins with
+    /// (steps before the first one's are the initial state).
+    pub step_starts: Vec<usize>,
     /// What happened.
     pub summary: Summary,
 }
@@ -188,7 +191,7 @@ fn solve_with(
                     &mut recorder,
                     counts,
                 )?;
-                if let Refined::Done { steps, .. } = outcome {
+                if let Refined::Done { steps, starts, .. } = outcome {
                     summary.seconds_refining += started.elapsed().as_secs_f64();
                     progress("validating");
                     let started = Instant::now();
@@ -208,7 +211,11 @@ fn solve_with(
                     fill(summary, counts, recorder.len());
                     let trajectory =
                         Trajectory { header: input.header.clone(), steps: recorder.steps };
-                    return Ok(Solution { trajectory, summary: summary.clone() });
+                    return Ok(Solution {
+                        trajectory,
+                        step_starts: starts,
+                        summary: summary.clone(),
+                    });
                 }
             }
         }

@@ -30,4 +30,4 @@ pub use recording::{Recorder, STEP_NANOSECONDS, trajectory_header};
 pub use rrt::{RrtConfig, RrtError, RrtStats, Space, rrt_connect, shortcut};
 pub use scene::{Body, Gripper, Held, Scene, SceneRobot};
 pub use straight::{StraightLineError, straight_line};
-pub use viewing::{WORLD_FRAME, standard_channels};
+pub use viewing::{WORLD_FRAME, label_plan_steps, standard_channels};

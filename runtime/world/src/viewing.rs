@@ -176,6 +176,24 @@ pub fn standard_channels(
     Ok((channels, values))
 }
 
+/// Labels every step from `starts[k]` up to the next start with `plan[k]`, the plan step being
+/// executed there, and turns `/lamp/step` on; steps before the first start (the initial state)
+/// carry no label. `starts` are increasing trajectory step indices, one per plan step.
+pub fn label_plan_steps(
+    channels: &mut StandardChannels,
+    values: &mut [StandardStep],
+    starts: &[usize],
+    plan: &[String],
+) {
+    channels.step_labels = true;
+    for (k, (start, label)) in starts.iter().zip(plan).enumerate() {
+        let end = starts.get(k + 1).copied().unwrap_or(values.len()).min(values.len());
+        for value in values.iter_mut().take(end).skip(*start) {
+            value.label = Some(label.clone());
+        }
+    }
+}
+
 /// The pose of a link in its tf parent's frame: the mount's pose for the root link, the joint's
 /// origin and motion for the others.
 fn local_pose(model: &lamp_robot::Robot, q: &[f64], link: LinkId) -> Pose {
@@ -263,5 +281,39 @@ fn primitive(pose: &Pose, shape: &Shape) -> Primitive {
                 .map(|point| [point.x, point.y, point.z])
                 .collect(),
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plan_labels_cover_each_step_from_its_start_to_the_next() {
+        let mut channels = StandardChannels {
+            world_frame: WORLD_FRAME.into(),
+            frames: Vec::new(),
+            static_frames: Vec::new(),
+            joints: Vec::new(),
+            robots: Vec::new(),
+            objects: Vec::new(),
+            step_labels: false,
+            held_topics: Vec::new(),
+        };
+        let step = StandardStep {
+            frame_poses: Vec::new(),
+            joint_positions: Vec::new(),
+            label: None,
+            held: Vec::new(),
+        };
+        let mut values = vec![step; 6];
+        let plan = ["(a1 x)".to_string(), "(a2 x)".to_string()];
+        label_plan_steps(&mut channels, &mut values, &[1, 4], &plan);
+        assert!(channels.step_labels);
+        let labels: Vec<Option<&str>> = values.iter().map(|v| v.label.as_deref()).collect();
+        assert_eq!(
+            labels,
+            [None, Some("(a1 x)"), Some("(a1 x)"), Some("(a1 x)"), Some("(a2 x)"), Some("(a2 x)")]
+        );
     }
 }

@@ -81,7 +81,8 @@ fn demos(args: &Args, colour: bool) -> Result<(), Failure> {
         .map_err(|error| Failure::Write(format!("cannot create {}: {error}", out.display())))?;
     let (mut steps, mut bytes, mut cut) = (0, 0, 0);
     for demonstration in &demonstrations {
-        let contents = viewable_bytes(&world, &demonstration.trajectory).map_err(Failure::Demo)?;
+        let contents =
+            viewable_bytes(&world, &demonstration.trajectory, None).map_err(Failure::Demo)?;
         write_file(&out, &file_name(&spec.domain, demonstration.index), &contents)
             .map_err(Failure::Write)?;
         steps += demonstration.trajectory.steps.len();
@@ -105,12 +106,18 @@ fn demos(args: &Args, colour: bool) -> Result<(), Failure> {
 }
 
 /// The file's bytes with the standard ROS 2 and Foxglove channels beside `/lamp/world`, so
-/// that Foxglove and RViz show the robot and the objects (`docs/formats.md`).
+/// that Foxglove and RViz show the robot and the objects (`docs/formats.md`); with `plan`
+/// (each plan step's first trajectory step and its text), the step being executed on
+/// `/lamp/step`.
 pub(crate) fn viewable_bytes(
     world: &lamp_world::SpecWorld,
     trajectory: &lamp_trajectory::Trajectory,
+    plan: Option<(&[usize], &[String])>,
 ) -> Result<Vec<u8>, Box<dyn miette::Diagnostic + Send + Sync>> {
-    let (channels, values) = lamp_world::standard_channels(world, trajectory)?;
+    let (mut channels, mut values) = lamp_world::standard_channels(world, trajectory)?;
+    if let Some((starts, steps)) = plan {
+        lamp_world::label_plan_steps(&mut channels, &mut values, starts, steps);
+    }
     Ok(trajectory.to_bytes_with(&channels, &values)?)
 }
 

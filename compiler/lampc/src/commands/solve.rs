@@ -227,9 +227,10 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
     let picture =
         lamp_render::render_trajectory(&world, &solution.trajectory, None, &Default::default())
             .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
-    let mcap = crate::commands::demos::viewable_bytes(&world, &solution.trajectory)
-        .map_err(|error| crate::diagnostics::render_error(error.as_ref(), colour))?;
     let summary = &solution.summary;
+    let plan = (solution.step_starts.as_slice(), summary.plan.as_slice());
+    let mcap = crate::commands::demos::viewable_bytes(&world, &solution.trajectory, Some(plan))
+        .map_err(|error| crate::diagnostics::render_error(error.as_ref(), colour))?;
     let mut summary_json =
         serde_json::to_string_pretty(summary).map_err(|error| error.to_string())?;
     summary_json.push('\n');

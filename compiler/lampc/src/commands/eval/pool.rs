@@ -139,7 +139,7 @@ fn generate_missing(
                         .map_err(|error| render(&error))
                         .and_then(|demonstration| {
                             let trajectory = &demonstration.trajectory;
-                            crate::commands::demos::viewable_bytes(world, trajectory)
+                            crate::commands::demos::viewable_bytes(world, trajectory, None)
                                 .map_err(|error| render(error.as_ref()))
                         })
                         .and_then(|bytes| {
