@@ -28,38 +28,82 @@ pub const PROFILE: &str = "ros2";
 /// The name of the MCAP metadata record that holds the header.
 pub const METADATA_NAME: &str = "lamp";
 
+/// A dependency of a ROS 2 message definition as rosbag2 appends it: a line of `=`, a `MSG:`
+/// line naming the type, then the type's definition. The standard types used by several
+/// channels are defined once below and composed with `concat!`, so that their texts, which
+/// readers compare with the published ones, cannot drift apart.
+macro_rules! ros_dependency {
+    ($name:literal, $definition:literal) => {
+        concat!(
+            "================================================================================\n",
+            "MSG: ",
+            $name,
+            "\n",
+            $definition
+        )
+    };
+}
+
+/// `builtin_interfaces/Time` as a dependency.
+macro_rules! time_dependency {
+    () => {
+        $crate::schema::ros_dependency!("builtin_interfaces/Time", "int32 sec\nuint32 nanosec\n")
+    };
+}
+
+/// `std_msgs/Header` and its `builtin_interfaces/Time` as dependencies.
+macro_rules! header_dependencies {
+    () => {
+        concat!(
+            $crate::schema::ros_dependency!(
+                "std_msgs/Header",
+                "builtin_interfaces/Time stamp\nstring frame_id\n"
+            ),
+            $crate::schema::time_dependency!()
+        )
+    };
+}
+
+/// `geometry_msgs/Quaternion` as a dependency.
+macro_rules! quaternion_dependency {
+    () => {
+        $crate::schema::ros_dependency!(
+            "geometry_msgs/Quaternion",
+            "float64 x 0\nfloat64 y 0\nfloat64 z 0\nfloat64 w 1\n"
+        )
+    };
+}
+
+/// A three-component `float64` vector type (`geometry_msgs/Point`, `geometry_msgs/Vector3`) as
+/// a dependency.
+macro_rules! xyz_dependency {
+    ($name:literal) => {
+        $crate::schema::ros_dependency!($name, "float64 x\nfloat64 y\nfloat64 z\n")
+    };
+}
+
+pub(crate) use {
+    header_dependencies, quaternion_dependency, ros_dependency, time_dependency, xyz_dependency,
+};
+
 /// The definition of `lamp_msgs/msg/WorldStep` in the concatenated form rosbag2 writes
 /// (the type itself, then each dependency after a line of `=` and a `MSG:` line).
-pub const WORLD_STEP_SCHEMA: &str = "\
-# One time step of a lamp world.
-# Bodies and robots appear in the order of the file's `lamp` metadata record.
-builtin_interfaces/Time stamp  # time since the start of the recording
-geometry_msgs/Pose[] body_poses  # world pose of every body
-lamp_msgs/RobotState[] robots  # state of every robot
-================================================================================
-MSG: builtin_interfaces/Time
-int32 sec
-uint32 nanosec
-================================================================================
-MSG: geometry_msgs/Pose
-Point position
-Quaternion orientation
-================================================================================
-MSG: geometry_msgs/Point
-float64 x
-float64 y
-float64 z
-================================================================================
-MSG: geometry_msgs/Quaternion
-float64 x 0
-float64 y 0
-float64 z 0
-float64 w 1
-================================================================================
-MSG: lamp_msgs/RobotState
-float64[] positions  # in the order of the robot's coordinates (metres, radians)
-string[] held  # per gripper: name of the held body, empty if none
-";
+pub const WORLD_STEP_SCHEMA: &str = concat!(
+    "# One time step of a lamp world.\n",
+    "# Bodies and robots appear in the order of the file's `lamp` metadata record.\n",
+    "builtin_interfaces/Time stamp  # time since the start of the recording\n",
+    "geometry_msgs/Pose[] body_poses  # world pose of every body\n",
+    "lamp_msgs/RobotState[] robots  # state of every robot\n",
+    time_dependency!(),
+    ros_dependency!("geometry_msgs/Pose", "Point position\nQuaternion orientation\n"),
+    xyz_dependency!("geometry_msgs/Point"),
+    quaternion_dependency!(),
+    ros_dependency!(
+        "lamp_msgs/RobotState",
+        "float64[] positions  # in the order of the robot's coordinates (metres, radians)\n\
+         string[] held  # per gripper: name of the held body, empty if none\n"
+    ),
+);
 
 /// Metadata keys of the `lamp` record (values are UTF-8 strings).
 pub mod keys {

@@ -14,6 +14,7 @@ use nalgebra::Isometry3;
 
 use crate::cdr::CdrWriter;
 use crate::codec::{StepProblem, check_pose, split_time};
+use crate::schema::{header_dependencies, quaternion_dependency, ros_dependency, xyz_dependency};
 
 /// The topic of the per-step transforms (`tf2_msgs/msg/TFMessage`).
 pub const TF_TOPIC: &str = "/tf";
@@ -47,54 +48,27 @@ pub const SCENE_SCHEMA_ENCODING: &str = "jsonschema";
 pub const SCENE_MESSAGE_ENCODING: &str = "json";
 
 /// `tf2_msgs/msg/TFMessage` with its dependencies, in the form rosbag2 writes.
-pub const TF_SCHEMA: &str = "\
-geometry_msgs/TransformStamped[] transforms
-================================================================================
-MSG: geometry_msgs/TransformStamped
-std_msgs/Header header
-string child_frame_id
-Transform transform
-================================================================================
-MSG: std_msgs/Header
-builtin_interfaces/Time stamp
-string frame_id
-================================================================================
-MSG: builtin_interfaces/Time
-int32 sec
-uint32 nanosec
-================================================================================
-MSG: geometry_msgs/Transform
-Vector3 translation
-Quaternion rotation
-================================================================================
-MSG: geometry_msgs/Vector3
-float64 x
-float64 y
-float64 z
-================================================================================
-MSG: geometry_msgs/Quaternion
-float64 x 0
-float64 y 0
-float64 z 0
-float64 w 1
-";
+pub const TF_SCHEMA: &str = concat!(
+    "geometry_msgs/TransformStamped[] transforms\n",
+    ros_dependency!(
+        "geometry_msgs/TransformStamped",
+        "std_msgs/Header header\nstring child_frame_id\nTransform transform\n"
+    ),
+    header_dependencies!(),
+    ros_dependency!("geometry_msgs/Transform", "Vector3 translation\nQuaternion rotation\n"),
+    xyz_dependency!("geometry_msgs/Vector3"),
+    quaternion_dependency!(),
+);
 
 /// `sensor_msgs/msg/JointState` with its dependencies, in the form rosbag2 writes.
-pub const JOINT_STATE_SCHEMA: &str = "\
-std_msgs/Header header
-string[] name
-float64[] position
-float64[] velocity
-float64[] effort
-================================================================================
-MSG: std_msgs/Header
-builtin_interfaces/Time stamp
-string frame_id
-================================================================================
-MSG: builtin_interfaces/Time
-int32 sec
-uint32 nanosec
-";
+pub const JOINT_STATE_SCHEMA: &str = concat!(
+    "std_msgs/Header header\n",
+    "string[] name\n",
+    "float64[] position\n",
+    "float64[] velocity\n",
+    "float64[] effort\n",
+    header_dependencies!(),
+);
 
 /// `std_msgs/msg/String`.
 pub const STRING_SCHEMA: &str = "string data\n";
