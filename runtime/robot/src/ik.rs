@@ -104,7 +104,8 @@ pub fn solve_ik(
         return result;
     }
 
-    if let Some((centre, reach)) = robot.reach_ball(group, link, seed) {
+    let chain = robot.chain(link);
+    if let Some((centre, reach)) = robot.reach_ball_of_chain(group, &chain, seed) {
         let distance = (target.translation.vector - centre).norm();
         if distance > reach + config.position_tolerance {
             return Err(IkError::OutOfReach {
@@ -115,7 +116,7 @@ pub fn solve_ik(
         }
     }
 
-    let mut solver = Solver::new(robot, group, link, target, config);
+    let mut solver = Solver::new(robot, group, chain, target, config);
     let mut start = seed.to_vec();
     let mut rejected = 0;
     for attempt in 0..=config.restarts {
@@ -236,20 +237,21 @@ struct Solver<'a> {
 }
 
 impl<'a> Solver<'a> {
+    /// A solver for the last link of `chain` (the links from the root to it).
     fn new(
         robot: &'a Robot,
         group: &'a JointGroup,
-        link: LinkId,
+        chain: Vec<LinkId>,
         target: &'a Pose,
         config: &'a IkConfig,
     ) -> Self {
         Solver {
             robot,
             group,
-            link,
+            link: *chain.last().unwrap_or(&0),
             target,
             config,
-            chain: robot.chain(link),
+            chain,
             poses: vec![Pose::identity(); robot.link_count()],
             jacobian: Matrix6xX::zeros(robot.dof()),
             step: vec![0.0; group.coordinates.len()],

@@ -19,13 +19,23 @@ impl Robot {
     /// configurations that differ from `q` only in `group`'s coordinates; `None` when the group
     /// moves the mount or a planar or floating joint on the chain (the reach is unbounded).
     pub fn reach_ball(&self, group: &JointGroup, link: LinkId, q: &[f64]) -> Option<(Vec3, f64)> {
+        self.reach_ball_of_chain(group, &self.chain(link), q)
+    }
+
+    /// [`Robot::reach_ball`] of the last link of `chain`, the links from the root to it as
+    /// [`Robot::chain`] lists them.
+    pub(crate) fn reach_ball_of_chain(
+        &self,
+        group: &JointGroup,
+        chain: &[LinkId],
+        q: &[f64],
+    ) -> Option<(Vec3, f64)> {
         let moves = |first: usize, count: usize| {
             (first..first + count).any(|index| group.coordinates.binary_search(&index).is_ok())
         };
         if !matches!(self.mount, Mount::Fixed(_)) && moves(0, self.mount.coordinate_count()) {
             return None;
         }
-        let chain = self.chain(link);
         let first_moving = chain.iter().position(|&id| {
             self.links[id]
                 .joint
