@@ -23,7 +23,8 @@ impl SpecShapes {
             .iter()
             .filter_map(|(name, parts)| {
                 let shape = CollisionShape::compound(parts).ok()?;
-                Some((name.clone(), (shape.clone(), bounding_radius(&shape))))
+                let radius = bounding_radius(&shape);
+                Some((name.clone(), (shape, radius)))
             })
             .collect();
         SpecShapes { shapes }

@@ -65,22 +65,22 @@ pub(crate) fn compound(parts: Vec<(Pose, SharedShape)>) -> SharedShape {
     )
 }
 
-/// The world-aligned bounding box of a parry shape at `pose` (the shape's local pose folded in),
+/// The world-aligned bounding box of a parry shape at `placed` (the shape's local pose folded in),
 /// as (mins, maxs). A cylinder's box is computed in closed form: parry derives it from six
 /// support-point queries, which made bounding boxes of the Fetch's cylinder links the largest
 /// single cost of collision checking.
-pub(crate) fn aabb(shape: &SharedShape, pose: &Pose) -> (Point3, Point3) {
+pub(crate) fn aabb(shape: &SharedShape, placed: &Pose) -> (Point3, Point3) {
     if let Some(cylinder) = shape.as_cylinder() {
         // Parry's cylinder axis is its local y; per world axis i the half-width is
         // |a_i|·h + r·√(1 − a_i²) for the unit axis a.
-        let axis = pose.rotation * Vec3::y();
+        let axis = placed.rotation * Vec3::y();
         let half = axis.map(|a| {
             a.abs() * cylinder.half_height + cylinder.radius * (1.0 - a * a).max(0.0).sqrt()
         });
-        let centre = Point3::from(pose.translation.vector);
+        let centre = Point3::from(placed.translation.vector);
         return (centre - half, centre + half);
     }
-    let aabb = shape.compute_aabb(&self::pose(pose));
+    let aabb = shape.compute_aabb(&pose(placed));
     (from_vector(aabb.mins), from_vector(aabb.maxs))
 }
 
