@@ -1,7 +1,8 @@
 //! The standard ROS 2 and Foxglove channels of a Packing and a Café demonstration, decoded by the
 //! reference Python readers (`mcap`, `mcap-ros2-support`): every channel is there in its standard
-//! schema, `/tf` agrees with `/lamp/world` (bodies) and with forward kinematics of its robot
-//! configuration (links) within 1e-9, `/joint_states` carries the configuration's joint values,
+//! schema, `/tf` agrees with `/lamp/world` (bodies, at every step) and with forward kinematics of
+//! its robot configuration (each link transform at its stamp, every link at the last step) within
+//! 1e-9, frames are refreshed every second, `/joint_states` carries the configuration's values,
 //! held objects keep their pose in the gripper, and the `foxglove.SceneUpdate` messages satisfy
 //! the file's JSON schema and build the `foxglove-sdk` message types (where it is installed).
 //! Skips when the packages are missing unless `LAMP_REQUIRE_ORACLES=1`.
@@ -11,7 +12,7 @@
 
 mod support;
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 use std::process::Command;
 
@@ -19,8 +20,9 @@ use lamp_demonstrators::{Demonstrator, Simulation, generate};
 use lamp_geometry::Pose;
 use lamp_test_support::{domains_dir, oracles_required, python_oracle};
 use lamp_trajectory::{
-    JOINT_STATE_SCHEMA_NAME, JOINT_STATES_TOPIC, ROBOT_DESCRIPTION_TOPIC, SCENE_SCHEMA_NAME,
-    SCENE_TOPIC, STRING_SCHEMA_NAME, TF_SCHEMA_NAME, TF_STATIC_TOPIC, TF_TOPIC, Trajectory,
+    DERIVED_FRAME_PERIOD_NANOSECONDS, JOINT_STATE_SCHEMA_NAME, JOINT_STATES_TOPIC,
+    ROBOT_DESCRIPTION_TOPIC, SCENE_SCHEMA_NAME, SCENE_TOPIC, STRING_SCHEMA_NAME,
+    TF_REFRESH_NANOSECONDS, TF_SCHEMA_NAME, TF_STATIC_TOPIC, TF_TOPIC, Trajectory,
     TrajectoryReader, WORLD_TOPIC,
 };
 use lamp_world::SpecWorld;
@@ -142,6 +144,12 @@ fn world_pose(tree: &BTreeMap<String, (String, Pose)>, frame: &str) -> Pose {
     pose
 }
 
+fn close(found: &Pose, expected: &Pose) -> bool {
+    let position = (found.translation.vector - expected.translation.vector).norm();
+    let rotation = (found.rotation.coords - expected.rotation.coords).norm();
+    position <= POSE_TOLERANCE && rotation <= POSE_TOLERANCE
+}
+
 fn assert_close(found: &Pose, expected: &Pose, what: &str) {
     let position = (found.translation.vector - expected.translation.vector).norm();
     let rotation = (found.rotation.coords - expected.rotation.coords).norm();
@@ -238,35 +246,51 @@ fn check_demonstration(world: &SpecWorld, urdf_path: &Path, trajectory: &Traject
         assert!(joint_states.is_empty() && !topics.contains_key(JOINT_STATES_TOPIC));
     } else {
         assert_eq!(topics[JOINT_STATES_TOPIC], ros2(JOINT_STATE_SCHEMA_NAME));
-        assert_eq!(joint_states.len(), trajectory.steps.len());
+        // Written when a joint moves: at the first step, and not more often than the steps.
+        assert_eq!(joint_states[0]["t"].as_u64().unwrap(), trajectory.steps[0].time_nanoseconds);
+        assert!(joint_states.len() <= trajectory.steps.len());
     }
 
     let held_messages = decoded["held"].as_array().unwrap();
     let mut held_next = 0;
     let mut held_frame = None;
     let gripper = world.spec().robot(robot_name).unwrap().gripper_part().unwrap().link.clone();
+    let gripper = model.link_id(&gripper).unwrap();
     let mut grasp: Option<(usize, Pose)> = None;
     let mut grasps_seen = 0;
+    // The tf tree as a viewer holds it: every frame's latest transform, and when it was written.
+    let mut tree = static_poses.clone();
+    let mut written_at: BTreeMap<String, u64> = BTreeMap::new();
+    let mut joints_next = 0;
+    let mut joint_values: Option<&serde_json::Value> = None;
+    let mut tf_transforms = 0;
     for (index, step) in trajectory.steps.iter().enumerate() {
+        let time = step.time_nanoseconds;
+        let last = index + 1 == trajectory.steps.len();
         let message = &tf[index];
-        assert_eq!(message["t"].as_u64().unwrap(), step.time_nanoseconds);
-        assert_eq!(world_steps[index]["t"].as_u64().unwrap(), step.time_nanoseconds);
-        let mut tree = static_poses.clone();
+        assert_eq!(message["t"].as_u64().unwrap(), time);
+        assert_eq!(world_steps[index]["t"].as_u64().unwrap(), time);
+        let mut in_message = BTreeSet::new();
         for transform in message["transforms"].as_array().unwrap() {
             let stamp =
                 transform[2].as_u64().unwrap() * 1_000_000_000 + transform[3].as_u64().unwrap();
-            assert_eq!(stamp, step.time_nanoseconds);
+            assert_eq!(stamp, time);
             let parent = transform[0].as_str().unwrap().to_string();
             let frame = transform[1].as_str().unwrap().to_string();
-            assert!(
-                tree.insert(frame, (parent, pose_of(&transform[4]))).is_none(),
-                "a frame twice"
-            );
+            assert!(in_message.insert(frame.clone()), "a frame twice");
+            assert!(!static_poses.contains_key(&frame), "{frame} is on /tf and /tf_static");
+            tree.insert(frame.clone(), (parent, pose_of(&transform[4])));
+            written_at.insert(frame, time);
+            tf_transforms += 1;
         }
         // Every frame's world pose, composed along the tree.
         let frames: BTreeMap<String, Pose> =
             tree.keys().map(|frame| (frame.clone(), world_pose(&tree, frame))).collect();
-        // Bodies: as /lamp/world says (decoded by Python too).
+        assert_eq!(frames.len(), model.link_count() + header.bodies.len());
+        for (frame, at) in &written_at {
+            assert!(time - at < TF_REFRESH_NANOSECONDS, "step {index}: {frame} not refreshed");
+        }
+        // Bodies: as /lamp/world says (decoded by Python too), at every step.
         for (body, description) in header.bodies.iter().enumerate() {
             let from_world = pose_of(&world_steps[index]["bodies"][body]);
             assert_close(&from_world, &step.body_poses[body], "the /lamp/world pose");
@@ -277,21 +301,43 @@ fn check_demonstration(world: &SpecWorld, urdf_path: &Path, trajectory: &Traject
             let found = &frames[&description.name];
             assert_close(found, &from_world, &format!("step {index}, body {}", description.name));
         }
-        // Links: forward kinematics of the recorded configuration, walked link by link.
+        // Links: each transform is forward kinematics of the configuration at its stamp. A link
+        // below the root that is not in this message is where it was, or was written less than
+        // a period ago (viewers interpolate); the root is always current.
         let q = &step.robots[0].positions;
         for link in 0..model.link_count() {
-            let expected = model.link_pose(q, link);
-            let found = &frames[model.link_name(link)];
-            assert_close(
-                found,
-                &expected,
-                &format!("step {index}, link {}", model.link_name(link)),
-            );
+            let name = model.link_name(link);
+            let expected = match model.parent_link(link) {
+                Some(parent) => model.link_pose(q, parent).inverse() * model.link_pose(q, link),
+                None => model.link_pose(q, link),
+            };
+            let (_, found) = &tree[name];
+            let what = format!("step {index}, link {name}");
+            if in_message.contains(name) || link == 0 || last {
+                assert_close(found, &expected, &what);
+            } else if !close(found, &expected) {
+                let age = time - written_at[name];
+                assert!(age < DERIVED_FRAME_PERIOD_NANOSECONDS, "{what}: {age} ns old");
+            }
         }
-        assert_eq!(frames.len(), model.link_count() + header.bodies.len());
+        // At the last step every link is where forward kinematics puts it.
+        if last {
+            for link in 0..model.link_count() {
+                let found = &frames[model.link_name(link)];
+                let what = format!("last step, link {}", model.link_name(link));
+                assert_close(found, &model.link_pose(q, link), &what);
+            }
+        }
         if !joints.is_empty() {
-            let state = &joint_states[index];
-            assert_eq!(state["t"].as_u64().unwrap(), step.time_nanoseconds);
+            // /joint_states carries the configuration as of its latest message.
+            while joint_states.get(joints_next).is_some_and(|m| m["t"].as_u64().unwrap() <= time) {
+                joint_values = Some(&joint_states[joints_next]);
+                joints_next += 1;
+            }
+            let state = joint_values.unwrap();
+            let stamp = state["stamp"].as_array().unwrap();
+            let stamp = stamp[0].as_u64().unwrap() * 1_000_000_000 + stamp[1].as_u64().unwrap();
+            assert_eq!(stamp, state["t"].as_u64().unwrap());
             let names: Vec<&str> =
                 state["name"].as_array().unwrap().iter().map(|n| n.as_str().unwrap()).collect();
             let expected: Vec<&str> = joints.iter().map(|(name, _)| name.as_str()).collect();
@@ -305,19 +351,17 @@ fn check_demonstration(world: &SpecWorld, urdf_path: &Path, trajectory: &Traject
             assert_eq!((state["velocity"].as_u64(), state["effort"].as_u64()), (Some(0), Some(0)));
         }
         // /lamp/held names the held object's frame, as of the latest message at or before the step.
-        while held_messages
-            .get(held_next)
-            .is_some_and(|m| m[0].as_u64().unwrap() <= step.time_nanoseconds)
-        {
+        while held_messages.get(held_next).is_some_and(|m| m[0].as_u64().unwrap() <= time) {
             held_frame = held_messages[held_next][1].as_str().map(String::from);
             held_next += 1;
         }
         let expected = step.robots[0].held[0].map_or("", |body| header.bodies[body].name.as_str());
         assert_eq!(held_frame.as_deref(), Some(expected), "step {index}: the held frame");
-        // A held object keeps its pose in the gripper link's frame.
+        // A held object (its frame on /tf) keeps its pose in the gripper link's frame.
         match step.robots[0].held[0] {
             Some(body) => {
-                let relative = frames[&gripper].inverse() * frames[&header.bodies[body].name];
+                let relative =
+                    model.link_pose(q, gripper).inverse() * frames[&header.bodies[body].name];
                 match grasp {
                     Some((held, first)) if held == body => {
                         assert_close(&relative, &first, &format!("step {index}, held object"));
@@ -331,6 +375,12 @@ fn check_demonstration(world: &SpecWorld, urdf_path: &Path, trajectory: &Traject
             None => grasp = None,
         }
     }
+    println!(
+        "{} transforms on /tf for {} steps, {} /joint_states messages",
+        tf_transforms,
+        trajectory.steps.len(),
+        joint_states.len()
+    );
     assert!(grasps_seen >= 1, "the demonstration grasps something");
 
     // One scene update at time zero: one entity per body in its own frame, one primitive per shape.

@@ -78,13 +78,13 @@ fn channels(trajectory: &Trajectory) -> StandardChannels {
         .header
         .bodies
         .iter()
-        .map(|body| TfFrame { parent: "world".into(), frame: body.name.clone() })
+        .map(|body| TfFrame { parent: "world".into(), frame: body.name.clone(), derived: false })
         .collect();
-    frames.push(TfFrame { parent: "world".into(), frame: "base_link".into() });
+    frames.push(TfFrame { parent: "world".into(), frame: "base_link".into(), derived: false });
     let mut parent = "base_link".to_string();
     for joint in 0..COORDINATES {
         let frame = format!("link_{joint}");
-        frames.push(TfFrame { parent: parent.clone(), frame: frame.clone() });
+        frames.push(TfFrame { parent: parent.clone(), frame: frame.clone(), derived: true });
         parent = frame;
     }
     StandardChannels {

@@ -39,6 +39,14 @@ impl CdrWriter {
         Self { bytes }
     }
 
+    /// Starts a message in `bytes`, which is cleared first: a writer that encodes many messages
+    /// hands the same buffer back each time instead of allocating one per message.
+    pub fn reusing(mut bytes: Vec<u8>) -> Self {
+        bytes.clear();
+        bytes.extend_from_slice(&ENCAPSULATION_CDR_LE);
+        Self { bytes }
+    }
+
     /// The finished message, encapsulation header included.
     pub fn into_bytes(self) -> Vec<u8> {
         self.bytes

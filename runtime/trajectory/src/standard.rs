@@ -123,12 +123,31 @@ pub struct SceneObject {
 }
 
 /// A frame on `/tf`: its name and the frame its pose is given in.
+///
+/// A frame is written when its pose changed since it was last written, and at least once a
+/// second ([`TF_REFRESH_NANOSECONDS`]); a derived frame at most every
+/// [`DERIVED_FRAME_PERIOD_NANOSECONDS`] (and at the last step).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct TfFrame {
     /// The world frame or another frame of the file, for example a robot link's parent link.
     pub parent: String,
     pub frame: String,
+    /// Whether the frame's pose follows from `/joint_states` and the robot description (a robot
+    /// link below its root), as `robot_state_publisher` computes it; false for a frame that
+    /// carries information of its own (a body, a robot's root).
+    pub derived: bool,
 }
+
+/// Every `/tf` frame is written at least this often (one second of log time), even when it
+/// did not move: tf2 (RViz, `ros2 bag play`) drops a frame's history after ten seconds, and a
+/// viewer that starts playing in the middle of a file has every frame within a second.
+pub const TF_REFRESH_NANOSECONDS: u64 = 1_000_000_000;
+
+/// A derived frame that moves is written at most this often (50 Hz): its pose follows from the
+/// joint values, which are written at every change; viewers interpolate between transforms as
+/// they do for `robot_state_publisher`, which publishes at 20 Hz by default. Without this limit
+/// a moving arm's links were most of a file's bytes.
+pub const DERIVED_FRAME_PERIOD_NANOSECONDS: u64 = 20_000_000;
 
 /// A fixed frame on `/tf_static`: its name, its parent and its pose in the parent's frame.
 #[derive(Debug, Clone, PartialEq)]
@@ -305,8 +324,18 @@ pub(crate) fn encode_tf<'a>(
     time_nanoseconds: u64,
     transforms: impl ExactSizeIterator<Item = (&'a str, &'a str, &'a Isometry3<f64>)>,
 ) -> Vec<u8> {
+    let buffer = Vec::with_capacity(transforms.len() * (TRANSFORM_BYTES + 32));
+    encode_tf_into(buffer, time_nanoseconds, transforms)
+}
+
+/// [`encode_tf`] into `buffer`, which is cleared first and returned with the message.
+pub(crate) fn encode_tf_into<'a>(
+    buffer: Vec<u8>,
+    time_nanoseconds: u64,
+    transforms: impl ExactSizeIterator<Item = (&'a str, &'a str, &'a Isometry3<f64>)>,
+) -> Vec<u8> {
     let (seconds, nanoseconds) = split_time(time_nanoseconds);
-    let mut writer = CdrWriter::new(transforms.len() * (TRANSFORM_BYTES + 32));
+    let mut writer = CdrWriter::reusing(buffer);
     writer.write_length(length(transforms.len()));
     for (parent, frame, pose) in transforms {
         writer.write_i32(seconds);
@@ -323,13 +352,15 @@ pub(crate) fn encode_tf<'a>(
 }
 
 /// A CDR `sensor_msgs/msg/JointState` with positions only (velocity and effort empty).
+/// The message is encoded into `buffer`, which is cleared first and returned with it.
 pub(crate) fn encode_joint_state(
+    buffer: Vec<u8>,
     time_nanoseconds: u64,
     names: &[String],
     values: &[f64],
 ) -> Vec<u8> {
     let (seconds, nanoseconds) = split_time(time_nanoseconds);
-    let mut writer = CdrWriter::new(32 + names.len() * 32);
+    let mut writer = CdrWriter::reusing(buffer);
     writer.write_i32(seconds);
     writer.write_u32(nanoseconds);
     writer.write_string("");
@@ -514,7 +545,11 @@ mod tests {
         let mut channels = StandardChannels {
             world_frame: "world".into(),
             frames: ["a", "b"]
-                .map(|frame| TfFrame { parent: "world".into(), frame: frame.into() })
+                .map(|frame| TfFrame {
+                    parent: "world".into(),
+                    frame: frame.into(),
+                    derived: false,
+                })
                 .to_vec(),
             static_frames: vec![],
             joints: vec!["j".into()],
@@ -524,10 +559,14 @@ mod tests {
             held_topics: vec![],
         };
         assert_eq!(channels.check(), Ok(()));
-        channels.frames.push(TfFrame { parent: "a".into(), frame: "world".into() });
+        channels.frames.push(TfFrame { parent: "a".into(), frame: "world".into(), derived: true });
         assert!(channels.check().unwrap_err().contains("listed twice"));
         channels.frames.pop();
-        channels.frames.push(TfFrame { parent: "nowhere".into(), frame: "c".into() });
+        channels.frames.push(TfFrame {
+            parent: "nowhere".into(),
+            frame: "c".into(),
+            derived: true,
+        });
         assert!(channels.check().unwrap_err().contains("not a frame of the file"));
         channels.frames.pop();
         channels.objects.push(SceneObject {

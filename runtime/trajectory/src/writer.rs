@@ -11,6 +11,7 @@ use std::path::Path;
 
 use mcap::records::{MessageHeader, Metadata};
 use mcap::{Compression, WriteOptions};
+use nalgebra::Isometry3;
 
 use crate::codec::{check_step, encode_step};
 use crate::error::TrajectoryError;
@@ -20,11 +21,12 @@ use crate::schema::{
     WORLD_STEP_SCHEMA_NAME, WORLD_TOPIC, header_to_metadata,
 };
 use crate::standard::{
-    JOINT_STATE_SCHEMA, JOINT_STATE_SCHEMA_NAME, JOINT_STATES_TOPIC, LATCHED_QOS, QOS_METADATA_KEY,
-    SCENE_MESSAGE_ENCODING, SCENE_SCHEMA, SCENE_SCHEMA_ENCODING, SCENE_SCHEMA_NAME, SCENE_TOPIC,
-    STEP_LABEL_TOPIC, STRING_SCHEMA, STRING_SCHEMA_NAME, StandardChannels, StandardStep, TF_SCHEMA,
+    DERIVED_FRAME_PERIOD_NANOSECONDS, JOINT_STATE_SCHEMA, JOINT_STATE_SCHEMA_NAME,
+    JOINT_STATES_TOPIC, LATCHED_QOS, QOS_METADATA_KEY, SCENE_MESSAGE_ENCODING, SCENE_SCHEMA,
+    SCENE_SCHEMA_ENCODING, SCENE_SCHEMA_NAME, SCENE_TOPIC, STEP_LABEL_TOPIC, STRING_SCHEMA,
+    STRING_SCHEMA_NAME, StandardChannels, StandardStep, TF_REFRESH_NANOSECONDS, TF_SCHEMA,
     TF_SCHEMA_NAME, TF_STATIC_TOPIC, TF_TOPIC, encode_joint_state, encode_string, encode_tf,
-    scene_update_json,
+    encode_tf_into, scene_update_json,
 };
 
 /// The MCAP `library` field; no crate version, so a release does not change every file.
@@ -62,12 +64,92 @@ pub struct TrajectoryWriter<W: Write + Seek> {
 struct StandardOutput {
     channels: StandardChannels,
     tf: Option<u16>,
+    /// Per `/tf` frame, the pose and log time it was last written with.
+    tf_written: Vec<Option<(Isometry3<f64>, u64)>>,
+    /// The latest step's frame poses, its time and index: its `/tf` message is written when the
+    /// next step arrives or the file is finished, because a derived frame whose latest change
+    /// was held back is written at the last step.
+    tf_pending: Option<(u64, u32)>,
+    pending_poses: Vec<Isometry3<f64>>,
     joint_states: Option<u16>,
+    /// The joint values and log time `/joint_states` was last written with, and its count.
+    joints_written: Option<(Vec<f64>, u64)>,
+    joint_messages: u32,
     step_labels: Option<u16>,
     labels_written: u32,
     previous_label: Option<String>,
     /// Per held topic: its channel, how many messages it has, and the last frame written.
     held: Vec<(u16, u32, Option<String>)>,
+    /// The encoding buffer, reused for every message.
+    buffer: Vec<u8>,
+}
+
+impl StandardOutput {
+    /// Writes the pending step's `/tf` message: every frame not written yet, moved since it was
+    /// last written (a derived frame only after its period, or at the `last` step), or not
+    /// written for [`TF_REFRESH_NANOSECONDS`]. The message is written even when it is empty: a
+    /// bag has one `/tf` message per step, which is how the `ros2` reader finds the steps.
+    fn write_pending_tf<W: Write + Seek>(
+        &mut self,
+        mcap: &mut mcap::Writer<W>,
+        last: bool,
+    ) -> Result<(), mcap::McapError> {
+        let (Some(channel_id), Some((time, sequence))) = (self.tf, self.tf_pending.take()) else {
+            return Ok(());
+        };
+        let mut chosen = Vec::with_capacity(self.channels.frames.len());
+        let frames = self.channels.frames.iter().zip(&self.pending_poses);
+        for ((frame, pose), written) in frames.zip(&mut self.tf_written) {
+            let due = match written {
+                None => true,
+                Some((_, at)) if time - *at >= TF_REFRESH_NANOSECONDS => true,
+                Some((previous, _)) if previous == pose => false,
+                Some(_) if !frame.derived || last => true,
+                Some((_, at)) => time - *at >= DERIVED_FRAME_PERIOD_NANOSECONDS,
+            };
+            if due {
+                *written = Some((*pose, time));
+                chosen.push((frame.parent.as_str(), frame.frame.as_str(), pose));
+            }
+        }
+        let buffer = std::mem::take(&mut self.buffer);
+        self.buffer = encode_tf_into(buffer, time, chosen.into_iter());
+        let message = MessageHeader { channel_id, sequence, log_time: time, publish_time: time };
+        mcap.write_to_known_channel(&message, &self.buffer)
+    }
+
+    /// Writes the step's `/joint_states` message when a value changed since it was last
+    /// written, at the first step, and at least every [`TF_REFRESH_NANOSECONDS`].
+    fn write_joints<W: Write + Seek>(
+        &mut self,
+        mcap: &mut mcap::Writer<W>,
+        time: u64,
+        values: &[f64],
+    ) -> Result<(), mcap::McapError> {
+        let Some(channel_id) = self.joint_states else { return Ok(()) };
+        let due = match &self.joints_written {
+            None => true,
+            Some((previous, at)) => {
+                previous.as_slice() != values || time - *at >= TF_REFRESH_NANOSECONDS
+            }
+        };
+        if !due {
+            return Ok(());
+        }
+        match &mut self.joints_written {
+            Some((previous, at)) => {
+                previous.clone_from_slice(values);
+                *at = time;
+            }
+            None => self.joints_written = Some((values.to_vec(), time)),
+        }
+        let buffer = std::mem::take(&mut self.buffer);
+        self.buffer = encode_joint_state(buffer, time, &self.channels.joints, values);
+        let sequence = self.joint_messages;
+        self.joint_messages += 1;
+        let message = MessageHeader { channel_id, sequence, log_time: time, publish_time: time };
+        mcap.write_to_known_channel(&message, &self.buffer)
+    }
 }
 
 impl TrajectoryWriter<BufWriter<File>> {
@@ -174,8 +256,10 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
     }
 
     /// Checks a step and its standard channels' values, and appends them: the `/lamp/world`
-    /// message, then `/tf`, `/joint_states` and, when the label changed, `/lamp/step`, all at
-    /// the step's time.
+    /// message, then `/joint_states` when a joint moved, `/lamp/step` when the label changed,
+    /// the held topics when the held frame changed, and `/tf` with the frames that moved, all
+    /// at the step's time (`/tf` is written when the next step arrives or at
+    /// [`TrajectoryWriter::finish`]; see [`TfFrame`](crate::TfFrame) for which frames).
     pub fn write_step_with(
         &mut self,
         step: &Step,
@@ -192,22 +276,21 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
             .channels
             .check_step(values)
             .map_err(|problem| TrajectoryError::from_step(&self.file, self.steps, 0, problem))?;
-        let index = self.steps;
-        self.write_world_step(step)?;
+        let sequence = self.check_world_step(step)?;
+        let write_error = |error| mcap_write_error(&self.file, error);
+        let standard = self.standard.as_mut().expect("checked above");
+        standard.write_pending_tf(&mut self.mcap, false).map_err(write_error)?;
+        self.append_world_step(step, sequence)?;
         let standard = self.standard.as_mut().expect("checked above");
         let time = step.time_nanoseconds;
-        let sequence = u32::try_from(index).expect("write_world_step bounds the step count");
-        let channels = &standard.channels;
-        let mut messages = Vec::with_capacity(3);
-        if let Some(tf) = standard.tf {
-            let frames = channels.frames.iter().zip(&values.frame_poses);
-            let frames = frames.map(|(f, pose)| (f.parent.as_str(), f.frame.as_str(), pose));
-            messages.push((tf, sequence, encode_tf(time, frames)));
+        if standard.tf.is_some() {
+            standard.pending_poses.clone_from(&values.frame_poses);
+            standard.tf_pending = Some((time, sequence));
         }
-        if let Some(joint_states) = standard.joint_states {
-            let data = encode_joint_state(time, &channels.joints, &values.joint_positions);
-            messages.push((joint_states, sequence, data));
-        }
+        standard
+            .write_joints(&mut self.mcap, time, &values.joint_positions)
+            .map_err(|error| mcap_write_error(&self.file, error))?;
+        let mut messages = Vec::new();
         if let Some(step_labels) = standard.step_labels
             && values.label.is_some()
             && values.label != standard.previous_label
@@ -235,13 +318,23 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
     }
 
     fn write_world_step(&mut self, step: &Step) -> Result<(), TrajectoryError> {
+        let sequence = self.check_world_step(step)?;
+        self.append_world_step(step, sequence)
+    }
+
+    /// Checks a step against the header and the previous step; returns its sequence number.
+    fn check_world_step(&self, step: &Step) -> Result<u32, TrajectoryError> {
         check_step(&self.header, step, self.previous_time)
             .map_err(|problem| TrajectoryError::from_step(&self.file, self.steps, 0, problem))?;
-        let sequence = u32::try_from(self.steps).map_err(|_| TrajectoryError::InvalidValue {
+        u32::try_from(self.steps).map_err(|_| TrajectoryError::InvalidValue {
             file: self.file.clone(),
             step: self.steps,
             reason: "a file holds at most 2^32 steps (the MCAP sequence number is 32 bits)".into(),
-        })?;
+        })
+    }
+
+    /// Appends a step that passed [`Self::check_world_step`].
+    fn append_world_step(&mut self, step: &Step, sequence: u32) -> Result<(), TrajectoryError> {
         let data = encode_step(&self.header, step);
         let message = MessageHeader {
             channel_id: self.channel_id,
@@ -257,8 +350,14 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
         Ok(())
     }
 
-    /// Writes the summary and footer, flushes, and returns the sink.
+    /// Writes the last step's `/tf` message, the summary and footer, flushes, and returns the
+    /// sink.
     pub fn finish(mut self) -> Result<W, TrajectoryError> {
+        if let Some(standard) = &mut self.standard {
+            standard
+                .write_pending_tf(&mut self.mcap, true)
+                .map_err(|error| mcap_write_error(&self.file, error))?;
+        }
         self.mcap.finish().map_err(|error| mcap_write_error(&self.file, error))?;
         let mut sink = self.mcap.into_inner();
         sink.flush().map_err(|source| TrajectoryError::Io {
@@ -332,13 +431,19 @@ fn start_standard<W: Write + Seek>(
         mcap.write_to_known_channel(&message, &data)?;
     }
     Ok(StandardOutput {
+        tf_written: vec![None; channels.frames.len()],
+        tf_pending: None,
+        pending_poses: Vec::with_capacity(channels.frames.len()),
         channels,
         tf,
         joint_states,
+        joints_written: None,
+        joint_messages: 0,
         step_labels,
         labels_written: 0,
         previous_label: None,
         held,
+        buffer: Vec::new(),
     })
 }
 

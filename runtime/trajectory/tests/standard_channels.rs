@@ -1,7 +1,8 @@
 //! The standard ROS 2 and Foxglove channels beside `/lamp/world`: the reader ignores them and
 //! returns the same steps, the `/lamp/world` messages are the same bytes as in a file without
 //! them, the bytes are deterministic, what is written once is at time zero, labels are written
-//! only when they change, and the writer refuses values that do not fit the layout.
+//! only when they change, frames and joints when they move (and once a second), and the writer
+//! refuses values that do not fit the layout.
 
 #![allow(clippy::unwrap_used)] // a failed step is a failed test
 
@@ -11,17 +12,18 @@ use std::collections::BTreeMap;
 use std::io::Cursor;
 
 use lamp_trajectory::{
-    IN_MEMORY_NAME, Primitive, RobotModelText, SceneObject, StandardChannels, StandardStep,
-    StaticFrame, TfFrame, Trajectory, TrajectoryError, TrajectoryReader, TrajectoryWriter,
-    read_standard_channels,
+    DERIVED_FRAME_PERIOD_NANOSECONDS, IN_MEMORY_NAME, Primitive, RobotModelText, SceneObject,
+    StandardChannels, StandardStep, StaticFrame, TF_REFRESH_NANOSECONDS, TfFrame, Trajectory,
+    TrajectoryError, TrajectoryReader, TrajectoryWriter, read_standard_channels,
 };
 use nalgebra::Isometry3;
 
 fn channels(trajectory: &Trajectory, step_labels: bool) -> StandardChannels {
-    let world = |frame: &str| TfFrame { parent: "world".into(), frame: frame.into() };
+    let world =
+        |frame: &str| TfFrame { parent: "world".into(), frame: frame.into(), derived: false };
     let mut frames: Vec<TfFrame> =
         trajectory.header.bodies.iter().map(|body| world(&body.name)).collect();
-    frames.push(TfFrame { parent: "map".into(), frame: "base_link".into() });
+    frames.push(TfFrame { parent: "map".into(), frame: "base_link".into(), derived: false });
     StandardChannels {
         world_frame: "world".into(),
         frames,
@@ -235,4 +237,110 @@ fn a_filtered_copy_keeps_the_chosen_messages_at_the_chosen_times() {
             .collect();
         assert_eq!(list, &shifted, "{topic}");
     }
+}
+
+/// A body that rests, then moves; a derived link that moves at every 10 ms step; a joint that
+/// rests in the middle third.
+fn resting_and_moving(steps: usize) -> (Trajectory, StandardChannels, Vec<StandardStep>) {
+    let mut trajectory = common::trajectory(1, steps, 3);
+    let resting = common::random_pose(&mut rand::SeedableRng::seed_from_u64(1));
+    for (index, step) in trajectory.steps.iter_mut().enumerate() {
+        step.time_nanoseconds = index as u64 * 10_000_000;
+        if index < steps / 2 {
+            step.body_poses[0] = resting;
+        }
+    }
+    let channels = StandardChannels {
+        world_frame: "world".into(),
+        frames: vec![
+            TfFrame { parent: "world".into(), frame: "can_0".into(), derived: false },
+            TfFrame { parent: "can_0".into(), frame: "link".into(), derived: true },
+        ],
+        static_frames: vec![],
+        joints: vec!["j".into()],
+        robots: vec![],
+        objects: vec![],
+        step_labels: false,
+        held_topics: vec![],
+    };
+    let values = trajectory
+        .steps
+        .iter()
+        .enumerate()
+        .map(|(index, step)| {
+            let link = common::random_pose(&mut rand::SeedableRng::seed_from_u64(index as u64));
+            let joint =
+                if (steps / 3..2 * steps / 3).contains(&index) { 0.5 } else { index as f64 };
+            StandardStep {
+                frame_poses: vec![step.body_poses[0], link],
+                joint_positions: vec![joint],
+                label: None,
+                held: vec![],
+            }
+        })
+        .collect();
+    (trajectory, channels, values)
+}
+
+#[test]
+fn frames_are_written_when_they_move_derived_ones_at_most_every_period_and_all_every_second() {
+    let steps = 300; // three seconds of 10 ms steps
+    let (trajectory, channels, values) = resting_and_moving(steps);
+    let bytes = trajectory.to_bytes_with(&channels, &values).unwrap();
+    let recording = read_standard_channels(bytes.as_slice(), "bag", &[]).unwrap();
+    // One /tf message per step, even when nothing in it moved.
+    assert_eq!(recording.tf.len(), steps);
+    let mut last_written: BTreeMap<&str, (usize, Isometry3<f64>)> = BTreeMap::new();
+    for (index, message) in recording.tf.iter().enumerate() {
+        let time = trajectory.steps[index].time_nanoseconds;
+        assert_eq!(message.log_time, time);
+        let frames: Vec<&str> = message.transforms.iter().map(|t| t.frame.as_str()).collect();
+        let period = (DERIVED_FRAME_PERIOD_NANOSECONDS / 10_000_000) as usize;
+        let refresh = (TF_REFRESH_NANOSECONDS / 10_000_000) as usize;
+        // The resting body: at the first step, then once a second, then at every step it moves.
+        let body_expected = index == 0 || index >= steps / 2 || index % refresh == 0;
+        assert_eq!(frames.contains(&"can_0"), body_expected, "step {index}: {frames:?}");
+        // The moving link: every period, and at the last step.
+        let link_expected = index % period == 0 || index + 1 == steps;
+        assert_eq!(frames.contains(&"link"), link_expected, "step {index}: {frames:?}");
+        for transform in &message.transforms {
+            let frame = if transform.frame == "can_0" { 0 } else { 1 };
+            assert_eq!(transform.pose, values[index].frame_poses[frame], "step {index}");
+            assert_eq!(transform.stamp_nanoseconds, time);
+            last_written.insert(if frame == 0 { "can_0" } else { "link" }, (index, transform.pose));
+        }
+        // What a viewer holds for the body is its pose at this step.
+        assert_eq!(last_written["can_0"].1, values[index].frame_poses[0]);
+    }
+    assert_eq!(last_written["link"].1, values[steps - 1].frame_poses[1]);
+    // /joint_states: at every change, and once a second while the joint rests.
+    let times: Vec<u64> = recording.joint_states.iter().map(|j| j.log_time).collect();
+    let expected: Vec<u64> = (0..steps)
+        .filter(|index| {
+            let resting = (steps / 3 + 1..2 * steps / 3).contains(index);
+            !resting || (index - steps / 3) % 100 == 0
+        })
+        .map(|index| trajectory.steps[index].time_nanoseconds)
+        .collect();
+    assert_eq!(times, expected);
+}
+
+#[test]
+fn the_last_steps_tf_is_written_by_finish() {
+    let (trajectory, channels, values) = resting_and_moving(5);
+    let mut writer = TrajectoryWriter::with_standard_channels(
+        Cursor::new(Vec::new()),
+        "x",
+        trajectory.header.clone(),
+        channels,
+    )
+    .unwrap();
+    for (step, value) in trajectory.steps.iter().zip(&values) {
+        writer.write_step_with(step, value).unwrap();
+    }
+    let bytes = writer.finish().unwrap().into_inner();
+    let recording = read_standard_channels(bytes.as_slice(), "bag", &[]).unwrap();
+    assert_eq!(recording.tf.len(), 5);
+    let last = &recording.tf[4].transforms;
+    assert!(last.iter().any(|t| t.frame == "link" && t.pose == values[4].frame_poses[1]));
 }

@@ -40,7 +40,8 @@ const MOVABLE_COLORS: [[f64; 4]; 6] = [
 /// motion). Link frames are the URDF's link names, or `<robot>/<link>` when the file has several
 /// robots (their descriptions are then on `/<robot>/robot_description`). Fixed frames are on
 /// `/tf_static` once: a body whose pose is the same at every step, the root link of a fixed
-/// mount, a link below a fixed joint. Every other frame is on `/tf` at every step. Joints with
+/// mount, a link below a fixed joint. Every other frame is on `/tf` when it moves (links below
+/// the root at most at 50 Hz, as they follow from the joints; see [`TfFrame`]). Joints with
 /// one coordinate are on `/joint_states` under their URDF names (prefixed likewise). The frame
 /// each gripper holds (the body's name, empty when none) is on `/lamp/held`
 /// (`/<robot>/lamp/held` with several robots, `…/<gripper>` with several grippers).
@@ -53,7 +54,8 @@ pub fn standard_channels(
     let prefixed =
         |robot: &str, name: &str| if several { format!("{robot}/{name}") } else { name.into() };
 
-    let world_child = |frame: &str| TfFrame { parent: WORLD_FRAME.into(), frame: frame.into() };
+    let world_child =
+        |frame: &str| TfFrame { parent: WORLD_FRAME.into(), frame: frame.into(), derived: false };
     let mut frames = Vec::new();
     let mut static_frames = Vec::new();
     let mut moving_bodies = Vec::new();
@@ -110,7 +112,8 @@ pub fn standard_channels(
                 let pose = local_pose(model, &neutral, link);
                 static_frames.push(StaticFrame { parent, frame, pose });
             } else {
-                frames.push(TfFrame { parent, frame });
+                // Only the root link's pose is the robot's own; the others follow from the joints.
+                frames.push(TfFrame { parent, frame, derived: link != 0 });
                 moving_links.push(link);
             }
         }
