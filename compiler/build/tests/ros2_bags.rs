@@ -37,6 +37,7 @@ fn mapping(trajectory: &Trajectory) -> Ros2Mapping {
             robot: "gripper".into(),
             base_frame: "gripper_link".into(),
             held_topic: Some("/lamp/held".into()),
+            grasp_joint: None,
         }),
     }
 }
@@ -161,6 +162,7 @@ fn cafe_mapping(trajectory: &Trajectory) -> Ros2Mapping {
         robot: "fetch".into(),
         base_frame: "base_link".into(),
         held_topic: Some("/lamp/held".into()),
+        grasp_joint: None,
     });
     mapping
 }

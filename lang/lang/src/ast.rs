@@ -142,12 +142,15 @@ pub struct Ros2Object {
     pub frame: Option<Text>,
 }
 
-/// `robot NAME frame "FRAME" held topic "TOPIC"` in a `ros2` mapping.
+/// `robot NAME frame "FRAME" held topic "TOPIC"` or `… grasp joint "JOINT" below VALUE` in a
+/// `ros2` mapping.
 #[derive(Clone, Debug)]
 pub struct Ros2Robot {
     pub robot: Name,
     pub frame: Text,
     pub held_topic: Option<Text>,
+    /// The gripper joint and the value below which it is closed; the span covers the clause.
+    pub grasp_joint: Option<(Text, Quantity, Span)>,
 }
 
 #[derive(Clone, Debug)]

@@ -146,6 +146,9 @@ fn describe(rule: Rule) -> &'static str {
         Rule::ros2_object | Rule::ros2_robot => {
             "a frame mapping (`object TYPE NAME frame \"FRAME\"`, `robot NAME frame \"FRAME\"`)"
         }
+        Rule::ros2_held | Rule::ros2_grasp => {
+            "how grasps are read (`held topic \"TOPIC\"`, `grasp joint \"JOINT\" below VALUE`)"
+        }
         Rule::threshold
         | Rule::position
         | Rule::rotation
@@ -449,8 +452,20 @@ impl Lower {
                     } else {
                         let robot = self.name(next().expect("robot name"));
                         let frame = self.text(next().expect("robot frame"));
-                        let held_topic = next().map(|topic| self.text(topic));
-                        robots.push(Ros2Robot { robot, frame, held_topic });
+                        let (mut held_topic, mut grasp_joint) = (None, None);
+                        if let Some(grasp) = next() {
+                            let span = self.span(&grasp);
+                            let held = grasp.as_rule() == Rule::ros2_held;
+                            let mut parts = grasp.into_inner();
+                            let text = self.text(parts.next().expect("topic or joint"));
+                            match parts.next() {
+                                Some(value) if !held => {
+                                    grasp_joint = Some((text, self.quantity(value), span));
+                                }
+                                _ => held_topic = Some(text),
+                            }
+                        }
+                        robots.push(Ros2Robot { robot, frame, held_topic, grasp_joint });
                     }
                 }
                 DemoSource::Ros2 { pattern, objects, robots }

@@ -21,8 +21,8 @@ pub use problem::{
 };
 pub use robot::{JointGroup, NamedConfiguration, Robot, RobotKind, RobotNames, RobotPart};
 pub use world::{
-    DemoSource, FrameObject, FrameRobot, MeshMode, Mobility, ObjectType, Placement, RelationAlias,
-    Ros2Mapping, ShapePart, ShapeSpec, Structure,
+    DemoSource, FrameObject, FrameRobot, GraspJoint, MeshMode, Mobility, ObjectType, Placement,
+    RelationAlias, Ros2Mapping, ShapePart, ShapeSpec, Structure,
 };
 
 use std::collections::BTreeMap;

@@ -58,7 +58,7 @@ pub struct FrameObject {
 }
 
 /// Which tf frame of a ROS 2 bag carries a robot, and where its grasps are read from.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct FrameRobot {
     /// The spec robot.
     pub robot: String,
@@ -67,11 +67,24 @@ pub struct FrameRobot {
     pub base_frame: String,
     /// A `std_msgs/msg/String` topic naming the frame the robot's gripper holds (empty: none).
     pub held_topic: Option<String>,
+    /// Grasps read from a gripper joint on `/joint_states` instead of a topic.
+    pub grasp_joint: Option<GraspJoint>,
+}
+
+/// `grasp joint "JOINT" below VALUE`: the gripper holds an object while this joint's value is
+/// below `closed_below`; the object is the movable one nearest the gripper, within the robot's
+/// grab distance, when the joint closes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GraspJoint {
+    /// The URDF name of the joint, as on `/joint_states`.
+    pub joint: String,
+    /// Radians or metres, as the joint's values.
+    pub closed_below: f64,
 }
 
 /// How a ROS 2 bag of standard messages maps to a demonstration: which frames are the objects
 /// and the robot.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Ros2Mapping {
     /// The objects, in the order the demonstration lists them.
     pub objects: Vec<FrameObject>,

@@ -235,12 +235,29 @@ impl Checker<'_> {
                 }));
                 continue;
             }
+            let grasp_joint = written.grasp_joint.as_ref().and_then(|(joint, value, span)| {
+                let spec_robot = &declared.robots[&name.text];
+                if spec_robot.grab_distance.is_none() {
+                    self.report(at(*span, |at| SpecError::Conflict {
+                        message: format!(
+                            "robot `{}` has no grab distance to find the grasped object by",
+                            name.text
+                        ),
+                        at,
+                        help: "Add `grab distance MIN .. MAX` to the robot: when the joint closes, the gripper holds the movable object nearest it within that distance.".to_string(),
+                    }));
+                }
+                self.grasp_joint_name(spec_robot, joint);
+                let closed_below = self.joint_value(value)?;
+                Some(lamp_spec::GraspJoint { joint: joint.text.clone(), closed_below })
+            });
             let frame = Name { text: written.frame.text.clone(), span: written.frame.span };
             if self.declare(&mut frames, "tf frame", &frame) {
                 robot = Some(lamp_spec::FrameRobot {
                     robot: name.text.clone(),
                     base_frame: frame.text,
                     held_topic: written.held_topic.as_ref().map(|topic| topic.text.clone()),
+                    grasp_joint,
                 });
             }
         }

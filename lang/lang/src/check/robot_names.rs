@@ -67,6 +67,16 @@ impl Checker<'_> {
         }
     }
 
+    /// Checks that `joint` is a joint of `robot`'s file with one coordinate, whose value is on
+    /// `/joint_states` under this name (a `grasp joint` of a ros2 mapping). A file that does not
+    /// load was reported with the robot.
+    pub(crate) fn grasp_joint_name(&mut self, robot: &lamp_spec::Robot, joint: &Text) {
+        let full = self.base_dir.join(&robot.urdf);
+        let Ok(Some(names)) = self.loader.robot_names(&full, robot.kind) else { return };
+        let file = robot.urdf.display().to_string();
+        self.joint_name(&names, &file, &joint.text, joint.span, JointUse::Config);
+    }
+
     fn link_name(&mut self, names: &lamp_spec::RobotNames, file: &str, link: &Text) {
         if names.links.contains(&link.text) {
             return;

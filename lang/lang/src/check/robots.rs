@@ -195,7 +195,7 @@ impl Checker<'_> {
     }
 
     /// A joint value: an angle (revolute) or a length (prismatic), in SI units.
-    fn joint_value(&mut self, value: &crate::ast::Quantity) -> Option<f64> {
+    pub(crate) fn joint_value(&mut self, value: &crate::ast::Quantity) -> Option<f64> {
         match value.unit.map(|(unit, _)| super::units::unit_info(unit).0) {
             Some(Dimension::Length) => self.measure(value, Dimension::Length),
             _ => self.measure(value, Dimension::Angle),
