@@ -8,12 +8,15 @@
 //! (`/tf_static` ones count from the start), the joint values are the latest `/joint_states`
 //! message logged at or before the step's time, and the held frame the latest message of the held
 //! topic logged at or before it. A mapped frame's world pose is its transforms composed up to the
-//! root of its tree, which must be the same for every mapped frame.
+//! root of its tree, which must be the same for every mapped frame. With a grasp joint instead of a
+//! held topic, the gripper holds nothing while the joint's value is at or above the closing value;
+//! at the step the joint closes, it takes the movable object whose origin is nearest the gripper
+//! link within the robot's grab distance (none if there is none), and keeps it until it opens.
 
 use std::collections::BTreeMap;
 
-use lamp_robot::Robot;
-pub use lamp_spec::{FrameObject, FrameRobot, Ros2Mapping};
+use lamp_robot::{LinkId, Robot};
+pub use lamp_spec::{FrameObject, FrameRobot, GraspJoint, Ros2Mapping};
 use lamp_trajectory::{
     BodyDescription, RobotDescription, RobotState, Step, Trajectory, TrajectoryError,
     TrajectoryHeader, read_standard_channels,
@@ -34,6 +37,60 @@ pub struct MappedRobot<'a> {
     pub model: &'a Robot,
     /// The name the gripper is listed under (the spec's gripper part type), if it has one.
     pub gripper: Option<String>,
+    /// How grasps are detected from a gripper joint, when the mapping names one.
+    pub grasp: Option<JointGrasp>,
+}
+
+/// A mapping's grasp joint with what detecting grasps from it takes from the spec.
+#[derive(Debug, Clone)]
+pub struct JointGrasp {
+    /// The joint's name on `/joint_states` and the value below which it is closed.
+    pub joint: GraspJoint,
+    /// The link whose origin is measured to the objects': the gripper part's link.
+    pub gripper_link: LinkId,
+    /// The robot's grab distance (metres, inclusive).
+    pub grab_distance: (f64, f64),
+    /// Per mapped object, whether the robot may hold it (its type is movable).
+    pub holdable: Vec<bool>,
+}
+
+/// The spec robot of `mapping`'s robot, with its gripper and grasp joint resolved.
+pub fn mapped_robot<'a>(
+    world: &'a lamp_world::SpecWorld,
+    mapping: &Ros2Mapping,
+) -> Result<Option<MappedRobot<'a>>, lamp_world::WorldError> {
+    let Some(mapped) = &mapping.robot else { return Ok(None) };
+    let spec = world.spec();
+    let unknown = |what: &'static str, name: &str| lamp_world::WorldError::UnknownName {
+        what,
+        name: name.to_string(),
+    };
+    let model = world.robots.get(&mapped.robot).ok_or_else(|| unknown("robot", &mapped.robot))?;
+    let spec_robot = spec.robot(&mapped.robot).ok_or_else(|| unknown("robot", &mapped.robot))?;
+    let part = spec_robot.gripper_part();
+    let gripper = part.map(|part| part.type_name.clone());
+    let grasp = match &mapped.grasp_joint {
+        None => None,
+        Some(joint) => {
+            // The checker requires a part and a grab distance for a grasp joint.
+            let part = part.ok_or_else(|| unknown("gripper part of robot", &mapped.robot))?;
+            let gripper_link =
+                model.link_id(&part.link).ok_or_else(|| unknown("gripper link", &part.link))?;
+            let grab_distance = spec_robot
+                .grab_distance
+                .ok_or_else(|| unknown("grab distance of robot", &mapped.robot))?;
+            let holdable = mapping
+                .objects
+                .iter()
+                .map(|object| {
+                    spec.object_type(&object.type_name)
+                        .is_some_and(|t| t.mobility == lamp_spec::Mobility::Movable)
+                })
+                .collect();
+            Some(JointGrasp { joint: joint.clone(), gripper_link, grab_distance, holdable })
+        }
+    };
+    Ok(Some(MappedRobot { model, gripper, grasp }))
 }
 
 /// Why a bag could not be read as a demonstration.
@@ -110,19 +167,7 @@ pub fn ros2_demo_file(
     file: &crate::DemoFile,
 ) -> Result<crate::DemoFile, crate::BuildError> {
     let spec = world.spec();
-    let robot = match &mapping.robot {
-        Some(mapped) => {
-            let unknown = || lamp_world::WorldError::UnknownName {
-                what: "robot",
-                name: mapped.robot.clone(),
-            };
-            let model = world.robots.get(&mapped.robot).ok_or_else(unknown)?;
-            let spec_robot = spec.robot(&mapped.robot).ok_or_else(unknown)?;
-            let gripper = spec_robot.gripper_part().map(|part| part.type_name.clone());
-            Some(MappedRobot { model, gripper })
-        }
-        None => None,
-    };
+    let robot = mapped_robot(world, mapping)?;
     let trajectory =
         ros2_trajectory(&file.bytes, &file.name, &spec.domain, mapping, robot.as_ref())
             .map_err(Box::new)?;
@@ -196,6 +241,8 @@ pub fn ros2_trajectory(
     let (mut next_joint_state, mut next_held) = (0, 0);
     let mut joint_values: BTreeMap<&str, f64> = BTreeMap::new();
     let mut held: Option<usize> = None;
+    // Whether the grasp joint was closed at the previous step (none before the first).
+    let mut was_closed: Option<bool> = None;
     let mut previous_positions: Vec<nalgebra::Vector3<f64>> = Vec::new();
     for message in &recording.tf {
         let time = message.log_time;
@@ -293,6 +340,21 @@ pub fn ros2_trajectory(
                         joint: joint.to_string(),
                     })?;
             }
+            if let Some(grasp) = &robot.grasp {
+                let joint = grasp.joint.joint.as_str();
+                let value = *joint_values.get(joint).ok_or_else(|| Ros2Error::MissingJoint {
+                    file: file.to_string(),
+                    robot: mapped.robot.clone(),
+                    joint: joint.to_string(),
+                })?;
+                let closed = value < grasp.joint.closed_below;
+                if !closed {
+                    held = None;
+                } else if was_closed != Some(true) {
+                    held = grasped_object(grasp, robot.model, &q, &body_poses);
+                }
+                was_closed = Some(closed);
+            }
             let held = robot.gripper.iter().map(|_| held).collect();
             robots.push(RobotState { positions: q, held });
         }
@@ -315,6 +377,29 @@ pub fn ros2_trajectory(
         step.time_nanoseconds -= start;
     }
     Ok(Trajectory { header, steps })
+}
+
+/// The movable object whose origin is nearest the gripper link at configuration `q`, within the
+/// grab distance; the first in mapping order on a tie.
+fn grasped_object(
+    grasp: &JointGrasp,
+    model: &Robot,
+    q: &[f64],
+    body_poses: &[Isometry3<f64>],
+) -> Option<usize> {
+    let gripper = model.link_pose(q, grasp.gripper_link).translation.vector;
+    let (low, high) = grasp.grab_distance;
+    let mut nearest: Option<(usize, f64)> = None;
+    for (index, (pose, holdable)) in body_poses.iter().zip(&grasp.holdable).enumerate() {
+        let distance = (pose.translation.vector - gripper).norm();
+        if *holdable
+            && (low..=high).contains(&distance)
+            && nearest.is_none_or(|(_, best)| distance < best)
+        {
+            nearest = Some((index, distance));
+        }
+    }
+    nearest.map(|(index, _)| index)
 }
 
 /// The pose of `frame` in the root of its tree and that root's name; `None` when the frame (or a

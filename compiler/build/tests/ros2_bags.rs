@@ -1,8 +1,9 @@
 //! Learning from ordinary ROS 2 bags: Packing demonstrations written with their standard channels,
 //! stripped of `/lamp/world` and the `lamp` metadata so that only `/tf`, `/tf_static`,
 //! `/robot_description`, the scene and `/lamp/held` remain, read back through the frame mapping,
-//! learn the byte-identical domain; and the reader's diagnostics for a missing frame, a jump and
-//! time going backwards.
+//! learn the byte-identical domain; a Café bag whose grasps are only a closing gripper joint reads
+//! with the same grasps; and the reader's diagnostics for a missing frame, a jump and time going
+//! backwards.
 
 #![allow(clippy::unwrap_used)] // a failed step is a failed test
 
@@ -52,7 +53,11 @@ fn packing_learned_from_tf_only_bags_is_the_domain_learned_from_native_files() {
     let mut simulation = Simulation::from_spec(&spec).unwrap();
     simulation.count = DEMOS;
     let demonstrations = generate_all(&world, &simulation, |_| {}).unwrap();
-    let robot = MappedRobot { model: &world.robots["gripper"], gripper: Some("gripper".into()) };
+    let robot = MappedRobot {
+        model: &world.robots["gripper"],
+        gripper: Some("gripper".into()),
+        grasp: None,
+    };
     let mut native = Vec::new();
     let mut from_bags = Vec::new();
     for demonstration in &demonstrations {
@@ -96,7 +101,11 @@ fn one_bag(edit: impl FnOnce(&mut Trajectory)) -> (Trajectory, Vec<u8>) {
 
 fn read(bag: &[u8], mapping: &Ros2Mapping) -> Result<Trajectory, Ros2Error> {
     let (_, world) = support::packing();
-    let robot = MappedRobot { model: &world.robots["gripper"], gripper: Some("gripper".into()) };
+    let robot = MappedRobot {
+        model: &world.robots["gripper"],
+        gripper: Some("gripper".into()),
+        grasp: None,
+    };
     lamp_build::ros2_trajectory(bag, "bag.mcap", "packing", mapping, Some(&robot))
 }
 
@@ -170,7 +179,8 @@ fn cafe_mapping(trajectory: &Trajectory) -> Ros2Mapping {
 #[test]
 fn a_mobile_arm_is_read_from_its_base_frame_and_joint_states() {
     let (world, trajectory, bag) = cafe_bag();
-    let robot = MappedRobot { model: &world.robots["fetch"], gripper: Some("gripper".into()) };
+    let robot =
+        MappedRobot { model: &world.robots["fetch"], gripper: Some("gripper".into()), grasp: None };
     let read = lamp_build::ros2_trajectory(
         &bag,
         "cafe.mcap",
@@ -209,4 +219,74 @@ fn a_mobile_arm_is_read_from_its_base_frame_and_joint_states() {
     )
     .unwrap_err();
     assert!(matches!(&error, Ros2Error::MissingJoint { robot, .. } if robot == "fetch"), "{error}");
+}
+
+/// The Café bag with the grasps only in the finger joints: no `/lamp/held`, the fingers at
+/// `closed` on `/joint_states` while the demonstration holds the can and at `open` otherwise.
+fn cafe_bag_with_fingers(
+    world: &lamp_world::SpecWorld,
+    trajectory: &Trajectory,
+    open: f64,
+    closed: f64,
+) -> Vec<u8> {
+    let (mut channels, mut values) = lamp_world::standard_channels(world, trajectory).unwrap();
+    channels.held_topics.clear();
+    let fingers: Vec<usize> = (channels.joints.iter().enumerate())
+        .filter(|(_, joint)| joint.ends_with("gripper_finger_joint"))
+        .map(|(index, _)| index)
+        .collect();
+    assert_eq!(fingers.len(), 2, "{:?}", channels.joints);
+    for (value, step) in values.iter_mut().zip(&trajectory.steps) {
+        value.held.clear();
+        let holding = step.robots[0].held[0].is_some();
+        for finger in &fingers {
+            value.joint_positions[*finger] = if holding { closed } else { open };
+        }
+    }
+    strip(&trajectory.to_bytes_with(&channels, &values).unwrap())
+}
+
+fn grasp_joint_mapping(trajectory: &Trajectory, closed_below: f64) -> Ros2Mapping {
+    let mut mapping = cafe_mapping(trajectory);
+    let robot = mapping.robot.as_mut().unwrap();
+    robot.held_topic = None;
+    robot.grasp_joint =
+        Some(lamp_build::ros2::GraspJoint { joint: "l_gripper_finger_joint".into(), closed_below });
+    mapping
+}
+
+#[test]
+fn grasps_are_read_from_a_closing_gripper_joint_near_a_movable_object() {
+    let (world, trajectory, _) = cafe_bag();
+    let holding = |steps: &[lamp_trajectory::Step]| -> Vec<Option<usize>> {
+        steps.iter().map(|step| step.robots[0].held[0]).collect()
+    };
+    assert!(holding(&trajectory.steps).iter().any(Option::is_some), "the demo grasps the can");
+    let bag = cafe_bag_with_fingers(&world, &trajectory, 0.05, 0.02);
+    let mapping = grasp_joint_mapping(&trajectory, 0.03);
+    let robot = lamp_build::ros2::mapped_robot(&world, &mapping).unwrap().unwrap();
+    let grasp = robot.grasp.as_ref().unwrap();
+    // Cans are movable; the surfaces they stand on are not.
+    let can = |name: &str| name.starts_with("can");
+    let expected: Vec<bool> =
+        trajectory.header.bodies.iter().map(|body| can(&body.type_name)).collect();
+    assert_eq!(grasp.holdable, expected);
+    let read = lamp_build::ros2_trajectory(&bag, "cafe.mcap", "cafe", &mapping, Some(&robot));
+    let read = read.unwrap();
+    assert_eq!(holding(&read.steps), holding(&trajectory.steps));
+
+    // The same bag read with a closing value below the closed fingers never grasps.
+    let mapping = grasp_joint_mapping(&trajectory, 0.01);
+    let robot = lamp_build::ros2::mapped_robot(&world, &mapping).unwrap().unwrap();
+    let read = lamp_build::ros2_trajectory(&bag, "cafe.mcap", "cafe", &mapping, Some(&robot));
+    assert!(holding(&read.unwrap().steps).iter().all(Option::is_none));
+
+    // Fingers closed from the start, with the can out of reach: nothing is grasped then, and a
+    // gripper that stays closed does not pick up what it later comes near.
+    let always_closed = cafe_bag_with_fingers(&world, &trajectory, 0.02, 0.02);
+    let mapping = grasp_joint_mapping(&trajectory, 0.03);
+    let robot = lamp_build::ros2::mapped_robot(&world, &mapping).unwrap().unwrap();
+    let read =
+        lamp_build::ros2_trajectory(&always_closed, "cafe.mcap", "cafe", &mapping, Some(&robot));
+    assert!(holding(&read.unwrap().steps).iter().all(Option::is_none));
 }
