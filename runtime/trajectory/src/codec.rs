@@ -125,9 +125,10 @@ pub(crate) fn check_pose(pose: &Isometry3<f64>) -> Result<(), String> {
     Ok(())
 }
 
-/// Encodes a step that passed [`check_step`].
-pub fn encode_step(header: &TrajectoryHeader, step: &Step) -> Vec<u8> {
-    let mut writer = CdrWriter::new(64 + step.body_poses.len() * POSE_BYTES);
+/// Encodes a step that passed [`check_step`] into `buffer`, which is cleared first and returned
+/// with the message.
+pub fn encode_step_into(buffer: Vec<u8>, header: &TrajectoryHeader, step: &Step) -> Vec<u8> {
+    let mut writer = CdrWriter::reusing(buffer);
     let (seconds, nanoseconds) = split_time(step.time_nanoseconds);
     writer.write_i32(seconds);
     writer.write_u32(nanoseconds);
@@ -317,7 +318,7 @@ mod tests {
         ]
         .concat();
         let header = header();
-        let bytes = encode_step(&header, &step());
+        let bytes = encode_step_into(Vec::new(), &header, &step());
         assert_eq!(bytes, expected);
         let decoded = decode_step(&header, &BodyLookup::new(&header), &bytes, None).unwrap();
         assert_eq!(decoded, step());
@@ -327,7 +328,7 @@ mod tests {
     fn damaged_messages_are_errors_never_panics() {
         let header = header();
         let lookup = BodyLookup::new(&header);
-        let bytes = encode_step(&header, &step());
+        let bytes = encode_step_into(Vec::new(), &header, &step());
         for length in 0..bytes.len() {
             assert!(decode_step(&header, &lookup, &bytes[..length], None).is_err(), "{length}");
         }
@@ -346,7 +347,7 @@ mod tests {
         let header = header();
         let mut two_bodies = header.clone();
         two_bodies.bodies.push(BodyDescription { name: "box".into(), type_name: "box".into() });
-        let bytes = encode_step(&header, &step());
+        let bytes = encode_step_into(Vec::new(), &header, &step());
         let problem = decode_step(&two_bodies, &BodyLookup::new(&two_bodies), &bytes, None);
         assert!(
             matches!(&problem, Err(StepProblem::Inconsistent(reason)) if reason.contains("1 body poses but the header lists 2")),
@@ -378,7 +379,7 @@ mod tests {
         assert!(matches!(check_step(&header, &bad, None), Err(StepProblem::Inconsistent(_))));
         let mut latest = step();
         latest.time_nanoseconds = MAXIMUM_TIME_NANOSECONDS;
-        let bytes = encode_step(&header, &latest);
+        let bytes = encode_step_into(Vec::new(), &header, &latest);
         assert_eq!(decode_step(&header, &BodyLookup::new(&header), &bytes, None).unwrap(), latest);
     }
 }

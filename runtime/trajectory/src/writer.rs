@@ -13,7 +13,7 @@ use mcap::records::{MessageHeader, Metadata};
 use mcap::{Compression, WriteOptions};
 use nalgebra::Isometry3;
 
-use crate::codec::{check_step, encode_step};
+use crate::codec::{check_step, encode_step_into};
 use crate::error::TrajectoryError;
 use crate::model::{Step, Trajectory, TrajectoryHeader};
 use crate::schema::{
@@ -49,7 +49,8 @@ pub const IN_MEMORY_NAME: &str = "<in-memory trajectory>";
 /// Writes a trajectory file step by step.
 ///
 /// Dropping the writer without [`TrajectoryWriter::finish`] still completes the file, but
-/// ignores any error in doing so.
+/// ignores any error in doing so and leaves out the last step's `/tf` message, which `finish`
+/// writes.
 pub struct TrajectoryWriter<W: Write + Seek> {
     mcap: mcap::Writer<W>,
     header: TrajectoryHeader,
@@ -58,6 +59,8 @@ pub struct TrajectoryWriter<W: Write + Seek> {
     steps: u64,
     previous_time: Option<u64>,
     standard: Option<StandardOutput>,
+    /// The `/lamp/world` encoding buffer, reused for every step.
+    buffer: Vec<u8>,
 }
 
 /// The per-step standard channels of a writer and what it last wrote on them.
@@ -229,7 +232,16 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
             Some(channels) => Some(start_standard(&mut mcap, channels).map_err(write_error)?),
             None => None,
         };
-        Ok(Self { mcap, header, file, channel_id, steps: 0, previous_time: None, standard })
+        Ok(Self {
+            mcap,
+            header,
+            file,
+            channel_id,
+            steps: 0,
+            previous_time: None,
+            standard,
+            buffer: Vec::new(),
+        })
     }
 
     /// The header this file was started with.
@@ -335,7 +347,7 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
 
     /// Appends a step that passed [`Self::check_world_step`].
     fn append_world_step(&mut self, step: &Step, sequence: u32) -> Result<(), TrajectoryError> {
-        let data = encode_step(&self.header, step);
+        self.buffer = encode_step_into(std::mem::take(&mut self.buffer), &self.header, step);
         let message = MessageHeader {
             channel_id: self.channel_id,
             sequence,
@@ -343,7 +355,7 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
             publish_time: step.time_nanoseconds,
         };
         self.mcap
-            .write_to_known_channel(&message, &data)
+            .write_to_known_channel(&message, &self.buffer)
             .map_err(|error| mcap_write_error(&self.file, error))?;
         self.steps += 1;
         self.previous_time = Some(step.time_nanoseconds);
