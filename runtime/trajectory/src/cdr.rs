@@ -73,6 +73,18 @@ impl CdrWriter {
         self.bytes.extend_from_slice(&value.to_le_bytes());
     }
 
+    /// Writes consecutive `float64` values: aligned once, since each keeps the next aligned;
+    /// none adds no padding (an empty sequence's elements).
+    pub fn write_f64s(&mut self, values: impl IntoIterator<Item = f64>) {
+        let mut values = values.into_iter().peekable();
+        if values.peek().is_some() {
+            self.align(8);
+        }
+        for value in values {
+            self.bytes.extend_from_slice(&value.to_le_bytes());
+        }
+    }
+
     /// Writes a sequence length; the caller has checked that it fits in a `uint32`.
     pub fn write_length(&mut self, length: u32) {
         self.write_u32(length);
@@ -266,6 +278,23 @@ mod tests {
         ]
         .concat();
         assert_eq!(writer.into_bytes(), expected);
+    }
+
+    #[test]
+    fn a_run_of_float64_is_aligned_once_and_an_empty_run_not_at_all() {
+        let (mut one_by_one, mut run) = (CdrWriter::new(0), CdrWriter::new(0));
+        for writer in [&mut one_by_one, &mut run] {
+            writer.write_u32(2);
+        }
+        one_by_one.write_f64(1.0);
+        one_by_one.write_f64(-2.5);
+        run.write_f64s([1.0, -2.5]);
+        assert_eq!(one_by_one.into_bytes(), run.into_bytes());
+        let mut empty = CdrWriter::new(0);
+        empty.write_u32(0);
+        empty.write_f64s([]);
+        empty.write_u32(7);
+        assert_eq!(empty.into_bytes(), [0, 1, 0, 0, 0, 0, 0, 0, 7, 0, 0, 0]);
     }
 
     #[test]

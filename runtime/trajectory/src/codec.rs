@@ -136,16 +136,12 @@ pub fn encode_step_into(buffer: Vec<u8>, header: &TrajectoryHeader, step: &Step)
     for pose in &step.body_poses {
         let translation = &pose.translation.vector;
         let rotation = &pose.rotation.as_ref().coords; // nalgebra stores [x, y, z, w]
-        for value in translation.iter().chain(rotation.iter()) {
-            writer.write_f64(*value);
-        }
+        writer.write_f64s(translation.iter().chain(rotation.iter()).copied());
     }
     writer.write_length(sequence_length(step.robots.len()));
     for state in &step.robots {
         writer.write_length(sequence_length(state.positions.len()));
-        for value in &state.positions {
-            writer.write_f64(*value);
-        }
+        writer.write_f64s(state.positions.iter().copied());
         writer.write_length(sequence_length(state.held.len()));
         for held in &state.held {
             let name = held.map_or("", |index| header.bodies[index].name.as_str());

@@ -344,9 +344,7 @@ pub(crate) fn encode_tf_into<'a>(
         writer.write_string(frame);
         let translation = &pose.translation.vector;
         let rotation = &pose.rotation.as_ref().coords; // nalgebra stores [x, y, z, w]
-        for value in translation.iter().chain(rotation.iter()) {
-            writer.write_f64(*value);
-        }
+        writer.write_f64s(translation.iter().chain(rotation.iter()).copied());
     }
     writer.into_bytes()
 }
@@ -369,9 +367,7 @@ pub(crate) fn encode_joint_state(
         writer.write_string(name);
     }
     writer.write_length(length(values.len()));
-    for value in values {
-        writer.write_f64(*value);
-    }
+    writer.write_f64s(values.iter().copied());
     writer.write_length(0);
     writer.write_length(0);
     writer.into_bytes()
