@@ -68,6 +68,8 @@ impl CdrWriter {
         self.bytes.extend_from_slice(&value.to_le_bytes());
     }
 
+    /// One `float64`; the encoders write runs with [`Self::write_f64s`].
+    #[cfg(test)]
     pub fn write_f64(&mut self, value: f64) {
         self.align(8);
         self.bytes.extend_from_slice(&value.to_le_bytes());
