@@ -7,7 +7,8 @@
 //! every frame's transform is the latest one received up to and including that message
 //! (`/tf_static` ones count from the start), the joint values are the latest `/joint_states`
 //! message logged at or before the step's time, and the held frame the latest message of the held
-//! topic logged at or before it. A mapped frame's world pose is its transforms composed up to the
+//! topic logged at or before it (a robot frame `P/ROOT` whose last part is the robot's root link
+//! reads joint `J` as `P/J` when the bag has that name). A mapped frame's world pose is its transforms composed up to the
 //! root of its tree, which must be the same for every mapped frame. With a grasp joint instead of a
 //! held topic, the gripper holds nothing while the joint's value is at or above the closing value;
 //! at the step the joint closes, it takes the movable object whose origin is nearest the gripper
@@ -232,6 +233,20 @@ pub fn ros2_trajectory(
             }
         }
     }
+    // With several robots in one bag, each robot's frames and joints carry its prefix, as lamp
+    // writes them (`fetch/base_link`, `fetch/shoulder_pan_joint`): a robot frame `P/ROOT`, where
+    // ROOT is the robot's root link, reads its joints as `P/JOINT`, else by their bare names.
+    let prefix = match (&mapping.robot, robot) {
+        (Some(mapped), Some(robot)) => mapped
+            .base_frame
+            .strip_suffix(robot.model.link_name(0))
+            .filter(|prefix| prefix.ends_with('/'))
+            .unwrap_or(""),
+        _ => "",
+    };
+    let joint_value = |values: &BTreeMap<&str, f64>, joint: &str| {
+        values.get(format!("{prefix}{joint}").as_str()).or_else(|| values.get(joint)).copied()
+    };
     let frame_index: BTreeMap<&str, usize> =
         mapping.objects.iter().enumerate().map(|(index, o)| (o.frame.as_str(), index)).collect();
 
@@ -334,7 +349,7 @@ pub fn ros2_trajectory(
             robot.model.mount().write_coordinates(&base, &mut q);
             for (joint, coordinate) in &joints {
                 q[*coordinate] =
-                    *joint_values.get(joint).ok_or_else(|| Ros2Error::MissingJoint {
+                    joint_value(&joint_values, joint).ok_or_else(|| Ros2Error::MissingJoint {
                         file: file.to_string(),
                         robot: mapped.robot.clone(),
                         joint: joint.to_string(),
@@ -342,11 +357,12 @@ pub fn ros2_trajectory(
             }
             if let Some(grasp) = &robot.grasp {
                 let joint = grasp.joint.joint.as_str();
-                let value = *joint_values.get(joint).ok_or_else(|| Ros2Error::MissingJoint {
-                    file: file.to_string(),
-                    robot: mapped.robot.clone(),
-                    joint: joint.to_string(),
-                })?;
+                let value =
+                    joint_value(&joint_values, joint).ok_or_else(|| Ros2Error::MissingJoint {
+                        file: file.to_string(),
+                        robot: mapped.robot.clone(),
+                        joint: joint.to_string(),
+                    })?;
                 let closed = value < grasp.joint.closed_below;
                 if !closed {
                     held = None;

@@ -290,3 +290,90 @@ fn grasps_are_read_from_a_closing_gripper_joint_near_a_movable_object() {
         lamp_build::ros2_trajectory(&always_closed, "cafe.mcap", "cafe", &mapping, Some(&robot));
     assert!(holding(&read.unwrap().steps).iter().all(Option::is_none));
 }
+
+/// A bag of two robots, as lamp writes it: Keva's free-flying hand and YuMi arm, their frames
+/// and joints prefixed `hand/` and `yumi/`, each read through a mapping of its own root frame.
+#[test]
+fn each_of_two_robots_is_read_through_its_prefixed_frames_and_joints() {
+    use lamp_trajectory::{BodyDescription, RobotDescription, RobotState, Step, TrajectoryHeader};
+    use nalgebra::{Isometry3, UnitQuaternion};
+    let (_, world) = lamp_test_support::domain("keva");
+    let (hand, yumi) = (&world.robots["hand"], &world.robots["yumi"]);
+    let describe = |name: &str, model: &lamp_robot::Robot| RobotDescription {
+        name: name.into(),
+        coordinates: model.coordinate_names().to_vec(),
+        grippers: vec!["gripper".into()],
+    };
+    let header = TrajectoryHeader {
+        domain: "keva".into(),
+        seed: 0,
+        provenance: Default::default(),
+        bodies: vec![
+            BodyDescription { name: "table1".into(), type_name: "table".into() },
+            BodyDescription { name: "plank1".into(), type_name: "plank".into() },
+        ],
+        robots: vec![describe("hand", hand), describe("yumi", yumi)],
+    };
+    let steps = (0..30)
+        .map(|index| {
+            let t = index as f64 * 0.01;
+            let mut hand_q = hand.neutral_configuration();
+            hand_q[0] = 0.1 + t;
+            hand_q[2] = 0.3;
+            let mut yumi_q = yumi.neutral_configuration();
+            for (joint, value) in yumi_q.iter_mut().enumerate() {
+                *value += 0.1 * (t + joint as f64).sin();
+            }
+            let plank = Isometry3::from_parts(
+                Translation3::new(0.2, 0.1 * t, 0.0),
+                UnitQuaternion::from_euler_angles(0.0, 0.0, t),
+            );
+            Step {
+                time_nanoseconds: index * 10_000_000,
+                body_poses: vec![Isometry3::identity(), plank],
+                robots: vec![
+                    RobotState { positions: hand_q, held: vec![None] },
+                    RobotState { positions: yumi_q, held: vec![None] },
+                ],
+            }
+        })
+        .collect();
+    let trajectory = Trajectory { header, steps };
+    let (channels, values) = lamp_world::standard_channels(&world, &trajectory).unwrap();
+    let bag = strip(&trajectory.to_bytes_with(&channels, &values).unwrap());
+    for (index, (name, model)) in [("hand", hand), ("yumi", yumi)].into_iter().enumerate() {
+        let mut mapping = mapping(&trajectory);
+        mapping.robot = Some(FrameRobot {
+            robot: name.into(),
+            base_frame: format!("{name}/{}", model.link_name(0)),
+            held_topic: Some(format!("/{name}/lamp/held")),
+            grasp_joint: None,
+        });
+        let robot = lamp_build::ros2::mapped_robot(&world, &mapping).unwrap().unwrap();
+        let read =
+            lamp_build::ros2_trajectory(&bag, "keva.mcap", "keva", &mapping, Some(&robot)).unwrap();
+        assert_eq!(read.steps.len(), trajectory.steps.len());
+        for (read, original) in read.steps.iter().zip(&trajectory.steps) {
+            assert_eq!(read.body_poses, original.body_poses);
+            let (read, original) = (&read.robots[0], &original.robots[index]);
+            assert_eq!(read.held, original.held);
+            for (a, b) in read.positions.iter().zip(&original.positions) {
+                assert!((a - b).abs() < 1e-9, "{name}: {a} read, {b} written");
+            }
+        }
+    }
+    // The bare URDF names are not on /joint_states: a mapping whose frame has no prefix finds
+    // no YuMi joint.
+    let mut mapping = mapping(&trajectory);
+    mapping.robot = Some(FrameRobot {
+        robot: "yumi".into(),
+        base_frame: "plank1".into(),
+        held_topic: None,
+        grasp_joint: None,
+    });
+    mapping.objects.truncate(1);
+    let robot = lamp_build::ros2::mapped_robot(&world, &mapping).unwrap().unwrap();
+    let error =
+        lamp_build::ros2_trajectory(&bag, "keva.mcap", "keva", &mapping, Some(&robot)).unwrap_err();
+    assert!(matches!(&error, Ros2Error::MissingJoint { robot, .. } if robot == "yumi"), "{error}");
+}
