@@ -25,6 +25,26 @@ pub struct CheckOutcome {
     pub diagnostics: Vec<Diagnostic>,
     /// The files read, for rendering the diagnostics.
     pub sources: SourceMap,
+    /// Where goals are written, for diagnostics found after checking (by the build).
+    pub places: GoalPlaces,
+}
+
+/// Where goals are written in the spec's files.
+#[derive(Debug, Clone, Default)]
+pub struct GoalPlaces {
+    /// Each `at` goal by (problem, object).
+    at_goals: std::collections::BTreeMap<(String, String), Span>,
+}
+
+impl GoalPlaces {
+    /// Where the `at` goal on `object` of problem `problem` is written.
+    pub fn at_goal(&self, problem: &str, object: &str) -> Option<Span> {
+        self.at_goals.get(&(problem.to_string(), object.to_string())).copied()
+    }
+
+    pub(crate) fn add_at_goal(&mut self, problem: &str, object: &str, span: Span) {
+        self.at_goals.insert((problem.to_string(), object.to_string()), span);
+    }
 }
 
 /// Checks the spec at `path`; files it refers to are resolved against its folder.
@@ -37,6 +57,7 @@ pub fn check(path: &Path, loader: &dyn Loader) -> CheckOutcome {
             let file = sources.add(display.clone(), String::new());
             let error = SpecError::UnreadableFile { path: display, reason, at: (0, 0).into() };
             CheckOutcome {
+                places: GoalPlaces::default(),
                 spec: None,
                 diagnostics: vec![Diagnostic { file, error: Box::new(error) }],
                 sources,
@@ -50,12 +71,17 @@ pub fn check_source(name: &str, text: &str, base_dir: &Path, loader: &dyn Loader
     let mut sources = SourceMap::default();
     let file = sources.add(name.to_string(), text.to_string());
     match parse::parse_spec(file, text) {
-        Err(diagnostic) => CheckOutcome { spec: None, diagnostics: vec![diagnostic], sources },
+        Err(diagnostic) => CheckOutcome {
+            spec: None,
+            diagnostics: vec![diagnostic],
+            sources,
+            places: GoalPlaces::default(),
+        },
         Ok(items) => {
             let mut checker = check::Checker::new(loader, base_dir.to_path_buf(), sources);
             let spec = check::check_items(&mut checker, file, &items);
-            let (diagnostics, sources) = checker.finish();
-            CheckOutcome { spec, diagnostics, sources }
+            let (diagnostics, sources, places) = checker.finish();
+            CheckOutcome { spec, diagnostics, sources, places }
         }
     }
 }

@@ -134,7 +134,7 @@ fn describe(rule: Rule) -> &'static str {
             "a robot setting (urdf, kind, mount, part, grab, group, config, ignore collision)"
         }
         Rule::joint_value => "`joint: value`",
-        Rule::mobility | Rule::world_flag => "`movable`, `static` or `world`",
+        Rule::mobility | Rule::world_flag => "`movable`, `static`, `marker` or `world`",
         Rule::box_shape | Rule::cylinder_shape | Rule::sphere_shape | Rule::mesh_shape => {
             "a shape (box, cylinder, sphere, mesh)"
         }

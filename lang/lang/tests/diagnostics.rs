@@ -223,6 +223,43 @@ fn goal_not_movable() {
     );
 }
 
+#[test]
+fn marker_with_a_shape() {
+    case(
+        "marker_with_a_shape",
+        "type surface {",
+        "type spot { marker  box size (0.1, 0.1, 0.1) m }\ntype surface {",
+        &["lamp::check::conflict"],
+    );
+}
+
+#[test]
+fn at_goal_without_a_marker_type() {
+    case(
+        "at_goal_without_a_marker_type",
+        "    in_box(c1, box1)",
+        "    at c1 (0.2, 0, 0.001) m within 0.01 m 5 deg",
+        &["lamp::check::conflict"],
+    );
+}
+
+#[test]
+fn an_at_goal_takes_the_only_marker_type_and_names_its_marker() {
+    let source = VALID.replacen("type can {", "type spot { marker }\ntype can {", 1).replacen(
+        "    in_box(c1, box1)",
+        "    at c1 (0.2, 0, 0.001) m within 0.01 m 5 deg",
+        1,
+    );
+    let outcome = check(&source);
+    let rendered = render(&outcome);
+    let spec = outcome.spec.unwrap_or_else(|| panic!("{rendered}"));
+    let spot = spec.object_type("spot").expect("the marker type");
+    assert_eq!(spot.mobility, lamp_spec::Mobility::Marker);
+    assert!(spot.shapes.is_empty());
+    let target = &spec.problems[0].goal.at[0];
+    assert_eq!((target.marker_type.as_str(), target.marker_name()), ("spot", "goal_c1".into()));
+}
+
 /// A loader whose one file exists but cannot be read.
 struct LockedLoader;
 

@@ -49,7 +49,7 @@ fn a_byte_order_mark_starts_a_scene_file_too() {
     let end = start + VALID[start..].find("  }\n").expect("the scene block ends") + 4;
     let source = format!(
         "{}  scene \"scenes/bom.lamp\"\n{}",
-        &VALID[..start],
+        &VALID[..start].replacen("type can {", "type spot { marker }\ntype can {", 1),
         &VALID[end..].replace(
             "    in_box(c1, box1)\n    surface_can_1(box1, c1)\n",
             "    at c1 (0, 0, 0) m within 0.01 m 5 deg\n"

@@ -51,13 +51,30 @@ pub struct GoalAtom {
     pub arguments: Vec<String>,
 }
 
-/// `at OBJECT POSE within DISTANCE ANGLE`.
+/// `at OBJECT POSE within DISTANCE ANGLE`: the object's world pose within the distance and
+/// the angle of `pose` at the end. It is solved through a marker of `marker_type` placed at
+/// `pose` (named by [`AtGoal::marker_name`]) and the learned relation that puts an object of
+/// the object's type onto a marker.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AtGoal {
     pub object: String,
     pub pose: Pose,
     pub position_tolerance: f64,
     pub angle_tolerance: f64,
+    /// The spec's marker type (its only one).
+    pub marker_type: String,
+}
+
+impl AtGoal {
+    /// The name of the marker at the target: `goal_<object>`.
+    pub fn marker_name(&self) -> String {
+        marker_name(&self.object)
+    }
+}
+
+/// The name of the marker an AtGoal on `object` places at its target.
+pub fn marker_name(object: &str) -> String {
+    format!("goal_{object}")
 }
 
 /// `structure NAME at ANCHOR offset POSE`.

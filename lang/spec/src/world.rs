@@ -10,6 +10,9 @@ use crate::{OptionValue, Pose};
 pub enum Mobility {
     Static,
     Movable,
+    /// A named pose with no geometry (a goal location): static, in relations like any object,
+    /// never in a collision. AtGoal goals place one at each target pose.
+    Marker,
 }
 
 /// An object type declared with `type NAME { … }`.

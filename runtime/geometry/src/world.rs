@@ -5,7 +5,7 @@
 //! boxes beats maintaining a tree (it is a few dozen comparisons of six numbers).
 
 use crate::collision::{Aabb, CollisionShape, within_margin};
-use crate::math::{Pose, Real};
+use crate::math::{Point3, Pose, Real};
 
 /// A body's index in its [`CollisionWorld`], in insertion order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -13,7 +13,8 @@ pub struct BodyId(pub usize);
 
 #[derive(Clone, Debug)]
 struct Entry {
-    shape: CollisionShape,
+    /// `None` for a marker: a named pose that takes part in no query.
+    shape: Option<CollisionShape>,
     pose: Pose,
     aabb: Aabb,
     enabled: bool,
@@ -34,7 +35,15 @@ impl CollisionWorld {
     /// Adds a body at `pose`.
     pub fn insert(&mut self, shape: CollisionShape, pose: Pose) -> BodyId {
         let aabb = shape.aabb(&pose);
-        self.entries.push(Entry { shape, pose, aabb, enabled: true });
+        self.entries.push(Entry { shape: Some(shape), pose, aabb, enabled: true });
+        BodyId(self.entries.len() - 1)
+    }
+
+    /// Adds a marker at `pose`: it keeps an id and a pose, so that ids stay the scene's body
+    /// indices, but no query ever meets it.
+    pub fn insert_marker(&mut self, pose: Pose) -> BodyId {
+        let aabb = point_box(&pose);
+        self.entries.push(Entry { shape: None, pose, aabb, enabled: true });
         BodyId(self.entries.len() - 1)
     }
 
@@ -51,7 +60,10 @@ impl CollisionWorld {
     /// Moves a body.
     pub fn set_pose(&mut self, id: BodyId, pose: Pose) {
         if let Some(entry) = self.entries.get_mut(id.0) {
-            entry.aabb = entry.shape.aabb(&pose);
+            entry.aabb = match &entry.shape {
+                Some(shape) => shape.aabb(&pose),
+                None => point_box(&pose),
+            };
             entry.pose = pose;
         }
     }
@@ -61,9 +73,9 @@ impl CollisionWorld {
         self.entries.get(id.0).map(|entry| &entry.pose)
     }
 
-    /// The shape of a body.
+    /// The shape of a body (`None` for a marker).
     pub fn shape(&self, id: BodyId) -> Option<&CollisionShape> {
-        self.entries.get(id.0).map(|entry| &entry.shape)
+        self.entries.get(id.0).and_then(|entry| entry.shape.as_ref())
     }
 
     /// Includes or excludes a body from queries (a held object is checked as part of the robot).
@@ -96,10 +108,10 @@ impl CollisionWorld {
         skip: impl Fn(BodyId) -> bool,
     ) -> Option<BodyId> {
         self.entries.iter().enumerate().find_map(|(index, entry)| {
-            let hit = entry.enabled
-                && entry.aabb.overlaps(aabb, margin.max(0.0))
+            let other = entry.shape.as_ref().filter(|_| entry.enabled)?;
+            let hit = entry.aabb.overlaps(aabb, margin.max(0.0))
                 && !skip(BodyId(index))
-                && within_margin(shape, pose, &entry.shape, &entry.pose, margin);
+                && within_margin(shape, pose, other, &entry.pose, margin);
             hit.then_some(BodyId(index))
         })
     }
@@ -109,10 +121,11 @@ impl CollisionWorld {
         let mut pairs = Vec::new();
         for (i, a) in self.entries.iter().enumerate() {
             for (j, b) in self.entries.iter().enumerate().skip(i + 1) {
+                let (Some(a_shape), Some(b_shape)) = (&a.shape, &b.shape) else { continue };
                 if a.enabled
                     && b.enabled
                     && a.aabb.overlaps(&b.aabb, margin.max(0.0))
-                    && within_margin(&a.shape, &a.pose, &b.shape, &b.pose, margin)
+                    && within_margin(a_shape, &a.pose, b_shape, &b.pose, margin)
                 {
                     pairs.push((BodyId(i), BodyId(j)));
                 }
@@ -120,4 +133,10 @@ impl CollisionWorld {
         }
         pairs
     }
+}
+
+/// The degenerate box at a marker's origin.
+fn point_box(pose: &Pose) -> Aabb {
+    let point = Point3::from(pose.translation.vector);
+    Aabb { mins: point, maxs: point }
 }

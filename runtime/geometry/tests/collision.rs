@@ -157,3 +157,18 @@ fn disabled_and_skipped_bodies_are_ignored() {
     assert_eq!(world.first_contact(&probe, &pose, 0.0, |_| false), None);
     assert_eq!(world.contacts_between_bodies(0.0), Vec::new());
 }
+
+#[test]
+fn markers_keep_their_id_and_pose_but_meet_nothing() {
+    let mut world = CollisionWorld::new();
+    let marker = world.insert_marker(at(0.0, 0.0, 0.0));
+    let body = world.insert(cube(0.05), at(0.0, 0.0, 0.0));
+    assert_eq!((marker.0, body.0), (0, 1));
+    assert!(world.shape(marker).is_none());
+    let probe = cube(0.01);
+    assert_eq!(world.first_contact(&probe, &at(0.0, 0.0, 0.0), 0.0, |_| false), Some(body));
+    assert_eq!(world.first_contact(&probe, &at(0.0, 0.0, 0.0), 0.0, |id| id == body), None);
+    world.set_pose(marker, at(1.0, 2.0, 3.0));
+    assert_eq!(world.pose(marker), Some(&at(1.0, 2.0, 3.0)));
+    assert_eq!(world.contacts_between_bodies(0.0), Vec::new());
+}

@@ -121,7 +121,7 @@ impl SpecWorld {
         Ok(q)
     }
 
-    /// The initial scene of a problem.
+    /// The initial scene of a problem: its objects, a marker at each AtGoal target, its robots.
     pub fn problem_scene(&self, problem: &Problem) -> Result<Scene, WorldError> {
         let mut scene = Scene::new();
         for object in &problem.scene.objects {
@@ -132,6 +132,17 @@ impl SpecWorld {
                 }
             })?;
             scene.add_body(body, object.pose)?;
+        }
+        // Each AtGoal's marker stands at its target from the start: the learned relation of the
+        // object on a marker is what the planner reaches, and markers collide with nothing.
+        for target in &problem.goal.at {
+            let body = self.body(&target.marker_name(), &target.marker_type).ok_or_else(|| {
+                WorldError::Undeclared {
+                    problem: problem.name.clone(),
+                    name: target.marker_type.clone(),
+                }
+            })?;
+            scene.add_body(body, target.pose)?;
         }
         for placement in &problem.scene.robots {
             let q = self.placement_configuration(

@@ -20,8 +20,17 @@ pub struct Body {
     pub movable: bool,
     /// The static world (floor, table): collides, but takes part in no relation.
     pub world: bool,
-    /// The body's shapes, each placed in the body's frame (for drawing and reporting).
+    /// The body's shapes, each placed in the body's frame (for drawing and reporting). None for
+    /// a marker.
     pub parts: Vec<(Pose, Shape)>,
+}
+
+impl Body {
+    /// Whether the body is a marker: a named pose (a goal location, say) that takes part in
+    /// relations but has no geometry, so nothing ever collides with it.
+    pub fn is_marker(&self) -> bool {
+        self.parts.is_empty()
+    }
 }
 
 /// A gripper link and the object it holds.
@@ -119,11 +128,14 @@ impl Scene {
                 reason: format!("a second body named `{}`", body.name),
             });
         }
-        let shape = CollisionShape::compound(&body.parts).map_err(|error| WorldError::Shape {
-            type_name: body.type_name.clone(),
-            reason: error.to_string(),
-        })?;
-        let id = self.collision.insert(shape, pose);
+        let id = if body.is_marker() {
+            self.collision.insert_marker(pose)
+        } else {
+            let shape = CollisionShape::compound(&body.parts).map_err(|error| {
+                WorldError::Shape { type_name: body.type_name.clone(), reason: error.to_string() }
+            })?;
+            self.collision.insert(shape, pose)
+        };
         self.bodies.push(body);
         debug_assert_eq!(id.0, self.bodies.len() - 1);
         Ok(id.0)

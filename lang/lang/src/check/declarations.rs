@@ -34,11 +34,11 @@ impl Checker<'_> {
             for (item, span) in &decl.items {
                 let (shape, origin) = match item {
                     TypeItem::Mobility(word) => {
-                        if self.once(&mut mobility_span, "`movable`/`static`", *span) {
-                            mobility = Some(if word.text == "movable" {
-                                lamp_spec::Mobility::Movable
-                            } else {
-                                lamp_spec::Mobility::Static
+                        if self.once(&mut mobility_span, "`movable`/`static`/`marker`", *span) {
+                            mobility = Some(match word.text.as_str() {
+                                "movable" => lamp_spec::Mobility::Movable,
+                                "marker" => lamp_spec::Mobility::Marker,
+                                _ => lamp_spec::Mobility::Static,
                             });
                         }
                         continue;
@@ -88,14 +88,28 @@ impl Checker<'_> {
                 self.missing(
                     name_span,
                     "the type's mobility",
-                    "Add `movable` (robots may move it) or `static`.",
+                    "Add `movable` (robots may move it), `static`, or `marker` (a pose with no geometry).",
                 );
             }
-            if decl
-                .items
-                .iter()
-                .all(|(item, _)| matches!(item, TypeItem::Mobility(_) | TypeItem::World))
-            {
+            let shaped = |(item, _): &&(TypeItem, Span)| {
+                !matches!(item, TypeItem::Mobility(_) | TypeItem::World)
+            };
+            if mobility == Some(lamp_spec::Mobility::Marker) {
+                if let Some((_, span)) = decl.items.iter().find(shaped) {
+                    self.report(at(*span, |at| SpecError::Conflict {
+                        message: "a marker has no geometry".to_string(),
+                        at,
+                        help: "Remove the shape: a marker is a named pose that nothing collides with; declare a `static` type for a body with a shape.".to_string(),
+                    }));
+                }
+                if let Some(span) = world_span {
+                    self.report(at(span, |at| SpecError::Conflict {
+                        message: "a marker cannot be the static world".to_string(),
+                        at,
+                        help: "Write `static world` on the type of the floor or ground every scene stands on.".to_string(),
+                    }));
+                }
+            } else if !decl.items.iter().any(|item| shaped(&item)) {
                 self.missing(name_span, "the type's geometry", "Add a shape, e.g. `box size (0.1, 0.1, 0.1) m` or `cylinder radius 0.03 m height 0.15 m`.");
             }
             if let (Some(lamp_spec::Mobility::Movable), Some(span)) = (mobility, world_span) {
@@ -112,6 +126,9 @@ impl Checker<'_> {
             );
             if !world {
                 declared.relation_types.insert(decl.name.text.clone(), name_span);
+            }
+            if mobility == lamp_spec::Mobility::Marker {
+                declared.marker_types.insert(decl.name.text.clone(), name_span);
             }
             if self.diagnostics.len() == errors_before {
                 types.push(lamp_spec::ObjectType {

@@ -23,6 +23,7 @@ pub(crate) struct Checker<'a> {
     base_dir: PathBuf,
     pub(crate) sources: SourceMap,
     diagnostics: Vec<Diagnostic>,
+    pub(crate) places: crate::GoalPlaces,
 }
 
 /// Names declared once and referred to elsewhere, with where they were declared.
@@ -32,6 +33,8 @@ pub(crate) struct Declared {
     pub(crate) relation_types: BTreeMap<String, Span>,
     /// Object types (including the static world) → (span, movable).
     pub(crate) object_types: BTreeMap<String, (Span, bool)>,
+    /// Marker types (named poses without geometry), by name.
+    pub(crate) marker_types: BTreeMap<String, Span>,
     pub(crate) robots: BTreeMap<String, lamp_spec::Robot>,
     /// Robots declared with errors: already reported, so references to them stay silent.
     pub(crate) invalid_robots: std::collections::BTreeSet<String>,
@@ -41,15 +44,15 @@ pub(crate) struct Declared {
 
 impl<'a> Checker<'a> {
     pub(crate) fn new(loader: &'a dyn Loader, base_dir: PathBuf, sources: SourceMap) -> Self {
-        Checker { loader, base_dir, sources, diagnostics: Vec::new() }
+        Checker { loader, base_dir, sources, diagnostics: Vec::new(), places: Default::default() }
     }
 
     pub(crate) fn report(&mut self, diagnostic: Diagnostic) {
         self.diagnostics.push(diagnostic);
     }
 
-    pub(crate) fn finish(self) -> (Vec<Diagnostic>, SourceMap) {
-        (self.diagnostics, self.sources)
+    pub(crate) fn finish(self) -> (Vec<Diagnostic>, SourceMap, crate::GoalPlaces) {
+        (self.diagnostics, self.sources, self.places)
     }
 
     /// A path written in the spec, normalised, relative to the spec's folder.

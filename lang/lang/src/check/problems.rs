@@ -97,7 +97,16 @@ impl Checker<'_> {
                 None
             }
             Some(_) if !scene_ok => None,
-            Some(_) => self.goal(goal_items, declared, &scene, &objects),
+            Some(_) => {
+                for item in goal_items {
+                    if let GoalItem::At { object, .. } = item {
+                        let end = item_span(item).end;
+                        let span = Span { end, ..object.span };
+                        self.places.add_at_goal(&problem.name.text, &object.text, span);
+                    }
+                }
+                self.goal(goal_items, declared, &scene, &objects)
+            }
         };
         (self.diagnostics.len() == errors_before).then(|| lamp_spec::Problem {
             name: problem.name.text.clone(),
@@ -198,6 +207,47 @@ impl Checker<'_> {
         scene
     }
 
+    /// The marker type an `at` goal on `object` places at its target: the spec's only marker
+    /// type. The marker's name must not be taken by a scene object.
+    fn at_goal_marker(
+        &mut self,
+        object: &Name,
+        declared: &Declared,
+        scene: &lamp_spec::Scene,
+    ) -> Option<String> {
+        let mut markers = declared.marker_types.keys();
+        let (Some(marker_type), None) = (markers.next(), markers.next()) else {
+            let several = declared.marker_types.len() > 1;
+            self.report(at(object.span, |at| SpecError::Conflict {
+                message: if several {
+                    format!(
+                        "an `at` goal needs one marker type, and the spec declares {} ({})",
+                        declared.marker_types.len(),
+                        declared.marker_types.keys().cloned().collect::<Vec<_>>().join(", ")
+                    )
+                } else {
+                    "an `at` goal needs a marker type, and the spec declares none".to_string()
+                },
+                at,
+                help: "An `at` goal is solved by placing a marker at the target and reaching the learned relation of the object on a marker: declare one marker type (`type place { marker }`) and demonstrations that put objects onto markers.".to_string(),
+            }));
+            return None;
+        };
+        let marker = lamp_spec::marker_name(&object.text);
+        if scene.objects.iter().any(|other| other.name == marker) {
+            self.report(at(object.span, |at| SpecError::Conflict {
+                message: format!(
+                    "the `at` goal on `{}` places a marker named `{marker}`, and a scene object has that name",
+                    object.text
+                ),
+                at,
+                help: format!("Rename the scene object `{marker}`."),
+            }));
+            return None;
+        }
+        Some(marker_type.clone())
+    }
+
     fn goal(
         &mut self,
         items: &[GoalItem],
@@ -237,12 +287,28 @@ impl Checker<'_> {
                             "a positive angle",
                         )
                     });
-                    if let (Some(pose), Some(distance), Some(angle)) = (pose, distance, angle) {
+                    // A static object's goal is already refused; its marker would add noise.
+                    let marker_type = match movable {
+                        Some(false) => None,
+                        _ => self.at_goal_marker(object, declared, scene),
+                    };
+                    if let (Some(pose), Some(distance), Some(angle), Some(marker_type)) =
+                        (pose, distance, angle, marker_type)
+                    {
+                        if goal.at.iter().any(|other| other.object == object.text) {
+                            self.report(at(object.span, |at| SpecError::Conflict {
+                                message: format!("`{}` has two `at` goals", object.text),
+                                at,
+                                help: "Give each object one target pose.".to_string(),
+                            }));
+                            continue;
+                        }
                         goal.at.push(lamp_spec::AtGoal {
                             object: object.text.clone(),
                             pose,
                             position_tolerance: distance,
                             angle_tolerance: angle,
+                            marker_type,
                         });
                     }
                 }
