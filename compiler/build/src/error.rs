@@ -162,6 +162,24 @@ pub enum BuildError {
     )]
     AliasRegion { alias: String, primary: String, secondary: String, regions: String },
 
+    /// An AtGoal whose object-on-marker relation was not learned.
+    #[error(
+        "problem `{problem}`: the `at` goal on `{object}` cannot be written: for a {object_type} on a {marker_type}, {reason}"
+    )]
+    #[diagnostic(
+        code(lamp::build::at_goal),
+        help(
+            "An `at` goal is reached through the learned relation of a {object_type} exactly on a {marker_type} marker: record demonstrations that place {object_type}s onto markers (see vocabulary.md for what was learned)."
+        )
+    )]
+    AtGoal {
+        problem: String,
+        object: String,
+        marker_type: String,
+        object_type: String,
+        reason: String,
+    },
+
     /// A goal names a relation that was not learned.
     #[error("problem `{problem}`: goal relation `{relation}` was not learned")]
     #[diagnostic(

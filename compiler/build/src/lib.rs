@@ -17,6 +17,7 @@
 
 pub mod adapter;
 pub mod aliases;
+pub mod at_goals;
 pub mod config;
 pub mod digest;
 pub mod error;
@@ -34,6 +35,7 @@ pub mod shapes;
 
 pub use adapter::{Adapter, part_participant_name};
 pub use aliases::{ResolvedAlias, resolve_alias, resolve_aliases};
+pub use at_goals::{GoalWarning, at_goal_atoms};
 pub use config::learn_config;
 pub use digest::{Digest, demonstration_digest, file_digest};
 pub use error::BuildError;

@@ -13,6 +13,7 @@ use lamp_world::SpecWorld;
 
 use crate::adapter::Adapter;
 use crate::aliases::resolve_aliases;
+use crate::at_goals::GoalWarning;
 use crate::config::learn_config;
 use crate::digest::{Digest, demonstration_digest};
 use crate::error::BuildError;
@@ -66,6 +67,8 @@ pub struct Summary {
     pub problems_skipped: Vec<(String, String)>,
     /// What was left out of written problems, per problem, in spec order.
     pub notes: Vec<(String, String)>,
+    /// Warnings about the goals of written problems, in spec order.
+    pub warnings: Vec<GoalWarning>,
     /// The demonstration digest.
     pub digest: String,
 }
@@ -136,12 +139,13 @@ pub fn artifacts(
     let mut files = vec![ArtifactFile { path: DOMAIN_FILE.into(), contents: domain_text }];
     for problem in &spec.problems {
         match problem_pddl(&problem_context, problem)? {
-            ProblemOutcome::Written { name, text, notes } => {
+            ProblemOutcome::Written { name, text, notes, warnings } => {
                 files.push(ArtifactFile {
                     path: PathBuf::from(PROBLEMS_DIR).join(format!("{name}.pddl")),
                     contents: text,
                 });
                 summary.notes.extend(notes.into_iter().map(|note| (name.clone(), note)));
+                summary.warnings.extend(warnings);
                 summary.problems_written.push(name);
             }
             ProblemOutcome::Skipped { name, reason } => {

@@ -3,9 +3,10 @@
 //!
 //! Objects are the scene's robot parts (`<robot>_<part type>`) and its bodies that are not the static
 //! world. The initial state is the learned abstraction of the scene: body poses as placed, part
-//! poses by forward kinematics of the robot's initial configuration. AtGoal targets and structure
-//! goals have no learned-relation form here: a problem with only those is skipped, a problem that also
-//! has atoms is written with the atoms and a note.
+//! poses by forward kinematics of the robot's initial configuration; the markers of AtGoal targets
+//! are objects like the others. The goal: the learned-relation and alias atoms, and each AtGoal as
+//! its object on its marker (`at_goals`). Structure goals have no learned-relation form yet: a
+//! problem with only those is skipped, a problem that also has atoms is written with a note.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -16,14 +17,15 @@ use lamp_world::SpecWorld;
 
 use crate::adapter::Adapter;
 use crate::aliases::ResolvedAlias;
+use crate::at_goals::{GoalWarning, at_goal_atoms};
 use crate::error::BuildError;
 use crate::scene_state::scene_snapshot;
 
 /// What became of one spec problem.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ProblemOutcome {
-    /// Written; `notes` say what of its goal was left out.
-    Written { name: String, text: String, notes: Vec<String> },
+    /// Written; `notes` say what of its goal was left out, `warnings` what may make it hard.
+    Written { name: String, text: String, notes: Vec<String>, warnings: Vec<GoalWarning> },
     /// Not written, and why.
     Skipped { name: String, reason: String },
 }
@@ -47,19 +49,13 @@ pub fn problem_pddl(
     let name = problem.name.clone();
     let goal = &problem.goal;
     let mut omitted = Vec::new();
-    if !goal.at.is_empty() {
-        omitted.push(format!(
-            "{} AtGoal pose target(s) omitted: world-frame poses are not learned relations",
-            goal.at.len()
-        ));
-    }
     if let Some(structure) = &goal.structure {
         omitted.push(format!(
             "structure goal `{}` omitted: structure transcription is not implemented yet",
             structure.structure
         ));
     }
-    if goal.atoms.is_empty() {
+    if goal.atoms.is_empty() && goal.at.is_empty() {
         let reason = if omitted.is_empty() {
             "its goal is empty".to_string()
         } else {
@@ -67,7 +63,9 @@ pub fn problem_pddl(
         };
         return Ok(ProblemOutcome::Skipped { name, reason });
     }
-    let goal_atoms = goal_atoms(context, problem)?;
+    let mut goal_atoms = goal_atoms(context, problem)?;
+    let (at_atoms, warnings) = at_goal_atoms(context.model, problem)?;
+    goal_atoms.extend(at_atoms);
     let (participants, snapshot) = initial_snapshot(context, problem)?;
     let declared: BTreeMap<&str, Role> =
         context.model.types.iter().map(|(name, role)| (name.as_str(), *role)).collect();
@@ -103,7 +101,7 @@ pub fn problem_pddl(
         text.push_str(&format!("; {line}\n"));
     }
     text.push_str(&lamp_pddl::write_problem(&pddl));
-    Ok(ProblemOutcome::Written { name, text, notes: omitted })
+    Ok(ProblemOutcome::Written { name, text, notes: omitted, warnings })
 }
 
 /// The clear relations of held regions (g = 1) true in `init`: grippers that start empty must end

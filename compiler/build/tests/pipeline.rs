@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 use lamp_build::{BuildError, SamplersFile};
 use lamp_learn::SamplerArtifact;
-use lamp_spec::{AtGoal, GoalAtom, Pose};
+use lamp_spec::{GoalAtom, Pose};
 
 use support::{DEMOS, PACKING_BUILD, PACKING_DEMOS, artifact, build_with, packing};
 
@@ -258,29 +258,4 @@ fn a_goal_relation_that_was_not_learned_is_an_error() {
     .expect_err("surface_can_7 does not exist");
     assert_eq!(code(&error), "lamp::build::goal_relation");
     assert!(error.to_string().contains("`surface_can_7`"));
-}
-
-fn at_goal() -> AtGoal {
-    AtGoal {
-        object: "can1".into(),
-        pose: Pose::translation(0.25, 0.15, 0.001),
-        position_tolerance: 0.02,
-        angle_tolerance: 0.2,
-    }
-}
-
-#[test]
-fn at_goals_are_noted_or_make_the_problem_skipped() {
-    let (_, noted) = build_with(|spec| spec.problems[0].goal.at.push(at_goal())).expect("builds");
-    assert_eq!(noted.summary.problems_written.len(), 12);
-    assert_eq!(noted.summary.notes.len(), 1);
-    assert!(noted.summary.notes[0].1.contains("AtGoal"));
-    let (_, skipped) = build_with(|spec| {
-        spec.problems[0].goal.atoms.clear();
-        spec.problems[0].goal.at.push(at_goal());
-    })
-    .expect("builds");
-    assert!(!skipped.summary.problems_written.contains(&"pack4_01".to_string()));
-    assert_eq!(skipped.summary.problems_skipped[0].0, "pack4_01");
-    assert!(!skipped.files.iter().any(|file| file.path.ends_with("pack4_01.pddl")));
 }

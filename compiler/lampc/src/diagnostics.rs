@@ -49,3 +49,63 @@ pub(crate) fn render_error(error: &dyn miette::Diagnostic, colour: bool) -> Stri
     out.push('\n');
     out
 }
+
+/// A build warning about a goal, pointed at where the goal is written.
+#[derive(Debug)]
+struct LocatedWarning<'a> {
+    warning: &'a lamp_build::GoalWarning,
+    source: miette::NamedSource<String>,
+    at: miette::SourceSpan,
+}
+
+impl std::fmt::Display for LocatedWarning<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.warning.fmt(f)
+    }
+}
+
+impl std::error::Error for LocatedWarning<'_> {}
+
+impl miette::Diagnostic for LocatedWarning<'_> {
+    fn code<'b>(&'b self) -> Option<Box<dyn std::fmt::Display + 'b>> {
+        self.warning.code()
+    }
+
+    fn severity(&self) -> Option<miette::Severity> {
+        self.warning.severity()
+    }
+
+    fn help<'b>(&'b self) -> Option<Box<dyn std::fmt::Display + 'b>> {
+        self.warning.help()
+    }
+
+    fn source_code(&self) -> Option<&dyn miette::SourceCode> {
+        Some(&self.source)
+    }
+
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = miette::LabeledSpan> + '_>> {
+        let label = miette::LabeledSpan::new_with_span(Some("this goal".to_string()), self.at);
+        Some(Box::new(std::iter::once(label)))
+    }
+}
+
+/// Renders a build warning about a goal, at the goal in the spec when it is known there.
+pub(crate) fn render_goal_warning(
+    warning: &lamp_build::GoalWarning,
+    places: &lamp_lang::GoalPlaces,
+    sources: &lamp_lang::SourceMap,
+    colour: bool,
+) -> String {
+    let (problem, object) = warning.at_goal();
+    match places.at_goal(problem, object) {
+        Some(span) => {
+            let located = LocatedWarning {
+                warning,
+                source: sources.named_source(span.file),
+                at: span.source_span(),
+            };
+            render_error(&located, colour)
+        }
+        None => render_error(warning, colour),
+    }
+}

@@ -11,6 +11,9 @@ pub(crate) struct CheckedSpec {
     pub(crate) dir: PathBuf,
     /// The spec's file name, for provenance and messages.
     pub(crate) file_name: String,
+    /// The files read and where goals are written, for diagnostics found later.
+    pub(crate) sources: lamp_lang::SourceMap,
+    pub(crate) places: lamp_lang::GoalPlaces,
 }
 
 /// Checks the spec at `path`, printing every diagnostic; `None` if it has errors.
@@ -29,5 +32,5 @@ pub(crate) fn check_spec(path: &Path, colour: bool) -> Option<CheckedSpec> {
     let file_name = path
         .file_name()
         .map_or_else(|| path.display().to_string(), |name| name.to_string_lossy().into_owned());
-    Some(CheckedSpec { spec, dir, file_name })
+    Some(CheckedSpec { spec, dir, file_name, sources: outcome.sources, places: outcome.places })
 }

@@ -94,8 +94,13 @@ pub(crate) fn run(args: &Args) -> ExitCode {
 fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), Failure> {
     let mut timings = Timings::default();
     let checked = timings.time("check", || crate::spec_input::check_spec(&args.spec, colour));
-    let Some(crate::spec_input::CheckedSpec { spec, dir: spec_dir, file_name: spec_file }) =
-        checked
+    let Some(crate::spec_input::CheckedSpec {
+        spec,
+        dir: spec_dir,
+        file_name: spec_file,
+        sources,
+        places,
+    }) = checked
     else {
         return Err(Failure::Spec);
     };
@@ -152,6 +157,9 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
         .time("emit", || lamp_build::artifacts(&context, &model, &demonstrations, digest))?;
     let replaced = timings.time("write", || write_all(&folder, &lock, &artifacts.files))?;
     print_summary(&spec_file, folder.path(), &artifacts, &timings);
+    for warning in &artifacts.summary.warnings {
+        eprint!("{}", crate::diagnostics::render_goal_warning(warning, &places, &sources, colour));
+    }
     if let Some((kept, reason)) = replaced.kept {
         eprintln!(
             "lampc build: warning: the previous model, moved to {}, could not be removed: {reason}",

@@ -57,7 +57,7 @@ pub(crate) fn run(args: &Args) -> ExitCode {
 
 fn demos(args: &Args, colour: bool) -> Result<(), Failure> {
     let start = Instant::now();
-    let Some(crate::spec_input::CheckedSpec { spec, dir: spec_dir, file_name: spec_file }) =
+    let Some(crate::spec_input::CheckedSpec { spec, dir: spec_dir, file_name: spec_file, .. }) =
         crate::spec_input::check_spec(&args.spec, colour)
     else {
         return Err(Failure::Spec);

@@ -1,0 +1,184 @@
+//! AtGoal goals as learned relations: `at OBJECT POSE within D A` becomes the atom of the learned
+//! relation that puts an object of the object's type onto a marker, with the marker that
+//! `SpecWorld::problem_scene` places at the target.
+//!
+//! The relation is found by example, the way aliases are: among the learned regions of the
+//! (marker type, object type) pair, the one whose membership test accepts the identity (the
+//! object exactly on its marker), largest margin first. A region fitted to demonstrations that
+//! put objects within a few millimetres of their markers is thin in some directions, and its
+//! membership may narrowly refuse the exact identity; then the region whose cells span the
+//! marker's origin is taken, the closest to accepting it first. The solver samples placements
+//! from the region and checks the tolerance in the world frame, so the exact identity need not
+//! be a member. When samples of the region stray from the target by more than the stated
+//! tolerance, the build warns: the solver then needs more samples to land within it, and the
+//! final replay refuses a solution that does not.
+
+use lamp_learn::RegionClassifier;
+use lamp_learn::{Model, Pose};
+use lamp_pddl::Atom;
+use lamp_spec::{AtGoal, Problem};
+use miette::Diagnostic;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use thiserror::Error;
+
+use crate::error::BuildError;
+
+/// Samples drawn from a region to measure how far it strays from its target.
+const SPREAD_SAMPLES: usize = 400;
+/// The share of samples a tolerance must cover for the build not to warn.
+const SPREAD_QUANTILE: f64 = 0.95;
+
+/// A warning about a goal the build wrote, located by problem and object so that `lampc` can
+/// point at the goal in the spec.
+#[derive(Debug, Clone, PartialEq, Eq, Error, Diagnostic)]
+pub enum GoalWarning {
+    /// The learned region of the object on its marker is wider than the goal's tolerance.
+    #[error(
+        "problem `{problem}`: the `at` goal on `{object}` is tighter than what was learned: {share} of the region `{relation}` lies within {position} and {angle} of the target, the goal asks for {tolerance}"
+    )]
+    #[diagnostic(
+        code(lamp::build::at_goal_tolerance),
+        severity(Warning),
+        help(
+            "The solver samples the region and keeps only placements within the tolerance, so it may need more samples or fail; loosen the tolerance, or record demonstrations that place objects onto their markers more precisely."
+        )
+    )]
+    LooserRegion {
+        problem: String,
+        object: String,
+        relation: String,
+        /// The quantile, as a percentage.
+        share: String,
+        /// The quantile's distance and angle from the target.
+        position: String,
+        angle: String,
+        /// The goal's tolerance.
+        tolerance: String,
+    },
+}
+
+impl GoalWarning {
+    /// The problem and the object whose `at` goal the warning is about.
+    pub fn at_goal(&self) -> (&str, &str) {
+        match self {
+            GoalWarning::LooserRegion { problem, object, .. } => (problem, object),
+        }
+    }
+}
+
+/// The goal atoms of a problem's AtGoals, and warnings about them.
+pub fn at_goal_atoms(
+    model: &Model,
+    problem: &Problem,
+) -> Result<(Vec<Atom>, Vec<GoalWarning>), BuildError> {
+    let mut atoms = Vec::new();
+    let mut warnings = Vec::new();
+    for goal in &problem.goal.at {
+        let Some(object) = problem.scene.objects.iter().find(|object| object.name == goal.object)
+        else {
+            return Err(BuildError::Scene {
+                problem: problem.name.clone(),
+                reason: format!("the `at` goal names `{}`, which is not in the scene", goal.object),
+            });
+        };
+        let relation =
+            object_on_marker(model, &goal.marker_type, &object.type_name).map_err(|reason| {
+                BuildError::AtGoal {
+                    problem: problem.name.clone(),
+                    object: goal.object.clone(),
+                    marker_type: goal.marker_type.clone(),
+                    object_type: object.type_name.clone(),
+                    reason,
+                }
+            })?;
+        let marker = goal.marker_name();
+        atoms.push(Atom::ground(relation.clone(), &[marker.as_str(), goal.object.as_str()]));
+        if let Some(warning) = spread_warning(model, problem, goal, &relation) {
+            warnings.push(warning);
+        }
+    }
+    Ok((atoms, warnings))
+}
+
+/// The relation of an object of `object_type` on a marker of `marker_type`, or why there is none.
+/// Markers are static and objects movable, so the marker is the primary of the learned pair.
+fn object_on_marker(model: &Model, marker_type: &str, object_type: &str) -> Result<String, String> {
+    let learned = model
+        .pairs
+        .iter()
+        .find(|learned| {
+            learned.pair.pair.primary == marker_type && learned.pair.pair.secondary == object_type
+        })
+        .ok_or("the demonstrations never put one onto a marker often enough to learn a region")?;
+    let on = Pose::identity();
+    let best = |candidates: &mut dyn Iterator<Item = &lamp_learn::Region>| {
+        candidates
+            .map(|region| (region.model.margin(&on), region))
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, region)| region.relation.clone())
+    };
+    let resting = || learned.regions.iter().filter(|region| region.summary.g == 0);
+    best(&mut resting().filter(|region| region.model.margin(&on) >= 0.0))
+        .or_else(|| best(&mut resting().filter(|region| region.model.spans(&on))))
+        .ok_or_else(|| {
+            let centres: Vec<String> = learned
+                .regions
+                .iter()
+                .map(|region| {
+                    let [x, y, z] = region.summary.centre;
+                    format!("{} centred at ({x:.3}, {y:.3}, {z:.3}) m", region.relation)
+                })
+                .collect();
+            format!(
+                "no learned region is at the marker ({})",
+                if centres.is_empty() { "none learned".to_string() } else { centres.join("; ") }
+            )
+        })
+}
+
+/// A warning when the region strays from the target by more than the goal allows, measured on
+/// samples drawn with the model's seed (so the same model always warns the same way).
+fn spread_warning(
+    model: &Model,
+    problem: &Problem,
+    goal: &AtGoal,
+    relation: &str,
+) -> Option<GoalWarning> {
+    let region = model.region(relation)?;
+    let mut rng = ChaCha8Rng::seed_from_u64(model.seed);
+    let mut distances = Vec::with_capacity(SPREAD_SAMPLES);
+    let mut angles = Vec::with_capacity(SPREAD_SAMPLES);
+    for _ in 0..SPREAD_SAMPLES {
+        // The sample is the object in the marker's frame, or the marker in the object's: the
+        // distance and the angle from the identity are the same either way.
+        let sample = region.model.sample(&mut rng);
+        distances.push(sample.translation.vector.norm());
+        angles.push(sample.rotation.angle());
+    }
+    let position = quantile(&mut distances, SPREAD_QUANTILE);
+    let angle = quantile(&mut angles, SPREAD_QUANTILE);
+    if position <= goal.position_tolerance && angle <= goal.angle_tolerance {
+        return None;
+    }
+    Some(GoalWarning::LooserRegion {
+        problem: problem.name.clone(),
+        object: goal.object.clone(),
+        relation: relation.to_string(),
+        share: format!("{:.0} %", SPREAD_QUANTILE * 100.0),
+        position: format!("{:.1} mm", position * 1000.0),
+        angle: format!("{:.1}°", angle.to_degrees()),
+        tolerance: format!(
+            "{:.1} mm and {:.1}°",
+            goal.position_tolerance * 1000.0,
+            goal.angle_tolerance.to_degrees()
+        ),
+    })
+}
+
+/// The `q` quantile of `values` (nearest rank).
+fn quantile(values: &mut [f64], q: f64) -> f64 {
+    values.sort_by(f64::total_cmp);
+    let rank = ((values.len() as f64) * q).ceil() as usize;
+    values.get(rank.saturating_sub(1)).copied().unwrap_or(0.0)
+}
