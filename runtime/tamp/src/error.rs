@@ -72,6 +72,16 @@ pub enum SolveError {
         help("raise the refiner's `samples` or the motion budget, or try `--planner topk`")
     )]
     RefinementFailed(Progress),
+    /// The final trajectory leaves an AtGoal object outside its tolerance: the learned region of
+    /// the object on its marker let a placement through that the goal does not accept.
+    #[error("the solution misses an `at` goal: {0}")]
+    #[diagnostic(
+        code(lamp::solve::target_missed),
+        help(
+            "Loosen the goal's tolerance to what the demonstrations place (`lampc build` warns when the learned region is wider), or record more precise demonstrations."
+        )
+    )]
+    TargetMissed(String),
     /// The final trajectory failed its replay check: a bug, never a user error.
     #[error("the solution failed validation at step {step}: {reason}")]
     #[diagnostic(code(lamp::solve::invalid_solution))]

@@ -21,6 +21,7 @@ pub mod poses;
 pub mod refine;
 pub mod state;
 pub mod summary;
+pub mod targets;
 pub mod validate;
 
 mod planning;

@@ -24,6 +24,7 @@ use crate::host::SceneHost;
 use crate::planning::plan_from;
 use crate::plugins::Plugins;
 use crate::state::{abstraction, world_state};
+use crate::targets::first_miss_where_reached;
 
 /// Wasted candidates a plan may spend per step, once that is more than `max_refused`.
 ///
@@ -172,6 +173,10 @@ pub fn refine_plan(
                     let reached = abstraction(context.artifact, context.adapter, &trial)?;
                     if !effects_hold(&reached, &actions[at]) {
                         "its effects do not hold in the state reached".to_string()
+                    } else if let Some(miss) =
+                        first_miss_where_reached(context.targets, goal, &reached, &trial)
+                    {
+                        miss.to_string()
                     } else if let Some(broken) = first_broken(&reached, &actions[at + 1..], goal) {
                         let broken = broken_text(&broken, &actions, at);
                         let rest = if replanned_from.insert(reached.clone()) {

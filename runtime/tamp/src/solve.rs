@@ -55,6 +55,9 @@ pub struct SolveInput<'a> {
     pub artifact: &'a SamplerArtifact,
     /// How scenes map to participants.
     pub adapter: &'a Adapter,
+    /// The problem's AtGoal targets: their markers are in `scene`, their goal atoms in
+    /// `problem`; their tolerances are checked in the world frame.
+    pub targets: &'a [lamp_spec::AtGoal],
     /// The header of the trajectory to write.
     pub header: TrajectoryHeader,
 }
@@ -66,6 +69,7 @@ pub struct Context<'a> {
     pub problem: &'a Problem,
     pub artifact: &'a SamplerArtifact,
     pub adapter: &'a Adapter,
+    pub targets: &'a [lamp_spec::AtGoal],
     pub settings: &'a SolveSettings<'a>,
 }
 
@@ -158,8 +162,14 @@ fn solve_with(
             }
         };
         let problem = &*problem;
-        let context =
-            Context { domain, problem, artifact: input.artifact, adapter: input.adapter, settings };
+        let context = Context {
+            domain,
+            problem,
+            artifact: input.artifact,
+            adapter: input.adapter,
+            targets: input.targets,
+            settings,
+        };
         let goal: BTreeSet<GroundAtom> =
             problem.goal.iter().filter(|l| l.positive).map(|l| pddl_atom(&l.atom)).collect();
         let started = Instant::now();
@@ -202,6 +212,7 @@ fn solve_with(
                         input.artifact,
                         input.adapter,
                         &goal,
+                        input.targets,
                         settings.motion.cancelled,
                     )?;
                     summary.seconds_validating = started.elapsed().as_secs_f64();

@@ -1,17 +1,20 @@
 //! Replaying a finished trajectory from the initial scene, as an independent check before it is
 //! written: every step's grasp changes are legal, every configuration is valid (within limits,
 //! collision-free, the held object included), consecutive configurations are within the checking
-//! resolution of each other, bodies move only while held, and the goal holds at the end.
+//! resolution of each other, bodies move only while held, and the goal holds at the end, every
+//! AtGoal object within its tolerance of its target in the world frame.
 
 use std::collections::BTreeSet;
 
 use lamp_build::Adapter;
 use lamp_learn::{GroundAtom, SamplerArtifact};
+use lamp_spec::AtGoal;
 use lamp_trajectory::Step;
 use lamp_world::{MotionConfig, Scene, edge_steps};
 
 use crate::error::SolveError;
 use crate::state::abstraction;
+use crate::targets::first_miss;
 
 /// Checks `steps` from `initial`; returns the final abstract state. `cancelled` is polled before
 /// every step: a long trajectory takes seconds to replay, and a stop request must not wait.
@@ -22,6 +25,7 @@ pub fn replay(
     artifact: &SamplerArtifact,
     adapter: &Adapter,
     goal: &BTreeSet<GroundAtom>,
+    targets: &[AtGoal],
     cancelled: &dyn Fn() -> bool,
 ) -> Result<BTreeSet<GroundAtom>, SolveError> {
     let mut scene = initial.clone();
@@ -81,6 +85,9 @@ pub fn replay(
     let reached = abstraction(artifact, adapter, &scene)?;
     if let Some(missing) = goal.iter().find(|atom| !reached.contains(atom)) {
         return Err(fail(steps.len(), format!("the goal atom {missing} does not hold at the end")));
+    }
+    if let Some(miss) = first_miss(targets, &scene) {
+        return Err(SolveError::TargetMissed(miss.to_string()));
     }
     Ok(reached)
 }

@@ -189,6 +189,7 @@ fn a_stale_problem_file_is_refused() {
         problem: artifact(artifacts, "problems/pack4_01.pddl"),
         artifact: &samplers.artifact,
         adapter: &adapter,
+        targets: &[],
         header: trajectory_header(spec, &scene, 1),
     };
     let mut planner = BuiltinPlanner::new(BuiltinAlgorithm::GbfsFf);

@@ -201,6 +201,7 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
         problem: &problem_text,
         artifact: &samplers.artifact,
         adapter: &adapter,
+        targets: &problem.goal.at,
         header,
     };
     let spinner = spinner();

@@ -147,6 +147,7 @@ fn solve_texts(
         problem: problem_text,
         artifact: &samplers.artifact,
         adapter: &adapter,
+        targets: &problem.goal.at,
         header: trajectory_header(spec, &scene, seed),
     };
     let mut refiner = GmmRefiner::new(samplers.artifact.clone(), *refiner).expect("valid");

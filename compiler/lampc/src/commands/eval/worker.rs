@@ -134,6 +134,7 @@ fn solve(job: &Job) -> SolveResult {
         problem: &job.problem_pddl,
         artifact: &samplers.artifact,
         adapter: &adapter,
+        targets: &problem.goal.at,
         header,
     };
     match lamp_tamp::solve(&input, &mut plugins.as_plugins(), &settings, &|_| {}) {
