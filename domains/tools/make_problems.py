@@ -353,6 +353,112 @@ def print_cafe_layouts():
             print_cafe_problem(rng, surfaces, name, count)
 
 
+# --- Dinner -----------------------------------------------------------------------------------
+
+GLASS_RADIUS = 0.0425
+BOWL_RADIUS = 0.048
+# A place setting at one edge of a dining table, in the frame of that edge (y towards the edge
+# from the table's centre is -y): the bowl near the edge, the glass behind it and to the right,
+# 6.6 cm apart, so that a glass put down first is reached past nothing, and one put down after
+# the bowl is reached past the bowl.
+SETTING_BOWL = (0.0, -0.28)
+SETTING_GLASS = (0.10, -0.16)
+# (problem name, dining tables, other tables, counters, settings, extra glasses on the side)
+DINNER_PROBLEMS = [
+    ("set_table_2", 1, 1, 1, 1, 0),
+    ("set_table_2_02", 1, 2, 1, 1, 0),
+    ("set_table_3", 1, 1, 1, 1, 1),
+    ("set_table_4", 1, 1, 1, 2, 0),
+    ("set_table_4_02", 1, 2, 1, 2, 0),
+    ("set_table_5", 1, 2, 1, 2, 1),
+    ("set_table_6", 1, 1, 1, 3, 0),
+    ("set_table_6_02", 2, 1, 1, 3, 0),
+    ("set_table_7", 1, 2, 1, 3, 1),
+    ("set_table_8", 1, 1, 1, 4, 0),
+    ("set_table_8_02", 2, 1, 1, 4, 0),
+    ("set_table_12", 2, 1, 1, 6, 0),
+]
+
+
+def dinner_goal_lines(rng, dining, settings, extra):
+    """The targets: `settings` place settings on random free edges of the dining tables, then
+    `extra` glasses at the free corner of a set edge; (kind, x, y, z) each."""
+    edges = [(table, side) for table in dining for side in range(4)]
+    rng.shuffle(edges)
+    targets = []
+    for table, side in edges[:settings]:
+        for kind, (lx, ly) in (("bowl", SETTING_BOWL), ("glass", SETTING_GLASS)):
+            angle = math.radians(90 * side)
+            c, s = math.cos(angle), math.sin(angle)
+            targets.append((kind,) + to_world(table, c * lx - s * ly, s * lx + c * ly))
+    for table, side in edges[:extra]:
+        angle = math.radians(90 * side)
+        c, s = math.cos(angle), math.sin(angle)
+        lx, ly = -0.12, -0.15
+        targets.append(("glass",) + to_world(table, c * lx - s * ly, s * lx + c * ly))
+    return targets
+
+
+def place_objects(rng, surfaces, kinds):
+    """Objects of `kinds` on random surfaces, at least 3 cm apart and 5 cm from the edges."""
+    placed = []
+    for kind in kinds:
+        radius = GLASS_RADIUS if kind == "glass" else BOWL_RADIUS
+        while True:
+            surface = surfaces[rng.randrange(len(surfaces))]
+            h = surface[6] - CAFE_EDGE - radius
+            lx, ly = round(rng.uniform(-h, h), 2), round(rng.uniform(-h, h), 2)
+            x, y, z = to_world(surface, lx, ly)
+            x, y = round(x, 3), round(y, 3)
+            _, _, sx, sy, _, yaw, hx, hy = surface
+            if rectangle_distance(x, y, sx, sy, yaw, hx - CAFE_EDGE - radius,
+                                  hy - CAFE_EDGE - radius) > 0.0:
+                continue
+            if any(math.hypot(x - o[1], y - o[2]) < radius + o[4] + CAFE_CAN_GAP for o in placed):
+                continue
+            placed.append((kind, x, y, z, radius))
+            break
+    return placed
+
+
+def print_dinner():
+    rng = random.Random(20254)
+    for name, dining_count, tables, counters, settings, extra in DINNER_PROBLEMS:
+        surfaces = make_layout(rng, dining_count + tables, counters)
+        dining = surfaces[:dining_count]
+        for k, table in enumerate(dining, start=1):
+            dining[k - 1] = (f"dining{k}",) + table[1:]
+        surfaces = dining + surfaces[dining_count:]
+        targets = dinner_goal_lines(rng, dining, settings, extra)
+        objects = place_objects(rng, surfaces[dining_count:], [t[0] for t in targets])
+        kinds = [t[0] for t in targets]
+        print(f"// {name}: {kinds.count('glass')} glasses and {kinds.count('bowl')} bowls onto "
+              f"{settings} place setting(s)" + (f" and {extra} extra glass(es)" if extra else "")
+              + f" on {dining_count} dining table(s).")
+        print(f"problem {name} {{")
+        print("  scene {")
+        print("    floor floor1 at (0, 0, 0) m")
+        for surface in surfaces:
+            sname, stand, x, y, z, yaw, _, _ = surface
+            at = f"at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m{rpy(yaw)}"
+            print(f"    surface {sname} {at}")
+            print(f"    {stand} {sname}_{STAND_SUFFIX[stand]} {at}")
+        numbers = {}
+        names = []
+        for kind, x, y, z, _ in objects:
+            numbers[kind] = numbers.get(kind, 0) + 1
+            names.append(f"{kind}{numbers[kind]}")
+            print(f"    {kind} {names[-1]} at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m")
+        print("    robot fetch at (0, 0, 0) m config tuck")
+        print("  }")
+        print("  goal {")
+        for object_name, (_, x, y, z) in zip(names, targets):
+            print(f"    at {object_name} ({fmt(x)}, {fmt(y)}, {fmt(z)}) m within 0.02 m 180 deg")
+        print("  }")
+        print("}")
+        print()
+
+
 if __name__ == "__main__":
     which = sys.argv[1] if len(sys.argv) > 1 else ""
     if which == "packing":
@@ -361,5 +467,7 @@ if __name__ == "__main__":
         print_cafe()
     elif which == "cafe-layouts":
         print_cafe_layouts()
+    elif which == "dinner":
+        print_dinner()
     else:
-        sys.exit("usage: make_problems.py packing|cafe|cafe-layouts")
+        sys.exit("usage: make_problems.py packing|cafe|cafe-layouts|dinner")

@@ -41,6 +41,16 @@ use lamp_world::{Recorder, trajectory_header as header};
 
 /// The problem whose furniture every demonstration uses (else the spec's first problem).
 const FURNITURE_PROBLEM: &str = "cafe2_01";
+/// The name of the recorded marker.
+const MARKER: &str = "target";
+/// Noise of a recorded marker about where the object came to rest, as a motion-capture marker
+/// or one put down by hand has: 2 mm along the top, 1 mm up or down, 2° about the vertical,
+/// 0.5° of tilt. Without it, "on the marker" would be as thin as the demonstrator's IK error
+/// in height and tilt, and an object exactly on its marker could fall outside it.
+const MARKER_POSITION_NOISE: f64 = 0.002;
+const MARKER_HEIGHT_NOISE: f64 = 0.001;
+const MARKER_YAW_NOISE: f64 = 0.035;
+const MARKER_TILT_NOISE: f64 = 0.009;
 /// The named configuration the arm rests in while the base moves, empty-handed or holding.
 const TUCK: &str = "tuck";
 /// Height of a resting can's origin above its support.
@@ -90,10 +100,10 @@ pub(crate) struct Cafe<'a> {
     furniture: Vec<(Body, Pose)>,
     /// The tops of the furniture that takes part in relations (tables, the counter), by name.
     surfaces: Vec<(String, SurfaceTop)>,
-    /// The manipulated object: the body, its radius and the height of its middle.
-    can: Body,
-    can_radius: f64,
-    can_middle: f64,
+    /// The objects a demonstration may carry, one type each: every movable type of the spec.
+    carried: Vec<Carried>,
+    /// The spec's marker type, if any: a marker of it is recorded where the object is put.
+    marker: Option<Body>,
     /// The robot at the origin, arm tucked, fingers open.
     tucked: Vec<f64>,
     /// The coordinates of the arm group (torso and arm joints).
@@ -146,16 +156,29 @@ impl<'a> Cafe<'a> {
         if surfaces.len() < 2 {
             return Err(mismatch("at least two surfaces"));
         }
-        let can_type = spec
+        let mut carried = Vec::new();
+        for object_type in spec.object_types.iter().filter(|ty| ty.mobility == Mobility::Movable) {
+            let name = format!("{}1", object_type.name);
+            let body = world
+                .body(&name, &object_type.name)
+                .ok_or_else(|| mismatch("a movable object type"))?;
+            let bounds = CollisionShape::compound(&body.parts)
+                .map_err(|_| mismatch("a movable type with shapes"))?
+                .aabb(&Pose::identity());
+            carried.push(Carried {
+                radius: bounds.maxs.x.max(bounds.maxs.y),
+                middle: 0.5 * (bounds.mins.z + bounds.maxs.z),
+                body,
+            });
+        }
+        if carried.is_empty() {
+            return Err(mismatch("a movable object type"));
+        }
+        let marker = spec
             .object_types
             .iter()
-            .find(|ty| ty.mobility == Mobility::Movable)
-            .ok_or_else(|| mismatch("a movable object type"))?;
-        let can =
-            world.body("can1", &can_type.name).ok_or_else(|| mismatch("a movable object type"))?;
-        let can_bounds = CollisionShape::compound(&can.parts)
-            .map_err(|_| mismatch("a movable type with shapes"))?
-            .aabb(&Pose::identity());
+            .find(|ty| ty.mobility == Mobility::Marker)
+            .and_then(|ty| world.body(MARKER, &ty.name));
         let named = |name: &str| {
             world
                 .placement_configuration(&robot.name, None, Some(name))
@@ -181,9 +204,8 @@ impl<'a> Cafe<'a> {
             robot: robot.name.clone(),
             furniture,
             surfaces,
-            can_radius: can_bounds.maxs.x.max(can_bounds.maxs.y),
-            can_middle: 0.5 * (can_bounds.mins.z + can_bounds.maxs.z),
-            can,
+            carried,
+            marker,
             tucked,
             arm: group(ARM_GROUP)?,
             room: (
@@ -203,13 +225,24 @@ impl<'a> Cafe<'a> {
             goal += 1;
         }
         let ((from_name, from), (to_name, to)) = (&self.surfaces[start], &self.surfaces[goal]);
-        self.carry_between(from, to, seed, rng)
-            .map_err(|reason| format!("from `{from_name}` to `{to_name}`: {reason}"))
+        // Drawn only when there is a choice, so that one movable type keeps the stream as it was.
+        let object = match self.carried.len() {
+            1 => &self.carried[0],
+            count => &self.carried[rng.random_range(0..count)],
+        };
+        let mut recording = self
+            .carry_between(object, from, to, seed, rng)
+            .map_err(|reason| format!("from `{from_name}` to `{to_name}`: {reason}"))?;
+        if let Some(marker) = &self.marker {
+            mark_target(&mut recording, object, marker, rng);
+        }
+        Ok(recording)
     }
 
     /// The whole script for a can carried from the top `from` to the top `to`.
     fn carry_between(
         &self,
+        object: &Carried,
         from: &SurfaceTop,
         to: &SurfaceTop,
         seed: u64,
@@ -219,9 +252,9 @@ impl<'a> Cafe<'a> {
         for (body, body_pose) in &self.furniture {
             scene.add_body(body.clone(), *body_pose).map_err(|e| e.to_string())?;
         }
-        let (u, v) = self.spot(from, rng);
+        let (u, v) = self.spot(object, from, rng);
         let can_pose = upright(from.point(u, v, REST), rng.random_range(-PI..PI));
-        let can = scene.add_body(self.can.clone(), can_pose).map_err(|e| e.to_string())?;
+        let can = scene.add_body(object.body.clone(), can_pose).map_err(|e| e.to_string())?;
         let robot = self
             .world
             .add_robot(&mut scene, &self.robot, self.tucked.clone())
@@ -242,7 +275,7 @@ impl<'a> Cafe<'a> {
         let grasp_yaw = side + rng.random_range(-GRASP_YAW_NOISE..=GRASP_YAW_NOISE);
         let depth = GRASP_DEPTH + rng.random_range(-GRASP_DEPTH_NOISE..=GRASP_DEPTH_NOISE);
         let grasp = can_pose
-            * pose(0.0, 0.0, self.can_middle, 0.0, 0.0, grasp_yaw)
+            * pose(0.0, 0.0, object.middle, 0.0, 0.0, grasp_yaw)
             * pose(-depth, 0.0, 0.0, 0.0, 0.0, 0.0);
         let back = pose(-BACK_OFF, 0.0, 0.0, 0.0, 0.0, 0.0);
         let tucked = self.at_rest(&scene, robot, &self.tucked);
@@ -258,7 +291,7 @@ impl<'a> Cafe<'a> {
             .map_err(|e| format!("tuck holding: {e}"))?;
 
         // To the goal surface, then the can upright on its top, approached from the base.
-        let (u, v) = self.spot(to, rng);
+        let (u, v) = self.spot(object, to, rng);
         let base = base_pose_facing(to, u, v, &self.approach(rng));
         self.drive(&mut scene, &mut recorder, robot, &base, rng)
             .map_err(|e| format!("to the goal surface: {e}"))?;
@@ -299,9 +332,9 @@ impl<'a> Cafe<'a> {
         Ok(Recording { header, steps: recorder.steps, retreat_at })
     }
 
-    /// A random spot (surface-frame x, y) on `top` where the can stands clear of the edges.
-    fn spot(&self, top: &SurfaceTop, rng: &mut ChaCha8Rng) -> (f64, f64) {
-        let clearance = self.can_radius + EDGE_CLEARANCE;
+    /// A random spot (surface-frame x, y) on `top` where the object stands clear of the edges.
+    fn spot(&self, object: &Carried, top: &SurfaceTop, rng: &mut ChaCha8Rng) -> (f64, f64) {
+        let clearance = object.radius + EDGE_CLEARANCE;
         let draw = |half: f64, rng: &mut ChaCha8Rng| {
             let range = (half - clearance).max(0.0);
             if range > 0.0 { rng.random_range(-range..=range) } else { 0.0 }
@@ -389,6 +422,40 @@ impl<'a> Cafe<'a> {
     ) -> Attempt<Vec<f64>> {
         reach(scene, robot, ARM_GROUP, None, target, seed, &ik_config(), rng)
             .map_err(|error| format!("inverse kinematics: {error}"))
+    }
+}
+
+/// An object a demonstration may carry: its body, its radius and the height of its middle.
+struct Carried {
+    body: Body,
+    radius: f64,
+    middle: f64,
+}
+
+/// Records a marker where the demonstration put the object, give or take the marker noise, in
+/// every step: a marker has no geometry, so one that stood there from the start would have
+/// changed nothing the robot did. A demonstration cut before the placement keeps it too, as a
+/// target the robot was heading for.
+fn mark_target(recording: &mut Recording, object: &Carried, marker: &Body, rng: &mut ChaCha8Rng) {
+    let bodies = &recording.header.bodies;
+    let Some(index) = bodies.iter().position(|body| body.name == object.body.name) else { return };
+    let Some(placed) = recording.steps.last().map(|step| step.body_poses[index]) else { return };
+    let mut draw = |half: f64| rng.random_range(-half..=half);
+    let noise = pose(
+        draw(MARKER_POSITION_NOISE),
+        draw(MARKER_POSITION_NOISE),
+        draw(MARKER_HEIGHT_NOISE),
+        draw(MARKER_TILT_NOISE),
+        draw(MARKER_TILT_NOISE),
+        draw(MARKER_YAW_NOISE),
+    );
+    let target = placed * noise;
+    recording.header.bodies.push(lamp_trajectory::BodyDescription {
+        name: marker.name.clone(),
+        type_name: marker.type_name.clone(),
+    });
+    for step in &mut recording.steps {
+        step.body_poses.push(target);
     }
 }
 

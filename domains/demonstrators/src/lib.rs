@@ -34,14 +34,18 @@ pub enum Demonstrator {
     Packing,
     /// A Fetch carries a can between tables and a counter.
     Cafe,
+    /// The Café script with every movable type (glasses, bowls), one object per demonstration,
+    /// and a marker recorded where the object is put.
+    Dinner,
 }
 
 impl Demonstrator {
-    /// The demonstrator called `name` in a spec (`packing`, `cafe`).
+    /// The demonstrator called `name` in a spec (`packing`, `cafe`, `dinner`).
     pub fn from_name(name: &str) -> Result<Demonstrator, DemoError> {
         match name {
             "packing" => Ok(Demonstrator::Packing),
             "cafe" => Ok(Demonstrator::Cafe),
+            "dinner" => Ok(Demonstrator::Dinner),
             _ => Err(DemoError::UnknownDemonstrator { name: name.to_string() }),
         }
     }
@@ -51,6 +55,7 @@ impl Demonstrator {
         match self {
             Demonstrator::Packing => "packing",
             Demonstrator::Cafe => "cafe",
+            Demonstrator::Dinner => "dinner",
         }
     }
 }
@@ -160,7 +165,9 @@ fn prepare<'a>(world: &'a SpecWorld, simulation: &Simulation) -> Result<Prepared
     }
     Ok(match simulation.demonstrator {
         Demonstrator::Packing => Prepared::Packing(packing::Packing::new(world)?),
-        Demonstrator::Cafe => Prepared::Cafe(Box::new(cafe::Cafe::new(world)?)),
+        Demonstrator::Cafe | Demonstrator::Dinner => {
+            Prepared::Cafe(Box::new(cafe::Cafe::new(world)?))
+        }
     })
 }
 
