@@ -253,3 +253,47 @@ fn check_cafe_layout(
     }
     yawed
 }
+
+/// The Dinner problems: the promised object counts; sound initial scenes; and every target a
+/// place where the object could stand: with every object moved to its target, no body touches
+/// another (nor a marker's neighbour), and each object rests 1 mm above a dining table's top.
+#[test]
+fn dinner_has_twelve_sound_table_settings_whose_targets_rest_on_dining_tables() {
+    let (spec, world) = bundled("dinner");
+    let counts: Vec<usize> = spec.problems.iter().map(|problem| problem.goal.at.len()).collect();
+    assert_eq!(counts, [2, 2, 3, 4, 4, 5, 6, 6, 7, 8, 8, 12]);
+    assert!(spec.problems.iter().any(|problem| problem.name == "set_table_8"));
+    assert!(spec.problems.iter().any(|problem| problem.name == "set_table_12"));
+    for problem in &spec.problems {
+        let scene = world.problem_scene(problem).expect("the scene builds");
+        assert_sound(problem, &scene);
+        let mut set = scene.clone();
+        for target in &problem.goal.at {
+            let body = set.body_index(&target.object).expect("the object is in the scene");
+            set.set_body_pose(body, target.pose);
+        }
+        let tops: Vec<&str> = problem
+            .scene
+            .objects
+            .iter()
+            .filter(|object| object.name.starts_with("dining"))
+            .map(|object| object.name.as_str())
+            .collect();
+        assert_eq!(
+            close_pairs(&set, 0.0, &tops),
+            Vec::<(String, String)>::new(),
+            "{}",
+            problem.name
+        );
+        for target in &problem.goal.at {
+            let on_a_top =
+                problem.scene.objects.iter().filter(|o| tops.contains(&o.name.as_str())).any(
+                    |top| {
+                        let p = (top.pose.inverse() * target.pose).translation.vector;
+                        p.x.abs() < 0.45 && p.y.abs() < 0.45 && (p.z - 0.001).abs() < 1e-9
+                    },
+                );
+            assert!(on_a_top, "{}: `{}` is not set on a dining table", problem.name, target.object);
+        }
+    }
+}

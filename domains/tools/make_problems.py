@@ -1,7 +1,8 @@
-"""Generates the bundled test problems of the Packing and Café specs.
+"""Generates the bundled test problems of the Packing, Café and Dinner specs.
 
-Run `python3 domains/tools/make_problems.py packing` (or `cafe`) and paste the printed problem
-blocks into domains/packing/packing.lamp (domains/cafe/cafe.lamp) in place of the old ones;
+Run `python3 domains/tools/make_problems.py packing` (or `cafe`, `dinner`) and paste the printed
+problem blocks into domains/packing/packing.lamp (domains/cafe/cafe.lamp,
+domains/dinner/dinner.lamp) in place of the old ones;
 `cafe-layouts` prints the Café problems on the other furniture layouts, which follow the `cafe`
 ones in domains/cafe/cafe.lamp.
 The output is deterministic: each mode has a fixed seed, and every layout is checked against
@@ -27,6 +28,12 @@ cans). Every surface has a random position and a random yaw in whole degrees, mo
 multiple of 90°; the same rules hold, checked with exact rotated-rectangle geometry: tops at
 least 0.8 m apart, the origin at least 1 m from every top, every corner of a top within 5 m of
 the origin along each axis. Cans are placed in a surface's frame as above and turned with its yaw.
+
+Dinner, `dinner` (12 problems set_table_<n>): a random layout per problem (one or two dining
+tables, side tables and a counter, the Café rules), place settings on random edges of the dining
+tables (a bowl near the edge, a glass behind it and to the right; a third glass of a setting
+beside the bowl), each target 1 mm above the top and at least 3 cm from the others, and the
+objects on the other tops as Café cans are; every goal an AtGoal within 2 cm at any yaw.
 
 The bundled tests (tests/domains.rs) check the result with lamp's own collision checker.
 """
@@ -363,6 +370,9 @@ BOWL_RADIUS = 0.048
 # the bowl is reached past the bowl.
 SETTING_BOWL = (0.0, -0.28)
 SETTING_GLASS = (0.10, -0.16)
+# A second glass of a setting, beside the bowl on the other side, clear of the next edge's
+# setting.
+EXTRA_GLASS = (-0.13, -0.28)
 # (problem name, dining tables, other tables, counters, settings, extra glasses on the side)
 DINNER_PROBLEMS = [
     ("set_table_2", 1, 1, 1, 1, 0),
@@ -394,16 +404,24 @@ def dinner_goal_lines(rng, dining, settings, extra):
     for table, side in edges[:extra]:
         angle = math.radians(90 * side)
         c, s = math.cos(angle), math.sin(angle)
-        lx, ly = -0.12, -0.15
+        lx, ly = EXTRA_GLASS
         targets.append(("glass",) + to_world(table, c * lx - s * ly, s * lx + c * ly))
+    for i, a in enumerate(targets):
+        for b in targets[:i]:
+            reach = radius_of(a[0]) + radius_of(b[0]) + CAFE_CAN_GAP
+            assert math.hypot(a[1] - b[1], a[2] - b[2]) >= reach, (a, b)
     return targets
+
+
+def radius_of(kind):
+    return GLASS_RADIUS if kind == "glass" else BOWL_RADIUS
 
 
 def place_objects(rng, surfaces, kinds):
     """Objects of `kinds` on random surfaces, at least 3 cm apart and 5 cm from the edges."""
     placed = []
     for kind in kinds:
-        radius = GLASS_RADIUS if kind == "glass" else BOWL_RADIUS
+        radius = radius_of(kind)
         while True:
             surface = surfaces[rng.randrange(len(surfaces))]
             h = surface[6] - CAFE_EDGE - radius

@@ -1,8 +1,9 @@
 //! What is learned from real Dinner demonstrations, and how AtGoal goals are written with it:
-//! every demonstration records a marker where it puts its glass or bowl; the learner finds "on
+//! every demonstration records markers where its glass or bowl starts and where it is put; the learner finds "on
 //! the marker" for both types, exactly around the marker; the action that puts a held object onto
 //! a marker requires the base to stand at a surface; and every `at` goal of the bundled problems
-//! becomes the object-on-marker atom with the marker `goal_<object>` at its target.
+//! becomes the object-on-marker atom with the marker `goal_<object>` at its target (and the
+//! marker `start_<object>` where it starts).
 
 mod support;
 
@@ -103,6 +104,8 @@ fn at_goals_become_the_object_on_its_marker() {
         for target in &problem.goal.at {
             let marker = target.marker_name();
             assert!(objects.contains(&format!("{marker} - place")), "{}: {marker}", problem.name);
+            let start = target.start_marker_name();
+            assert!(objects.contains(&format!("{start} - place")), "{}: {start}", problem.name);
             let atom = format!(
                 "place_{}",
                 if target.object.starts_with("glass") { "glass" } else { "bowl" }

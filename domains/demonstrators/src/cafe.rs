@@ -41,8 +41,9 @@ use lamp_world::{Recorder, trajectory_header as header};
 
 /// The problem whose furniture every demonstration uses (else the spec's first problem).
 const FURNITURE_PROBLEM: &str = "cafe2_01";
-/// The name of the recorded marker.
-const MARKER: &str = "target";
+/// The names of the recorded markers: where the object starts and where it is put.
+const START_MARKER: &str = "start";
+const TARGET_MARKER: &str = "target";
 /// Noise of a recorded marker about where the object came to rest, as a motion-capture marker
 /// or one put down by hand has: 2 mm along the top, 1 mm up or down, 2° about the vertical,
 /// 0.5° of tilt. Without it, "on the marker" would be as thin as the demonstrator's IK error
@@ -178,7 +179,7 @@ impl<'a> Cafe<'a> {
             .object_types
             .iter()
             .find(|ty| ty.mobility == Mobility::Marker)
-            .and_then(|ty| world.body(MARKER, &ty.name));
+            .and_then(|ty| world.body(TARGET_MARKER, &ty.name));
         let named = |name: &str| {
             world
                 .placement_configuration(&robot.name, None, Some(name))
@@ -234,7 +235,7 @@ impl<'a> Cafe<'a> {
             .carry_between(object, from, to, seed, rng)
             .map_err(|reason| format!("from `{from_name}` to `{to_name}`: {reason}"))?;
         if let Some(marker) = &self.marker {
-            mark_target(&mut recording, object, marker, rng);
+            mark_start_and_target(&mut recording, object, marker, rng);
         }
         Ok(recording)
     }
@@ -432,30 +433,41 @@ struct Carried {
     middle: f64,
 }
 
-/// Records a marker where the demonstration put the object, give or take the marker noise, in
-/// every step: a marker has no geometry, so one that stood there from the start would have
-/// changed nothing the robot did. A demonstration cut before the placement keeps it too, as a
-/// target the robot was heading for.
-fn mark_target(recording: &mut Recording, object: &Carried, marker: &Body, rng: &mut ChaCha8Rng) {
+/// Records two markers in every step, give or take a marker's noise: `start` where the object
+/// stood at the first step and `target` where it came to rest (as the paper's Dinner set-up
+/// marks each object's initial and target locations). A marker has no geometry, so markers
+/// that stood there from the start would have changed nothing the robot did. A demonstration
+/// cut before its placement keeps the target too: where the robot was heading.
+fn mark_start_and_target(
+    recording: &mut Recording,
+    object: &Carried,
+    marker: &Body,
+    rng: &mut ChaCha8Rng,
+) {
     let bodies = &recording.header.bodies;
     let Some(index) = bodies.iter().position(|body| body.name == object.body.name) else { return };
-    let Some(placed) = recording.steps.last().map(|step| step.body_poses[index]) else { return };
-    let mut draw = |half: f64| rng.random_range(-half..=half);
-    let noise = pose(
-        draw(MARKER_POSITION_NOISE),
-        draw(MARKER_POSITION_NOISE),
-        draw(MARKER_HEIGHT_NOISE),
-        draw(MARKER_TILT_NOISE),
-        draw(MARKER_TILT_NOISE),
-        draw(MARKER_YAW_NOISE),
-    );
-    let target = placed * noise;
-    recording.header.bodies.push(lamp_trajectory::BodyDescription {
-        name: marker.name.clone(),
-        type_name: marker.type_name.clone(),
-    });
-    for step in &mut recording.steps {
-        step.body_poses.push(target);
+    let (Some(first), Some(last)) = (recording.steps.first(), recording.steps.last()) else {
+        return;
+    };
+    let (start, placed) = (first.body_poses[index], last.body_poses[index]);
+    for (name, at) in [(START_MARKER, start), (TARGET_MARKER, placed)] {
+        let mut draw = |half: f64| rng.random_range(-half..=half);
+        let noise = pose(
+            draw(MARKER_POSITION_NOISE),
+            draw(MARKER_POSITION_NOISE),
+            draw(MARKER_HEIGHT_NOISE),
+            draw(MARKER_TILT_NOISE),
+            draw(MARKER_TILT_NOISE),
+            draw(MARKER_YAW_NOISE),
+        );
+        let marked = at * noise;
+        recording.header.bodies.push(lamp_trajectory::BodyDescription {
+            name: name.to_string(),
+            type_name: marker.type_name.clone(),
+        });
+        for step in &mut recording.steps {
+            step.body_poses.push(marked);
+        }
     }
 }
 

@@ -18,7 +18,7 @@ pub use plugins::{
 };
 pub use problem::{
     AtGoal, Goal, GoalAtom, ObjectInstance, Problem, RobotPlacement, Scene, StructureGoal,
-    marker_name,
+    marker_name, start_marker_name,
 };
 pub use robot::{JointGroup, NamedConfiguration, Robot, RobotKind, RobotNames, RobotPart};
 pub use world::{

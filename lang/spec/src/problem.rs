@@ -52,9 +52,9 @@ pub struct GoalAtom {
 }
 
 /// `at OBJECT POSE within DISTANCE ANGLE`: the object's world pose within the distance and
-/// the angle of `pose` at the end. It is solved through a marker of `marker_type` placed at
-/// `pose` (named by [`AtGoal::marker_name`]) and the learned relation that puts an object of
-/// the object's type onto a marker.
+/// the angle of `pose` at the end. It is solved through markers of `marker_type`, one where the
+/// object starts ([`AtGoal::start_marker_name`]) and one at `pose` ([`AtGoal::marker_name`]),
+/// and the learned relation that puts an object of the object's type onto a marker.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AtGoal {
     pub object: String,
@@ -70,11 +70,21 @@ impl AtGoal {
     pub fn marker_name(&self) -> String {
         marker_name(&self.object)
     }
+
+    /// The name of the marker where the object starts: `start_<object>`.
+    pub fn start_marker_name(&self) -> String {
+        start_marker_name(&self.object)
+    }
 }
 
 /// The name of the marker an AtGoal on `object` places at its target.
 pub fn marker_name(object: &str) -> String {
     format!("goal_{object}")
+}
+
+/// The name of the marker an AtGoal on `object` places where the object starts.
+pub fn start_marker_name(object: &str) -> String {
+    format!("start_{object}")
 }
 
 /// `structure NAME at ANCHOR offset POSE`.

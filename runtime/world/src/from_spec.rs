@@ -133,16 +133,25 @@ impl SpecWorld {
             })?;
             scene.add_body(body, object.pose)?;
         }
-        // Each AtGoal's marker stands at its target from the start: the learned relation of the
-        // object on a marker is what the planner reaches, and markers collide with nothing.
+        // Each AtGoal's object gets a marker where it starts and one at its target, as the
+        // demonstrations mark theirs: the learned relations of an object on a marker are what
+        // the planner picks from and reaches, and markers collide with nothing.
         for target in &problem.goal.at {
-            let body = self.body(&target.marker_name(), &target.marker_type).ok_or_else(|| {
-                WorldError::Undeclared {
-                    problem: problem.name.clone(),
-                    name: target.marker_type.clone(),
-                }
-            })?;
-            scene.add_body(body, target.pose)?;
+            let start = problem.scene.objects.iter().find(|object| object.name == target.object);
+            let markers = [
+                (target.start_marker_name(), start.map(|object| object.pose)),
+                (target.marker_name(), Some(target.pose)),
+            ];
+            for (name, pose) in markers {
+                let Some(pose) = pose else { continue };
+                let body = self.body(&name, &target.marker_type).ok_or_else(|| {
+                    WorldError::Undeclared {
+                        problem: problem.name.clone(),
+                        name: target.marker_type.clone(),
+                    }
+                })?;
+                scene.add_body(body, pose)?;
+            }
         }
         for placement in &problem.scene.robots {
             let q = self.placement_configuration(
