@@ -309,6 +309,16 @@ def goals(rng, surfaces, cans):
     return result
 
 
+def print_furniture(surfaces):
+    """The floor, then every top with what holds it up, as scene lines."""
+    print("    floor floor1 at (0, 0, 0) m")
+    for surface in surfaces:
+        sname, stand, x, y, z, yaw, _, _ = surface
+        at = f"at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m{rpy(yaw)}"
+        print(f"    surface {sname} {at}")
+        print(f"    {stand} {sname}_{STAND_SUFFIX[stand]} {at}")
+
+
 def print_cafe_problem(rng, surfaces, name, count):
     cans = place_cans(rng, surfaces, count)
     targets = goals(rng, surfaces, cans)
@@ -318,12 +328,7 @@ def print_cafe_problem(rng, surfaces, name, count):
     print(f"// {name}: {count} cans ({where}); {moving} move to another surface.")
     print(f"problem {name} {{")
     print("  scene {")
-    print("    floor floor1 at (0, 0, 0) m")
-    for surface in surfaces:
-        sname, stand, x, y, z, yaw, _, _ = surface
-        at = f"at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m{rpy(yaw)}"
-        print(f"    surface {sname} {at}")
-        print(f"    {stand} {sname}_{STAND_SUFFIX[stand]} {at}")
+    print_furniture(surfaces)
     for k, (_, x, y, z, yaw) in enumerate(cans, start=1):
         print(f"    can can{k} at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m{rpy(yaw)}")
     print("    robot fetch at (0, 0, 0) m config tuck")
@@ -455,12 +460,7 @@ def print_dinner():
               + f" on {dining_count} dining table(s).")
         print(f"problem {name} {{")
         print("  scene {")
-        print("    floor floor1 at (0, 0, 0) m")
-        for surface in surfaces:
-            sname, stand, x, y, z, yaw, _, _ = surface
-            at = f"at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m{rpy(yaw)}"
-            print(f"    surface {sname} {at}")
-            print(f"    {stand} {sname}_{STAND_SUFFIX[stand]} {at}")
+        print_furniture(surfaces)
         numbers = {}
         names = []
         for kind, x, y, z, _ in objects:
