@@ -21,7 +21,7 @@ use crate::plugins::Plugins;
 use crate::refine::{RefineCounts, Refined, difference, mix, refine_plan};
 use crate::state::abstraction;
 use crate::summary::Summary;
-use crate::validate::replay;
+use crate::validate::{Expected, replay};
 
 /// How hard a solve tries.
 pub struct SolveSettings<'a> {
@@ -211,8 +211,7 @@ fn solve_with(
                         &settings.motion.config,
                         input.artifact,
                         input.adapter,
-                        &goal,
-                        input.targets,
+                        &Expected { goal: &goal, targets: input.targets },
                         settings.motion.cancelled,
                     )?;
                     summary.seconds_validating = started.elapsed().as_secs_f64();

@@ -16,6 +16,15 @@ use crate::error::SolveError;
 use crate::state::abstraction;
 use crate::targets::first_miss;
 
+/// What must hold at the end of a replay.
+#[derive(Clone, Copy)]
+pub struct Expected<'a> {
+    /// The goal atoms, in the learned abstraction.
+    pub goal: &'a BTreeSet<GroundAtom>,
+    /// The AtGoal targets, in the world frame.
+    pub targets: &'a [AtGoal],
+}
+
 /// Checks `steps` from `initial`; returns the final abstract state. `cancelled` is polled before
 /// every step: a long trajectory takes seconds to replay, and a stop request must not wait.
 pub fn replay(
@@ -24,10 +33,10 @@ pub fn replay(
     config: &MotionConfig,
     artifact: &SamplerArtifact,
     adapter: &Adapter,
-    goal: &BTreeSet<GroundAtom>,
-    targets: &[AtGoal],
+    expected: &Expected<'_>,
     cancelled: &dyn Fn() -> bool,
 ) -> Result<BTreeSet<GroundAtom>, SolveError> {
+    let Expected { goal, targets } = *expected;
     let mut scene = initial.clone();
     let fail = |step: usize, reason: String| SolveError::InvalidSolution { step, reason };
     for (index, step) in steps.iter().enumerate() {
