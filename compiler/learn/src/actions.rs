@@ -444,8 +444,12 @@ fn preconditions(
                     region == 0 && non_robot_extra && !became_true.contains(fact);
                 !spurious_static && !unexplained_none
             }
+            // A robot part the action moves keeps its clear atoms of every pair: "the gripper is
+            // at no can's grasp" matters to any motion of the gripper (a tuck from a grasp pose
+            // leaves the grasp), and it held at every demonstrated instance or the intersection
+            // drops it. An object's clear atoms stay only with changes of their own pair.
             Fact::Clear { pair, object, .. } => {
-                is_changed(object) && changed_relation_of(pair, object, false)
+                is_changed(object) && (is_robot(object) || changed_relation_of(pair, object, false))
             }
             Fact::Nowhere { pair, object, .. } => {
                 is_changed(object) && changed_relation_of(pair, object, true)
