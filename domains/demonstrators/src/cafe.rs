@@ -45,13 +45,14 @@ const FURNITURE_PROBLEM: &str = "cafe2_01";
 const START_MARKER: &str = "start";
 const TARGET_MARKER: &str = "target";
 /// Noise of a recorded marker about where the object came to rest, as a motion-capture marker
-/// or one put down by hand has: 2 mm along the top, 1 mm up or down, 2° about the vertical,
-/// 0.5° of tilt. Without it, "on the marker" would be as thin as the demonstrator's IK error
-/// in height and tilt, and an object exactly on its marker could fall outside it.
+/// or one put down by hand has: 2 mm along the top, 1 mm in height, 2° about the vertical. A
+/// marker lies flat on its top: no tilt, as the objects stand upright (the learned rotation
+/// cells of an upright object are flat, and a tilt of a quarter degree leaves them).
+/// Without noise, "on the marker" would be as thin as the demonstrator's IK error in height,
+/// and an object exactly on its marker could fall outside it.
 const MARKER_POSITION_NOISE: f64 = 0.002;
 const MARKER_HEIGHT_NOISE: f64 = 0.001;
 const MARKER_YAW_NOISE: f64 = 0.035;
-const MARKER_TILT_NOISE: f64 = 0.009;
 /// The named configuration the arm rests in while the base moves, empty-handed or holding.
 const TUCK: &str = "tuck";
 /// Height of a resting can's origin above its support.
@@ -456,8 +457,8 @@ fn mark_start_and_target(
             draw(MARKER_POSITION_NOISE),
             draw(MARKER_POSITION_NOISE),
             draw(MARKER_HEIGHT_NOISE),
-            draw(MARKER_TILT_NOISE),
-            draw(MARKER_TILT_NOISE),
+            0.0,
+            0.0,
             draw(MARKER_YAW_NOISE),
         );
         let marked = at * noise;
