@@ -193,3 +193,149 @@ fn no_test_is_ignored_or_expected_to_panic() {
     }
     assert!(offenders.is_empty(), "ignored or should-panic tests:\n{}", offenders.join("\n"));
 }
+
+/// Crates that sit on top: they put the libraries together for one command, so no library may
+/// depend on them (the binary, the workspace tests and the fuzz entries may).
+const ORCHESTRATION_CRATES: &[&str] = &["lamp-build", "lamp-eval", "lamp-tamp", "lampc"];
+/// Crates that may use the orchestration crates as normal dependencies.
+const ORCHESTRATION_USERS: &[&str] = &["lampc", "lamp-tests", "lamp-fuzz-entries"];
+
+#[test]
+fn no_library_depends_on_an_orchestration_crate() {
+    let mut violations = Vec::new();
+    for manifest in workspace_manifests() {
+        if ORCHESTRATION_USERS.contains(&manifest.name.as_str()) {
+            continue;
+        }
+        for dependency in dependency_names(&manifest, "dependencies") {
+            if ORCHESTRATION_CRATES.contains(&dependency.as_str()) {
+                violations.push(format!("{} depends on {dependency}", manifest.name));
+            }
+        }
+    }
+    assert!(
+        violations.is_empty(),
+        "arrows up into the orchestration layer:\n{}",
+        violations.join("\n")
+    );
+}
+
+/// The only compiler and runtime crates a first-party plugin may link: small leaves that need
+/// neither geometry, robots, files nor the learner.
+const PLUGIN_LEAVES: &[&str] = &["lamp-pddl", "lamp-planner", "lamp-rrt", "lamp-abstraction"];
+
+#[test]
+fn plugins_link_only_the_plugin_contract_and_small_leaves() {
+    let root = workspace_root();
+    let manifests = workspace_manifests();
+    let internal: BTreeSet<String> = manifests.iter().map(|m| m.name.clone()).collect();
+    let plugin_crates: BTreeSet<String> = manifests
+        .iter()
+        .filter(|m| m.dir.starts_with(root.join("plugins")))
+        .map(|m| m.name.clone())
+        .collect();
+    let mut violations = Vec::new();
+    for manifest in manifests.iter().filter(|m| plugin_crates.contains(&m.name)) {
+        for dependency in dependency_names(manifest, "dependencies") {
+            let allowed =
+                plugin_crates.contains(&dependency) || PLUGIN_LEAVES.contains(&dependency.as_str());
+            if internal.contains(&dependency) && !allowed {
+                violations.push(format!("{} depends on {dependency}", manifest.name));
+            }
+        }
+    }
+    assert!(violations.is_empty(), "plugins linking heavy crates:\n{}", violations.join("\n"));
+}
+
+/// The crate-internal modules a source file names (`crate::name`, `crate::{a, b}`), outside
+/// comments and after its tests are cut off.
+fn named_modules(text: &str) -> BTreeSet<String> {
+    let code: String = text
+        .split("#[cfg(test)]")
+        .next()
+        .unwrap_or_default()
+        .lines()
+        .filter(|line| !line.trim_start().starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let identifier = |rest: &str| -> String {
+        rest.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect()
+    };
+    let mut names = BTreeSet::new();
+    for (index, _) in code.match_indices("crate::") {
+        let rest = &code[index + "crate::".len()..];
+        if let Some(group) = rest.strip_prefix('{') {
+            let group = group.split('}').next().unwrap_or_default();
+            for item in group.split(',') {
+                names.insert(identifier(item.trim()));
+            }
+        } else {
+            names.insert(identifier(rest));
+        }
+    }
+    names.retain(|name| !name.is_empty());
+    names
+}
+
+/// Module → the sibling modules it names, for the top-level modules of one crate's `src`.
+fn module_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
+    let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    let mut files = Vec::new();
+    rust_files(src, &mut files);
+    for file in files {
+        let relative = file.strip_prefix(src).expect("under src");
+        let Some(first) = relative.components().next() else { continue };
+        let module = first.as_os_str().to_string_lossy().trim_end_matches(".rs").to_string();
+        if module == "lib" || module == "main" {
+            continue;
+        }
+        let text = fs::read_to_string(&file).expect("readable source");
+        let names = named_modules(&text);
+        graph.entry(module.clone()).or_default().extend(names.into_iter().filter(|n| *n != module));
+    }
+    let modules: BTreeSet<String> = graph.keys().cloned().collect();
+    for names in graph.values_mut() {
+        names.retain(|name| modules.contains(name));
+    }
+    graph
+}
+
+/// A cycle through `start`, if there is one, as the modules along it.
+fn cycle_through(graph: &BTreeMap<String, BTreeSet<String>>, start: &str) -> Option<Vec<String>> {
+    let mut stack = vec![(start.to_string(), vec![start.to_string()])];
+    let mut seen = BTreeSet::new();
+    while let Some((module, path)) = stack.pop() {
+        for next in graph.get(&module).into_iter().flatten() {
+            if next == start {
+                return Some(path.clone());
+            }
+            if seen.insert(next.clone()) {
+                let mut longer = path.clone();
+                longer.push(next.clone());
+                stack.push((next.clone(), longer));
+            }
+        }
+    }
+    None
+}
+
+#[test]
+fn no_crate_has_an_import_loop_between_its_modules() {
+    let mut loops = BTreeSet::new();
+    for manifest in workspace_manifests() {
+        let graph = module_graph(&manifest.dir.join("src"));
+        for module in graph.keys() {
+            if let Some(mut cycle) = cycle_through(&graph, module) {
+                // One entry per loop, however it is entered.
+                let smallest = cycle.iter().enumerate().min_by_key(|(_, m)| *m).map(|(i, _)| i);
+                cycle.rotate_left(smallest.unwrap_or(0));
+                loops.insert(format!("{}: {}", manifest.name, cycle.join(" → ")));
+            }
+        }
+    }
+    assert!(
+        loops.is_empty(),
+        "modules that import each other (move what they share into a leaf module):\n{}",
+        loops.into_iter().collect::<Vec<_>>().join("\n")
+    );
+}

@@ -1,5 +1,6 @@
 //! The adapter from demonstration files to the learner's input: an MCAP trajectory read with
-//! lamp-trajectory becomes a `lamp_learn::Demonstration`.
+//! lamp-trajectory becomes a `lamp_learn::Demonstration`, its participants named and ordered as
+//! lamp-participants names and orders a scene's.
 //!
 //! Participants are, in this order: for every robot of the file (in file order) one participant per
 //! spec part, named `<robot>_<part type>`, posed by forward kinematics of the part's link; then every
@@ -11,90 +12,20 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use lamp_learn::{Demonstration, Participant, Pose, Role, Snapshot};
-use lamp_robot::{LinkId, Robot};
-use lamp_spec::{Mobility, Spec};
+use lamp_participants::{ParticipantMap, RobotParts};
+use lamp_robot::Robot;
+use lamp_spec::Spec;
 use lamp_trajectory::{RobotDescription, TrajectoryHeader, TrajectoryReader};
-use lamp_world::WorldError;
 
 use crate::error::BuildError;
 use crate::input::DemoFile;
-
-/// The participant name of a robot part.
-pub fn part_participant_name(robot: &str, part_type: &str) -> String {
-    format!("{robot}_{part_type}")
-}
 
 /// Turns demonstration files into demonstrations, checking them against the spec.
 #[derive(Debug, Clone)]
 pub struct Adapter {
     /// The spec's domain, which every demonstration's header must name.
     domain: String,
-    robots: BTreeMap<String, RobotParts>,
-    /// Object type → `None` for the static world, else whether it is movable.
-    types: BTreeMap<String, Option<bool>>,
-}
-
-/// A spec robot with the links of its parts.
-#[derive(Debug, Clone)]
-pub struct RobotParts {
-    pub(crate) model: Arc<Robot>,
-    /// In spec part order.
-    pub parts: Vec<Part>,
-}
-
-/// A robot link that takes part in relations.
-#[derive(Debug, Clone)]
-pub struct Part {
-    /// The part's type (and the suffix of its participant name).
-    pub type_name: String,
-    /// Its link in the robot model.
-    pub link: LinkId,
-    /// Whether it is the robot's gripper.
-    pub gripper: bool,
-}
-
-impl RobotParts {
-    /// The robot's parts of a spec robot whose model is loaded.
-    pub(crate) fn new(
-        spec_robot: &lamp_spec::Robot,
-        model: &Arc<Robot>,
-    ) -> Result<Self, BuildError> {
-        let gripper_type = spec_robot.gripper_part().map(|part| part.type_name.as_str());
-        let parts = spec_robot
-            .parts
-            .iter()
-            .map(|part| {
-                let link = model.link_id(&part.link).ok_or_else(|| WorldError::UnknownName {
-                    what: "link",
-                    name: format!("{}/{} (part `{}`)", spec_robot.name, part.link, part.type_name),
-                })?;
-                Ok(Part {
-                    type_name: part.type_name.clone(),
-                    link,
-                    gripper: Some(part.type_name.as_str()) == gripper_type,
-                })
-            })
-            .collect::<Result<Vec<_>, BuildError>>()?;
-        Ok(RobotParts { model: Arc::clone(model), parts })
-    }
-
-    /// The participants of this robot's parts.
-    pub fn participants(&self, robot: &str) -> Vec<Participant> {
-        self.parts
-            .iter()
-            .map(|part| Participant {
-                name: part_participant_name(robot, &part.type_name),
-                type_name: part.type_name.clone(),
-                role: Role::RobotPart { gripper: part.gripper },
-            })
-            .collect()
-    }
-
-    /// World poses of the parts' links at configuration `q`, using `links` as scratch space.
-    pub(crate) fn part_poses(&self, q: &[f64], links: &mut [Pose], out: &mut Vec<Pose>) {
-        self.model.forward_kinematics(q, links);
-        out.extend(self.parts.iter().map(|part| links[part.link]));
-    }
+    participants: ParticipantMap,
 }
 
 /// How one robot of a file maps to participants.
@@ -109,28 +40,16 @@ struct FileRobot<'a> {
 impl Adapter {
     /// An adapter for `spec`, with the robot models loaded from it (`lamp_world::SpecWorld::robots`).
     pub fn new(spec: &Spec, models: &BTreeMap<String, Arc<Robot>>) -> Result<Self, BuildError> {
-        let mut robots = BTreeMap::new();
-        for robot in &spec.robots {
-            let model = models.get(&robot.name).ok_or_else(|| WorldError::UnknownName {
-                what: "robot model",
-                name: robot.name.clone(),
-            })?;
-            robots.insert(robot.name.clone(), RobotParts::new(robot, model)?);
-        }
-        let types = spec
-            .object_types
-            .iter()
-            .map(|ty| {
-                let role = (!ty.world).then_some(ty.mobility == Mobility::Movable);
-                (ty.name.clone(), role)
-            })
-            .collect();
-        Ok(Adapter { domain: spec.domain.clone(), robots, types })
+        Ok(Adapter {
+            domain: spec.domain.clone(),
+            participants: ParticipantMap::new(spec, models)?,
+        })
     }
 
-    /// The parts of a spec robot.
-    pub fn robot_parts(&self, robot: &str) -> Option<&RobotParts> {
-        self.robots.get(robot)
+    /// Which robot links and bodies take part in relations, shared with problem writing and the
+    /// solver's abstraction of the scenes it reaches.
+    pub fn participants(&self) -> &ParticipantMap {
+        &self.participants
     }
 
     /// Reads one file and turns it into a demonstration whose id is the file's name; a file of
@@ -153,7 +72,7 @@ impl Adapter {
         let bodies = self.body_participants(&file.name, &header, &mut participants)?;
         let mut scratch: Vec<Vec<Pose>> = robots
             .iter()
-            .map(|robot| vec![Pose::identity(); robot.parts.model.link_count()])
+            .map(|robot| vec![Pose::identity(); robot.parts.model().link_count()])
             .collect();
         let mut steps = Vec::new();
         for (index, step) in reader.enumerate() {
@@ -200,10 +119,10 @@ impl Adapter {
         description: &RobotDescription,
         participants: &mut Vec<Participant>,
     ) -> Result<FileRobot<'a>, BuildError> {
-        let parts = self.robots.get(&description.name).ok_or_else(|| {
+        let parts = self.participants.robot_parts(&description.name).ok_or_else(|| {
             BuildError::UndeclaredRobot { file: file.to_string(), robot: description.name.clone() }
         })?;
-        let expected = parts.model.coordinate_names();
+        let expected = parts.model().coordinate_names();
         if description.coordinates.as_slice() != expected {
             return Err(BuildError::Coordinates {
                 file: file.to_string(),
@@ -251,12 +170,13 @@ impl Adapter {
             .bodies
             .iter()
             .map(|body| {
-                let role =
-                    self.types.get(&body.type_name).ok_or_else(|| BuildError::UndeclaredType {
+                let role = self.participants.object_role(&body.type_name).ok_or_else(|| {
+                    BuildError::UndeclaredType {
                         file: file.to_string(),
                         body: body.name.clone(),
                         type_name: body.type_name.clone(),
-                    })?;
+                    }
+                })?;
                 Ok(role.map(|movable| {
                     participants.push(Participant {
                         name: body.name.clone(),

@@ -125,7 +125,7 @@ pub enum BuildError {
         /// How many problems have findings.
         problems: usize,
         #[related]
-        issues: Vec<crate::initial_scene::SceneIssue>,
+        issues: Vec<crate::scene_issue::SceneIssue>,
     },
 
     /// A problem's initial scene could not be built.

@@ -7,13 +7,11 @@
 //! start configuration within its joint limits and free of collision with the bodies and itself,
 //! at the same tolerance. Findings are listed in spec order of problems, then in that order.
 
+use crate::error::BuildError;
+pub use crate::scene_issue::SceneIssue;
 use lamp_geometry::Pose;
 use lamp_spec::{Problem, RobotKind, Spec};
 use lamp_world::{Contact, SpecWorld};
-use miette::Diagnostic;
-use thiserror::Error;
-
-use crate::error::BuildError;
 
 /// Bodies closer than this touch (1 µm). The solver counts touching as a collision, so for an
 /// object placed exactly on its support (distance 0, up to the rounding of the pose arithmetic)
@@ -27,70 +25,6 @@ pub const CONTACT_TOLERANCE: f64 = 1e-6;
 /// are rooms (the bundled ones fit in 20 m); positions far beyond that lose the millimetres
 /// collision checking needs and make interpolation and recording take absurd numbers of steps.
 pub const MAX_DISTANCE: f64 = 1000.0;
-
-/// One reason a problem's initial scene is not one the solver can start from.
-#[derive(Debug, Clone, PartialEq, Error, Diagnostic)]
-pub enum SceneIssue {
-    /// A placement with a non-finite number.
-    #[error("problem `{problem}`: the pose of {what} `{name}` is not finite")]
-    #[diagnostic(
-        code(lamp::build::scene_not_finite),
-        help("Every coordinate and angle of a placement must be a finite number.")
-    )]
-    NotFinite { problem: String, what: &'static str, name: String },
-
-    /// A placement beyond [`MAX_DISTANCE`].
-    #[error(
-        "problem `{problem}`: {what} `{name}` is placed at {position} m, farther than {max} m from the origin"
-    )]
-    #[diagnostic(
-        code(lamp::build::scene_range),
-        help("Place it within {max} m of the origin; check the number and its unit.")
-    )]
-    OutOfRange { problem: String, what: &'static str, name: String, position: String, max: f64 },
-
-    /// Two bodies touch or overlap.
-    #[error("problem `{problem}`: `{first}` and `{second}` touch or overlap")]
-    #[diagnostic(
-        code(lamp::build::scene_contact),
-        help(
-            "Bodies closer than 1 µm count as touching, and the solver cannot move an object that touches another: place them apart, for example an object 1 mm above its support as the bundled specs do."
-        )
-    )]
-    Contact { problem: String, first: String, second: String },
-
-    /// A robot starts in collision.
-    #[error("problem `{problem}`: robot `{robot}` starts in collision: {contact}")]
-    #[diagnostic(
-        code(lamp::build::robot_start_collision),
-        help(
-            "Place the robot elsewhere, choose another `config`, or move what it touches; it must start free of every body and of itself."
-        )
-    )]
-    RobotCollision { problem: String, robot: String, contact: String },
-
-    /// A robot starts outside its joint limits.
-    #[error(
-        "problem `{problem}`: robot `{robot}` starts outside its joint limits: `{coordinate}` is {value}, outside [{lower}, {upper}]"
-    )]
-    #[diagnostic(
-        code(lamp::build::robot_start_limits),
-        help("Change the robot's `config` so that every joint is within the limits of its URDF.")
-    )]
-    RobotLimits {
-        problem: String,
-        robot: String,
-        coordinate: String,
-        value: f64,
-        lower: f64,
-        upper: f64,
-    },
-
-    /// The scene could not be built at all.
-    #[error("problem `{problem}`: the initial scene cannot be built: {reason}")]
-    #[diagnostic(code(lamp::build::scene))]
-    Unbuildable { problem: String, reason: String },
-}
 
 /// The build step: [`BuildError::InitialScenes`] with every finding of every problem, if any.
 pub fn check_initial_scenes(spec: &Spec, world: &SpecWorld) -> Result<(), BuildError> {
@@ -109,20 +43,6 @@ pub fn check_initial_scenes(spec: &Spec, world: &SpecWorld) -> Result<(), BuildE
 /// Every finding of every problem's initial scene, in spec order; empty when all are fine.
 pub fn initial_scene_issues(spec: &Spec, world: &SpecWorld) -> Vec<SceneIssue> {
     spec.problems.iter().flat_map(|problem| problem_scene_issues(spec, world, problem)).collect()
-}
-
-impl SceneIssue {
-    /// The problem the finding is about.
-    pub fn problem(&self) -> &str {
-        match self {
-            SceneIssue::NotFinite { problem, .. }
-            | SceneIssue::OutOfRange { problem, .. }
-            | SceneIssue::Contact { problem, .. }
-            | SceneIssue::RobotCollision { problem, .. }
-            | SceneIssue::RobotLimits { problem, .. }
-            | SceneIssue::Unbuildable { problem, .. } => problem,
-        }
-    }
 }
 
 /// The findings of one problem's initial scene.

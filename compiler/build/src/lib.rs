@@ -24,16 +24,17 @@ pub mod error;
 pub mod initial_scene;
 pub mod input;
 pub mod manifest;
+pub mod model_folder;
 pub mod pipeline;
 pub mod problems;
 pub mod provenance;
 pub mod region_plots;
 pub mod ros2;
 pub mod samplers;
-pub mod scene_state;
+pub mod scene_issue;
 pub mod shapes;
 
-pub use adapter::{Adapter, part_participant_name};
+pub use adapter::Adapter;
 pub use aliases::{ResolvedAlias, resolve_alias, resolve_aliases};
 pub use at_goals::{GoalWarning, at_goal_atoms};
 pub use config::learn_config;
@@ -59,5 +60,4 @@ pub use ros2::{
     FrameObject, FrameRobot, MappedRobot, Ros2Error, Ros2Mapping, ros2_demo_file, ros2_trajectory,
 };
 pub use samplers::{SAMPLERS_FORMAT, SAMPLERS_VERSION, SamplersFile};
-pub use scene_state::scene_snapshot;
 pub use shapes::SpecShapes;

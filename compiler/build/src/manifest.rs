@@ -14,7 +14,7 @@ use thiserror::Error;
 
 use crate::digest::file_digest;
 use crate::error::BuildError;
-use crate::pipeline::ArtifactFile;
+use crate::model_folder::ArtifactFile;
 use crate::provenance::Provenance;
 use crate::samplers::SamplersFile;
 
@@ -177,7 +177,7 @@ pub fn check_same_demonstrations(
         match pddl_demonstration_digest(text) {
             Some(found) if found != expected => {
                 return Err(BuildFolderError::Mismatched {
-                    file: crate::pipeline::SAMPLERS_FILE.to_string(),
+                    file: crate::model_folder::SAMPLERS_FILE.to_string(),
                     found: expected.clone(),
                     other: (*name).to_string(),
                     expected: found.to_string(),

@@ -7,7 +7,7 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use lamp_learn::{Demonstration, Model, SamplerArtifact};
+use lamp_learn::{Demonstration, Model};
 use lamp_spec::Spec;
 use lamp_world::SpecWorld;
 
@@ -25,24 +25,9 @@ use crate::provenance::Provenance;
 use crate::samplers::SamplersFile;
 use crate::shapes::SpecShapes;
 
-/// The folder inside the build folder that holds every artifact (the model); `lampc build`
-/// replaces it as a whole, beside the `demos/` and `solutions/` folders it leaves alone.
-pub const MODEL_DIR: &str = "model";
-/// The domain file's path inside the model folder.
-pub const DOMAIN_FILE: &str = "domain.pddl";
-/// The folder of problem files inside the model folder.
-pub const PROBLEMS_DIR: &str = "problems";
-/// The sampler file's path inside the model folder.
-pub const SAMPLERS_FILE: &str = "samplers.json";
-/// The vocabulary report's path inside the model folder.
-pub const VOCABULARY_FILE: &str = "vocabulary.md";
-
-/// One artifact: where it goes (relative to the model folder) and its full text.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct ArtifactFile {
-    pub path: PathBuf,
-    pub contents: String,
-}
+pub use crate::model_folder::{
+    ArtifactFile, DOMAIN_FILE, MODEL_DIR, PROBLEMS_DIR, SAMPLERS_FILE, VOCABULARY_FILE,
+};
 
 /// What a build learned and wrote, for the front end to report.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
@@ -153,7 +138,7 @@ pub fn artifacts(
             }
         }
     }
-    let samplers = SamplersFile::new(provenance.clone(), SamplerArtifact::from_model(model));
+    let samplers = SamplersFile::new(provenance.clone(), model.sampler_artifact());
     files.push(ArtifactFile { path: SAMPLERS_FILE.into(), contents: samplers.to_json()? });
     let plots = crate::region_plots::region_plots(model, context.world, spec.seed);
     files.push(ArtifactFile {

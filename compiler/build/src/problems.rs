@@ -11,6 +11,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use lamp_learn::{GroundAtom, Model, Participant, Role, Snapshot, abstract_state, ground_atoms};
+use lamp_participants::scene_snapshot;
 use lamp_pddl::{Atom, Literal, Typed};
 use lamp_spec::Problem;
 use lamp_world::SpecWorld;
@@ -19,7 +20,6 @@ use crate::adapter::Adapter;
 use crate::aliases::ResolvedAlias;
 use crate::at_goals::{GoalWarning, at_goal_atoms};
 use crate::error::BuildError;
-use crate::scene_state::scene_snapshot;
 
 /// What became of one spec problem.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -162,5 +162,5 @@ fn initial_snapshot(
     let scene_error = |reason: String| BuildError::Scene { problem: problem.name.clone(), reason };
     let scene =
         context.world.problem_scene(problem).map_err(|error| scene_error(error.to_string()))?;
-    scene_snapshot(context.adapter, &scene).map_err(scene_error)
+    scene_snapshot(context.adapter.participants(), &scene).map_err(scene_error)
 }

@@ -13,7 +13,7 @@ use lamp_world::SpecWorld;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::pipeline::ArtifactFile;
+use crate::model_folder::ArtifactFile;
 
 /// The folder of the region pictures inside the build folder.
 pub const REGIONS_DIR: &str = "regions";

@@ -1,7 +1,7 @@
-//! The sampler file (`samplers.json`): lamp-learn's `SamplerArtifact` in a small versioned envelope
+//! The sampler file (`samplers.json`): lamp-abstraction's `SamplerArtifact` in a small versioned envelope
 //! that adds the build's provenance, so that the run time can tell what a sampler was learned from.
 //!
-//! The envelope is ours and lamp-learn's artifact stays as it is: the artifact has its own version,
+//! The envelope is ours and lamp-abstraction's artifact stays as it is: the artifact has its own version,
 //! the envelope has `format` and `version` for the file around it.
 
 use lamp_learn::SamplerArtifact;

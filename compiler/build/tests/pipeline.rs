@@ -7,7 +7,6 @@ mod support;
 use std::path::PathBuf;
 
 use lamp_build::{BuildError, SamplersFile};
-use lamp_learn::SamplerArtifact;
 use lamp_spec::{GoalAtom, Pose};
 
 use support::{DEMOS, PACKING_BUILD, PACKING_DEMOS, artifact, build_with, packing};
@@ -177,7 +176,7 @@ fn the_manifest_lists_every_other_artifact_with_its_digest() {
 fn the_sampler_file_carries_provenance_and_reads_back() {
     let (model, artifacts) = &*PACKING_BUILD;
     let file = SamplersFile::from_json(artifact(artifacts, "samplers.json")).expect("reads back");
-    assert_eq!(file.artifact, SamplerArtifact::from_model(model));
+    assert_eq!(file.artifact, model.sampler_artifact());
     assert_eq!(file.provenance.digest, artifacts.summary.digest);
     assert_eq!((file.provenance.seed, file.provenance.demonstrations), (1, DEMOS));
     assert_eq!(file.provenance.spec, "packing.lamp");

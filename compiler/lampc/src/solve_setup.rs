@@ -10,7 +10,7 @@ use std::path::Path;
 use lamp_learn::SamplerArtifact;
 use lamp_plugin_api::{MotionBudget, MotionPlanner, PlanBudget, Planner, Refiner};
 use lamp_spec::Spec;
-use lamp_tamp::execute::MotionSettings;
+use lamp_tamp::MotionSettings;
 use lamp_tamp::{Plugins, SolveSettings};
 use lamp_world::MotionConfig;
 
@@ -117,7 +117,7 @@ pub(crate) fn settings<'a>(
                 max_iterations: Some(MOTION_ITERATIONS),
                 time_limit: runtime.motion_timeout,
             },
-            grab_ranges: lamp_tamp::execute::grab_ranges(spec),
+            grab_ranges: lamp_tamp::grab_ranges(spec),
             cancelled,
         },
         relax_goal: !overrides.no_relax,

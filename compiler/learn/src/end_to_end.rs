@@ -223,12 +223,12 @@ fn the_box_region_is_one_region_across_the_half_turn() {
 #[test]
 fn the_sampler_artifact_round_trips_and_abstracts_like_the_model() {
     let model = learned();
-    let artifact = crate::SamplerArtifact::from_model(&model);
+    let artifact = model.sampler_artifact();
     let text = serde_json::to_string(&artifact).expect("serialises");
     let back: crate::SamplerArtifact = serde_json::from_str(&text).expect("deserialises");
     assert_eq!(back, artifact);
     assert_eq!(back.validate(), Ok(()));
-    let again = serde_json::to_string(&crate::SamplerArtifact::from_model(&learned()));
+    let again = serde_json::to_string(&learned().sampler_artifact());
     assert_eq!(again.expect("serialises"), text, "learning twice gives the same artifact bytes");
     let demonstrations = packing_demonstrations(1, 3);
     let demonstration = &demonstrations[0];
@@ -244,7 +244,7 @@ fn the_sampler_artifact_round_trips_and_abstracts_like_the_model() {
     assert!(nowhere_atoms > 0, "the artifact carries the nowhere sides");
     let mut old = back.clone();
     old.version += 1;
-    assert!(matches!(old.validate(), Err(crate::LearnError::ArtifactVersion { .. })));
+    assert!(matches!(old.validate(), Err(crate::AbstractionError::ArtifactVersion { .. })));
     let mut rng = ChaCha8Rng::seed_from_u64(2);
     // The threshold accepts 99 % of the uniform fitting samples; the mixture's Gaussian tails reach past the
     // cells, so some 10 % of its own draws fall outside (a caller that needs members rejects by the margin).

@@ -91,18 +91,8 @@ pub enum LearnError {
     #[diagnostic(code(lamp::learn::emit))]
     Emit { reason: String },
 
-    /// A sampler artifact of another format version.
-    #[error(
-        "the sampler artifact has format version {found}, this build reads version {supported}"
-    )]
-    #[diagnostic(
-        code(lamp::learn::artifact_version),
-        help("Rebuild the artifact with `lampc build`.")
-    )]
-    ArtifactVersion { found: u32, supported: u32 },
-
-    /// A snapshot handed to the abstraction does not fit the participants.
-    #[error("a snapshot has {found} poses for {expected} participants")]
-    #[diagnostic(code(lamp::learn::snapshot_shape))]
-    SnapshotShape { expected: usize, found: usize },
+    /// A sampler artifact or a snapshot that cannot be read.
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Abstraction(#[from] lamp_abstraction::AbstractionError),
 }

@@ -6,7 +6,9 @@
 //! region) → [`relations`] (the vocabulary) → [`abstraction`] (states to facts)
 //! → [`actions`] (induced operators) → [`emit`] (PDDL) and [`report`] (Markdown).
 //! [`learn`] runs it all and returns a [`Model`]; [`abstract_state`] abstracts new snapshots with a model.
-//! The method and every sort key are documented in `docs/learning.md`.
+//! The method and every sort key are documented in `docs/learning.md`. What the run time reads of a
+//! model (participants, vocabulary, region models, abstraction, the sampler artifact) lives in
+//! lamp-abstraction, re-exported here.
 
 pub mod abstraction;
 pub mod actions;
@@ -17,14 +19,14 @@ pub mod demo;
 pub mod discretise;
 pub mod emit;
 pub mod error;
-pub mod features;
+pub use lamp_abstraction::features;
 mod learner;
 pub mod model;
 pub mod occupancy;
 pub mod pairs;
 pub mod region_model;
 pub mod regions;
-pub mod relations;
+pub use lamp_abstraction::relations;
 pub mod report;
 pub mod synthetic;
 
@@ -36,6 +38,7 @@ pub use config::{LearnConfig, PairSettings, Switch, TypePair};
 pub use demo::{Demonstration, Participant, Pose, Role, Snapshot};
 pub use emit::{domain, domain_text, ground_atoms};
 pub use error::LearnError;
+pub use lamp_abstraction::AbstractionError;
 pub use learner::{PairRegions, RegionSummary};
 pub use model::{LearnedPair, Model, Region, abstract_state, learn};
 pub use report::vocabulary_report;

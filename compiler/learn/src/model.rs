@@ -12,7 +12,7 @@ use crate::config::{LearnConfig, TypePair};
 use crate::demo::{Demonstration, Participant, Pose, Role, Snapshot};
 use crate::error::LearnError;
 use crate::learner::{self, PairRegions, RegionSummary};
-use crate::region_model::RegionModel;
+use crate::region_model::{self, RegionModel};
 use crate::relations::{self, PairVocabulary, PredicateSignature};
 
 /// One learned region: its relation, where it came from, and its model.
@@ -67,7 +67,7 @@ pub fn learn(
         shapes,
         |pair: &PairRegions, index: usize, rng: &mut ChaCha8Rng| {
             let relation = format!("{}_{}", pair.pair.stem(), index + 1);
-            RegionModel::fit(pair, index, config.samples_per_region, rng)
+            region_model::fit(pair, index, config.samples_per_region, rng)
                 .map_err(|reason| LearnError::Mixture { relation, reason })
         },
     )?;
@@ -141,5 +141,5 @@ pub fn abstract_state(
         .iter()
         .map(|pair| pair.regions.iter().map(|region| &region.model).collect())
         .collect();
-    abstraction::abstract_atoms(&vocabulary, &classifiers, participants, snapshot)
+    Ok(abstraction::abstract_atoms(&vocabulary, &classifiers, participants, snapshot)?)
 }

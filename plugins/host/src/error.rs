@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use lamp_plugin_api::PluginError;
 use thiserror::Error;
 
-use crate::library::PluginKind;
+use crate::plugin_info::PluginKind;
 
 /// A refusal to load or create a plugin.
 #[derive(Debug, Error, miette::Diagnostic)]

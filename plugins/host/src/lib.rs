@@ -16,7 +16,9 @@ mod adapters;
 mod error;
 mod host_table;
 mod library;
+mod plugin_info;
 mod validate;
 
 pub use error::LoadError;
-pub use library::{PluginInfo, PluginKind, PluginLibrary};
+pub use library::PluginLibrary;
+pub use plugin_info::{PluginInfo, PluginKind};

@@ -5,7 +5,6 @@
 #![allow(unsafe_code)]
 
 use std::ffi::c_void;
-use std::fmt;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -17,47 +16,8 @@ use crate::adapters::{
     Instance, LoadedMotionPlanner, LoadedPlanner, LoadedRefiner, status_to_error,
 };
 use crate::error::LoadError;
+use crate::plugin_info::{PluginInfo, PluginKind};
 use crate::validate::validate;
-
-/// What a plugin is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum PluginKind {
-    /// A task planner.
-    Planner,
-    /// A refiner.
-    Refiner,
-    /// A motion planner.
-    MotionPlanner,
-}
-
-impl fmt::Display for PluginKind {
-    fn fmt(&self, formatter: &mut fmt::Formatter<'_>) -> fmt::Result {
-        formatter.write_str(match self {
-            PluginKind::Planner => "planner",
-            PluginKind::Refiner => "refiner",
-            PluginKind::MotionPlanner => "motion planner",
-        })
-    }
-}
-
-/// A plugin's self-description, read and checked before any of its code ran.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct PluginInfo {
-    /// Its kind.
-    pub kind: PluginKind,
-    /// Its name.
-    pub name: String,
-    /// Its own version.
-    pub version: String,
-    /// One line on what it does.
-    pub description: String,
-    /// The ABI major it was built for (equal to the host's).
-    pub abi_major: u32,
-    /// The ABI minor it was built for (not newer than the host's).
-    pub abi_minor: u32,
-    /// Where it came from: the library's path, or `in-process`.
-    pub origin: String,
-}
 
 /// A validated plugin, from a shared library or linked into this process.
 #[derive(Clone, Debug)]

@@ -11,7 +11,7 @@ use lamp_plugin_abi::{
 };
 
 use crate::error::LoadError;
-use crate::library::{PluginInfo, PluginKind};
+use crate::plugin_info::{PluginInfo, PluginKind};
 
 /// A validated entry and what it describes.
 pub(crate) struct Validated {

@@ -1,4 +1,4 @@
-//! lamp-world's [`Space`] over the host's oracles for one robot: every sample, distance,
+//! lamp-rrt's [`Space`] over the host's oracles for one robot: every sample, distance,
 //! interpolation and validity check is a host call, and the first host failure is kept.
 //!
 //! [`Space`]'s methods cannot fail, so a failure (or a cancellation) is remembered, every later
@@ -9,7 +9,7 @@
 use std::cell::RefCell;
 
 use lamp_plugin_api::{HostError, HostServices, PluginError};
-use lamp_world::Space;
+use lamp_rrt::Space;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
@@ -106,7 +106,7 @@ impl Space for HostSpace<'_> {
             && self.ask(false, || self.host.configuration_is_valid(self.robot, q))
     }
 
-    /// One step: with [`edge_is_valid`](Self::edge_is_valid) overridden, lamp-world's search and
+    /// One step: with [`edge_is_valid`](Self::edge_is_valid) overridden, lamp-rrt's search and
     /// shortcutting never sub-step an edge themselves; the host checks every edge whole, at its
     /// own resolution, in one call.
     fn edge_steps(&self, _a: &[f64], _b: &[f64]) -> usize {

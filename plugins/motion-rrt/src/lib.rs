@@ -1,4 +1,4 @@
-//! The `rrt-connect` motion-planner plugin: lamp-world's RRT-Connect with shortcutting, run in
+//! The `rrt-connect` motion-planner plugin: lamp-rrt's RRT-Connect with shortcutting, run in
 //! the host's configuration space through [`HostServices`] alone.
 //!
 //! Random states come from the host's `sample_configuration` (only the host knows the layout of
@@ -16,7 +16,7 @@ use lamp_plugin_api::{
     HostServices, MotionOutcome, MotionPlanner, MotionRequest, NoPathReason, PluginError,
 };
 use lamp_plugin_sdk::PluginFactory;
-use lamp_world::{RrtConfig, RrtError, rrt_connect};
+use lamp_rrt::{RrtConfig, RrtError, rrt_connect};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -42,7 +42,7 @@ impl RrtConnectPlanner {
         &self.options
     }
 
-    /// lamp-world's configuration for `request`: the request's budget where it sets one, else
+    /// lamp-rrt's configuration for `request`: the request's budget where it sets one, else
     /// the planner's own iteration count.
     fn config(&self, request: &MotionRequest) -> RrtConfig {
         let max_iterations = request

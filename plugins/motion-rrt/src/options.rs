@@ -2,9 +2,9 @@
 //! list separated by commas or whitespace, for example `step=0.2, shortcuts=50, iterations=2000`.
 
 use lamp_plugin_api::PluginError;
-use lamp_world::RrtConfig;
+use lamp_rrt::RrtConfig;
 
-/// How the RRT-Connect search runs; every field defaults to lamp-world's [`RrtConfig`].
+/// How the RRT-Connect search runs; every field defaults to lamp-rrt's [`RrtConfig`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct RrtOptions {
     /// The longest edge one extension adds, in the host's distance (`step`).
@@ -97,7 +97,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn empty_text_gives_lamp_worlds_defaults() {
+    fn empty_text_gives_lamp_rrts_defaults() {
         let options = RrtOptions::parse("").unwrap();
         let defaults = RrtConfig::default();
         assert_eq!(options.step, defaults.step);

@@ -19,7 +19,7 @@ mod world_view;
 
 use std::sync::Arc;
 
-use lamp_learn::SamplerArtifact;
+use lamp_abstraction::SamplerArtifact;
 use lamp_plugin_api::{CandidateStream, HostServices, PluginError, RefineRequest, Refiner};
 use lamp_plugin_sdk::PluginFactory;
 use rand::SeedableRng;
@@ -136,7 +136,7 @@ mod tests {
     #[test]
     fn options_that_could_never_yield_a_candidate_are_refused() {
         let artifact = SamplerArtifact {
-            version: lamp_learn::SAMPLER_ARTIFACT_VERSION,
+            version: lamp_abstraction::SAMPLER_ARTIFACT_VERSION,
             seed: 0,
             pairs: Vec::new(),
         };

@@ -13,7 +13,7 @@
 //! object the gripper holds, with no held region of the same pair added, is a release, done
 //! before the motion.
 
-use lamp_learn::{Pose, SamplerArtifact};
+use lamp_abstraction::{Pose, SamplerArtifact};
 use lamp_plugin_api::{GraspChange, GroundAtom};
 
 use crate::world_view::WorldView;

@@ -5,7 +5,7 @@
 use std::collections::BTreeSet;
 use std::sync::Arc;
 
-use lamp_learn::{GroundAtom, Pose, SamplerArtifact};
+use lamp_abstraction::{GroundAtom, Pose, SamplerArtifact};
 use lamp_plugin_api::{
     Candidate, CandidateStream, GroundedAction, HostServices, ObjectPose, PluginError, RobotTarget,
 };

@@ -3,7 +3,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use lamp_learn::{GroundAtom, Participant, Pose, Role, SamplerArtifact, Snapshot};
+use lamp_abstraction::{GroundAtom, Participant, Pose, Role, SamplerArtifact, Snapshot};
 use lamp_plugin_api::{HostServices, PluginError, WorldState};
 use nalgebra::{Quaternion, Translation3, UnitQuaternion};
 

@@ -28,5 +28,6 @@ pub use mesh::load_mesh_file;
 pub use mount::Mount;
 pub use robot::{
     ALL_GROUP, ARM_GROUP, BASE_GROUP, Coordinate, CoordinateKind, GRIPPER_GROUP, JointGroup,
-    LinkGeometry, LinkId, MAX_URDF_BYTES, Robot,
+    LinkGeometry, LinkId, Robot,
 };
+pub use urdf::MAX_URDF_BYTES;

@@ -5,7 +5,6 @@
 //! (three for a URDF planar joint, six for a URDF floating joint), in link tree order.
 
 use std::collections::BTreeMap;
-use std::path::Path;
 
 use lamp_geometry::{Pose, Shape, Vec3};
 use nalgebra::Unit;
@@ -25,10 +24,6 @@ pub const ARM_GROUP: &str = "arm";
 pub const GRIPPER_GROUP: &str = "gripper";
 /// Every coordinate of the configuration.
 pub const ALL_GROUP: &str = "all";
-
-/// The largest URDF file read: the bundled robots' are under 100 KiB, so 64 MiB is beyond any
-/// robot description, while a wrong path (a log, a device) cannot fill the memory.
-pub const MAX_URDF_BYTES: u64 = 64 << 20;
 
 /// A named set of configuration coordinates, sorted ascending.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -138,37 +133,6 @@ pub struct Robot {
 }
 
 impl Robot {
-    /// Loads a URDF file of at most [`MAX_URDF_BYTES`]; meshes are resolved against the file's
-    /// folder.
-    pub fn from_urdf_file(path: &Path, mount: Mount) -> Result<Robot, RobotError> {
-        use std::io::Read as _;
-        let read = |source| RobotError::Read { file: path.to_path_buf(), source };
-        let file = std::fs::File::open(path).map_err(read)?;
-        let size = file.metadata().map_err(read)?.len();
-        let too_large =
-            |size| RobotError::TooLarge { file: path.to_path_buf(), size, limit: MAX_URDF_BYTES };
-        if size > MAX_URDF_BYTES {
-            return Err(too_large(size));
-        }
-        let mut text = String::new();
-        // One byte past the limit tells a file that grew while it was read.
-        file.take(MAX_URDF_BYTES + 1).read_to_string(&mut text).map_err(read)?;
-        if text.len() as u64 > MAX_URDF_BYTES {
-            return Err(too_large(text.len() as u64));
-        }
-        let base_dir = path.parent().unwrap_or(Path::new(""));
-        crate::urdf::build(&text, &path.display().to_string(), Some(base_dir), mount)
-    }
-
-    /// Loads URDF text. Relative mesh paths are resolved against `base_dir` (an error without it).
-    pub fn from_urdf_str(
-        urdf: &str,
-        base_dir: Option<&Path>,
-        mount: Mount,
-    ) -> Result<Robot, RobotError> {
-        crate::urdf::build(urdf, "<string>", base_dir, mount)
-    }
-
     /// The URDF robot name.
     pub fn name(&self) -> &str {
         &self.name

@@ -1,4 +1,5 @@
-//! From URDF text to a [`Robot`]: tree building, joints and coordinates, collision geometry.
+//! From URDF text to a [`Robot`]: reading the file, tree building, joints and coordinates,
+//! collision geometry.
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -15,6 +16,10 @@ use crate::robot::{
     Link, LinkGeometry, LinkId, Motion, Robot,
 };
 
+/// The largest URDF file read: the bundled robots' are under 100 KiB, so 64 MiB is beyond any
+/// robot description, while a wrong path (a log, a device) cannot fill the memory.
+pub const MAX_URDF_BYTES: u64 = 64 << 20;
+
 /// The link the end-effector search prefers when it exists.
 const PREFERRED_END_EFFECTOR: &str = "gripper_link";
 /// Axis vectors shorter than this are rejected (they define no direction).
@@ -23,6 +28,39 @@ const MINIMUM_AXIS_NORM: f64 = 1e-9;
 const CAPSULE_RING_POINTS: usize = 16;
 /// Rings per hemisphere when a capsule is approximated by a convex hull.
 const CAPSULE_HEMISPHERE_RINGS: usize = 4;
+
+impl Robot {
+    /// Loads a URDF file of at most [`MAX_URDF_BYTES`]; meshes are resolved against the file's
+    /// folder.
+    pub fn from_urdf_file(path: &Path, mount: Mount) -> Result<Robot, RobotError> {
+        use std::io::Read as _;
+        let read = |source| RobotError::Read { file: path.to_path_buf(), source };
+        let file = std::fs::File::open(path).map_err(read)?;
+        let size = file.metadata().map_err(read)?.len();
+        let too_large =
+            |size| RobotError::TooLarge { file: path.to_path_buf(), size, limit: MAX_URDF_BYTES };
+        if size > MAX_URDF_BYTES {
+            return Err(too_large(size));
+        }
+        let mut text = String::new();
+        // One byte past the limit tells a file that grew while it was read.
+        file.take(MAX_URDF_BYTES + 1).read_to_string(&mut text).map_err(read)?;
+        if text.len() as u64 > MAX_URDF_BYTES {
+            return Err(too_large(text.len() as u64));
+        }
+        let base_dir = path.parent().unwrap_or(Path::new(""));
+        build(&text, &path.display().to_string(), Some(base_dir), mount)
+    }
+
+    /// Loads URDF text. Relative mesh paths are resolved against `base_dir` (an error without it).
+    pub fn from_urdf_str(
+        urdf: &str,
+        base_dir: Option<&Path>,
+        mount: Mount,
+    ) -> Result<Robot, RobotError> {
+        build(urdf, "<string>", base_dir, mount)
+    }
+}
 
 pub(crate) fn build(
     text: &str,

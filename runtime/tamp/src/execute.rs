@@ -1,34 +1,13 @@
 //! Carrying out one candidate in a scene: let go, move along a planned path, take hold; every
 //! visited state recorded at the checking resolution, every motion checked state by state.
 
-use lamp_plugin_api::{
-    Candidate, MotionBudget, MotionOutcome, MotionPlanner, MotionRequest, PluginError,
-};
+use lamp_plugin_api::{Candidate, MotionOutcome, MotionPlanner, MotionRequest, PluginError};
 use lamp_robot::{IkConfig, Robot};
 use lamp_world::{MotionConfig, Recorder, RobotSpace, Scene, densify, straight_line};
 
 use crate::error::SolveError;
 use crate::host::GroupHost;
-
-/// What the motion of one candidate may use.
-pub struct MotionSettings<'a> {
-    /// Resolutions of recording and checking.
-    pub config: MotionConfig,
-    /// The motion planner's budget per call.
-    pub budget: MotionBudget,
-    /// Grab distance range per robot name (link origin to object origin), if the spec gives one.
-    pub grab_ranges: Vec<(String, (f64, f64))>,
-    /// Whether the user asked to stop.
-    pub cancelled: &'a dyn Fn() -> bool,
-}
-
-/// The grab distance range of every robot whose spec gives one, for [`MotionSettings`].
-pub fn grab_ranges(spec: &lamp_spec::Spec) -> Vec<(String, (f64, f64))> {
-    spec.robots
-        .iter()
-        .filter_map(|robot| robot.grab_distance.map(|range| (robot.name.clone(), range)))
-        .collect()
-}
+use crate::settings::MotionSettings;
 
 /// Why a candidate was rejected (the search tries another), or a hard error.
 pub enum Rejection {

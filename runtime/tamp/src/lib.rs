@@ -19,6 +19,7 @@ pub mod host;
 pub mod plugins;
 pub mod poses;
 pub mod refine;
+pub mod settings;
 pub mod state;
 pub mod summary;
 pub mod targets;
@@ -29,6 +30,7 @@ mod solve;
 
 pub use error::{Progress, SolveError};
 pub use plugins::Plugins;
-pub use refine::WASTED_PER_STEP;
-pub use solve::{Context, Solution, SolveInput, SolveSettings, solve};
+pub use refine::{Context, WASTED_PER_STEP};
+pub use settings::{MotionSettings, SolveSettings, grab_ranges};
+pub use solve::{Solution, SolveInput, solve};
 pub use summary::Summary;

@@ -10,7 +10,7 @@ use lamp_plugin_api::{GroundedAction, HostServices, Plan, PlanRequest, PlanStatu
 use crate::error::SolveError;
 use crate::ground::{ground_step, pddl_atom};
 use crate::plugins::Plugins;
-use crate::solve::SolveSettings;
+use crate::settings::SolveSettings;
 
 /// Plans for `problem` (at most `plan_count`), or why there is none (`Err` inside `Ok`), or a
 /// planner failure.

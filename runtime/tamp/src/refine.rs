@@ -12,19 +12,32 @@
 
 use std::collections::BTreeSet;
 
-use lamp_learn::GroundAtom;
+use lamp_learn::{GroundAtom, SamplerArtifact};
+use lamp_participants::ParticipantMap;
+use lamp_pddl::{Domain, Problem};
 use lamp_plugin_api::{CandidateStream, GroundedAction, PluginError, RefineRequest};
 use lamp_world::{Recorder, Scene};
 
-use crate::Context;
 use crate::error::SolveError;
 use crate::execute::{MotionCounts, Rejection, execute};
 use crate::ground::{Broken, effects_hold, first_broken};
 use crate::host::SceneHost;
 use crate::planning::plan_from;
 use crate::plugins::Plugins;
+use crate::settings::SolveSettings;
 use crate::state::{abstraction, world_state};
 use crate::targets::first_miss_where_reached;
+
+/// What the refinement loop shares.
+pub struct Context<'a> {
+    /// The domain, and the problem as planned (its goal possibly relaxed), for replanning.
+    pub domain: &'a Domain,
+    pub problem: &'a Problem,
+    pub artifact: &'a SamplerArtifact,
+    pub participants: &'a ParticipantMap,
+    pub targets: &'a [lamp_spec::AtGoal],
+    pub settings: &'a SolveSettings<'a>,
+}
 
 /// Wasted candidates a plan may spend per step, once that is more than `max_refused`.
 ///
@@ -115,7 +128,7 @@ pub fn refine_plan(
         let stream_seed = mix(seed, index as u64, counts.candidates as u64);
         let request = RefineRequest {
             action: actions[index].clone(),
-            world: world_state(context.adapter, &scene)?,
+            world: world_state(context.participants, &scene)?,
             seed: stream_seed,
         };
         let host = SceneHost::new(&scene, stream_seed, context.settings.motion.cancelled);
@@ -170,7 +183,7 @@ pub fn refine_plan(
             refused += 1;
             let why = match attempt {
                 Ok(()) => {
-                    let reached = abstraction(context.artifact, context.adapter, &trial)?;
+                    let reached = abstraction(context.artifact, context.participants, &trial)?;
                     if !effects_hold(&reached, &actions[at]) {
                         "its effects do not hold in the state reached".to_string()
                     } else if let Some(miss) =

@@ -6,43 +6,22 @@
 use std::collections::BTreeSet;
 use std::time::Instant;
 
-use lamp_build::Adapter;
 use lamp_learn::{GroundAtom, SamplerArtifact};
+use lamp_participants::ParticipantMap;
 use lamp_pddl::{Domain, Problem, parse_domain, parse_problem};
-use lamp_plugin_api::{GroundedAction, PlanBudget};
+use lamp_plugin_api::GroundedAction;
 use lamp_trajectory::{Trajectory, TrajectoryHeader};
 use lamp_world::{Recorder, Scene};
 
 use crate::error::{Progress, SolveError};
-use crate::execute::MotionSettings;
 use crate::ground::{call_text, ground_step, pddl_atom};
 use crate::planning::{goal_holds_initially, plans, relax};
 use crate::plugins::Plugins;
-use crate::refine::{RefineCounts, Refined, difference, mix, refine_plan};
+use crate::refine::{Context, RefineCounts, Refined, difference, mix, refine_plan};
+use crate::settings::SolveSettings;
 use crate::state::abstraction;
 use crate::summary::Summary;
 use crate::validate::{Expected, replay};
-
-/// How hard a solve tries.
-pub struct SolveSettings<'a> {
-    /// The one seed of the run.
-    pub seed: u64,
-    /// Plans asked of the planner per call (the planner may return fewer).
-    pub plan_count: usize,
-    /// The planner's budget per call.
-    pub planner_budget: PlanBudget,
-    /// Rounds over the plans, each with fresh samples.
-    pub rounds: usize,
-    /// Wasted candidates per plan before it is given up: refused, backtracked over, or needing a
-    /// replan (the steps of the plan being refined do not count). This is the least; a plan of
-    /// more than `max_refused / WASTED_PER_STEP` steps gets
-    /// [`WASTED_PER_STEP`](crate::refine::WASTED_PER_STEP) per step.
-    pub max_refused: usize,
-    /// Motion settings.
-    pub motion: MotionSettings<'a>,
-    /// Whether to drop goal atoms when no plan reaches the whole goal.
-    pub relax_goal: bool,
-}
 
 /// What a solve reads.
 pub struct SolveInput<'a> {
@@ -54,23 +33,12 @@ pub struct SolveInput<'a> {
     /// The learned regions.
     pub artifact: &'a SamplerArtifact,
     /// How scenes map to participants.
-    pub adapter: &'a Adapter,
+    pub participants: &'a ParticipantMap,
     /// The problem's AtGoal targets: their markers are in `scene`, their goal atoms in
     /// `problem`; their tolerances are checked in the world frame.
     pub targets: &'a [lamp_spec::AtGoal],
     /// The header of the trajectory to write.
     pub header: TrajectoryHeader,
-}
-
-/// What the refinement loop shares.
-pub struct Context<'a> {
-    /// The domain, and the problem as planned (its goal possibly relaxed), for replanning.
-    pub domain: &'a Domain,
-    pub problem: &'a Problem,
-    pub artifact: &'a SamplerArtifact,
-    pub adapter: &'a Adapter,
-    pub targets: &'a [lamp_spec::AtGoal],
-    pub settings: &'a SolveSettings<'a>,
 }
 
 /// A solved problem.
@@ -95,7 +63,7 @@ pub fn solve(
         .map_err(|errors| SolveError::pddl("domain", input.domain, errors))?;
     let mut problem = parse_problem(input.problem, &domain)
         .map_err(|errors| SolveError::pddl("problem", input.problem, errors))?;
-    let initial_state = abstraction(input.artifact, input.adapter, input.scene)?;
+    let initial_state = abstraction(input.artifact, input.participants, input.scene)?;
     let init: BTreeSet<GroundAtom> = problem.init.iter().map(pddl_atom).collect();
     if init != initial_state {
         return Err(SolveError::StaleProblem {
@@ -166,7 +134,7 @@ fn solve_with(
             domain,
             problem,
             artifact: input.artifact,
-            adapter: input.adapter,
+            participants: input.participants,
             targets: input.targets,
             settings,
         };
@@ -210,7 +178,7 @@ fn solve_with(
                         &recorder.steps,
                         &settings.motion.config,
                         input.artifact,
-                        input.adapter,
+                        input.participants,
                         &Expected { goal: &goal, targets: input.targets },
                         settings.motion.cancelled,
                     )?;

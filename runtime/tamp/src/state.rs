@@ -2,8 +2,8 @@
 
 use std::collections::BTreeSet;
 
-use lamp_build::{Adapter, part_participant_name, scene_snapshot};
 use lamp_learn::{GroundAtom, SamplerArtifact};
+use lamp_participants::{ParticipantMap, part_participant_name, scene_snapshot};
 use lamp_plugin_api::{HeldObject, ObjectState, RobotPart, RobotState, WorldState};
 use lamp_world::Scene;
 
@@ -12,11 +12,11 @@ use crate::poses::to_wire;
 
 /// The world state a refiner sees: every robot with its parts and what it holds, every body that
 /// is not the static world.
-pub fn world_state(adapter: &Adapter, scene: &Scene) -> Result<WorldState, SolveError> {
+pub fn world_state(participants: &ParticipantMap, scene: &Scene) -> Result<WorldState, SolveError> {
     let mut robots = Vec::new();
     for robot in scene.robots() {
         let model = robot.robot();
-        let parts = adapter
+        let parts = participants
             .robot_parts(&robot.name)
             .ok_or_else(|| SolveError::internal(format!("robot `{}` has no parts", robot.name)))?;
         let mut held = Vec::new();
@@ -64,10 +64,10 @@ pub fn world_state(adapter: &Adapter, scene: &Scene) -> Result<WorldState, Solve
 /// The learned abstraction of a scene.
 pub fn abstraction(
     artifact: &SamplerArtifact,
-    adapter: &Adapter,
+    map: &ParticipantMap,
     scene: &Scene,
 ) -> Result<BTreeSet<GroundAtom>, SolveError> {
-    let (participants, snapshot) = scene_snapshot(adapter, scene).map_err(SolveError::internal)?;
+    let (participants, snapshot) = scene_snapshot(map, scene).map_err(SolveError::internal)?;
     artifact
         .abstract_state(&participants, &snapshot)
         .map_err(|error| SolveError::internal(format!("abstracting a state: {error}")))

@@ -6,8 +6,8 @@
 
 use std::collections::BTreeSet;
 
-use lamp_build::Adapter;
 use lamp_learn::{GroundAtom, SamplerArtifact};
+use lamp_participants::ParticipantMap;
 use lamp_spec::AtGoal;
 use lamp_trajectory::Step;
 use lamp_world::{MotionConfig, Scene, edge_steps};
@@ -32,7 +32,7 @@ pub fn replay(
     steps: &[Step],
     config: &MotionConfig,
     artifact: &SamplerArtifact,
-    adapter: &Adapter,
+    participants: &ParticipantMap,
     expected: &Expected<'_>,
     cancelled: &dyn Fn() -> bool,
 ) -> Result<BTreeSet<GroundAtom>, SolveError> {
@@ -91,7 +91,7 @@ pub fn replay(
             }
         }
     }
-    let reached = abstraction(artifact, adapter, &scene)?;
+    let reached = abstraction(artifact, participants, &scene)?;
     if let Some(missing) = goal.iter().find(|atom| !reached.contains(atom)) {
         return Err(fail(steps.len(), format!("the goal atom {missing} does not hold at the end")));
     }

@@ -7,14 +7,15 @@
 #[path = "support/learned.rs"]
 mod learned;
 
-use lamp_build::{Adapter, SamplersFile};
+use lamp_build::SamplersFile;
 use lamp_motion_rrt::{RrtConnectPlanner, RrtOptions};
+use lamp_participants::ParticipantMap;
 use lamp_planner_builtin::{BuiltinAlgorithm, BuiltinPlanner};
 use lamp_plugin_api::{
     HostServices, MotionBudget, PlanBudget, PlanRequest, PlanResponse, Planner, PluginError,
 };
 use lamp_refiner_gmm::{GmmRefiner, RefinerOptions};
-use lamp_tamp::execute::MotionSettings;
+use lamp_tamp::MotionSettings;
 use lamp_tamp::{Plugins, Solution, SolveError, SolveInput, SolveSettings, solve};
 use lamp_world::{MotionConfig, trajectory_header};
 use learned::{Learned, PACKING, artifact};
@@ -166,7 +167,7 @@ fn a_stale_problem_file_is_refused() {
     let box_pose = scene.body_pose(scene.body_index("box1").expect("box"));
     let can = scene.body_index("can1").expect("can");
     scene.set_body_pose(can, box_pose * nalgebra::Translation3::new(0.0, 0.0, 0.001));
-    let adapter = Adapter::new(spec, &world.robots).expect("an adapter");
+    let participants = ParticipantMap::new(spec, &world.robots).expect("a participant map");
     let samplers = SamplersFile::from_json(artifact(artifacts, "samplers.json")).expect("samplers");
     let never = || false;
     let settings = SolveSettings {
@@ -188,7 +189,7 @@ fn a_stale_problem_file_is_refused() {
         domain: artifact(artifacts, "domain.pddl"),
         problem: artifact(artifacts, "problems/pack4_01.pddl"),
         artifact: &samplers.artifact,
-        adapter: &adapter,
+        participants: &participants,
         targets: &[],
         header: trajectory_header(spec, &scene, 1),
     };

@@ -8,8 +8,7 @@
 
 use mcap::records::{ChunkHeader, Record};
 
-use crate::reader::MAXIMUM_RECORD_BYTES;
-use crate::record::parse_used_record;
+use crate::record::{MAXIMUM_RECORD_BYTES, parse_used_record};
 
 /// Bytes before a record's content: the opcode and the little-endian u64 length.
 const RECORD_PREFIX: usize = 1 + 8;

@@ -22,15 +22,12 @@ use crate::chunk::ChunkRecords;
 use crate::codec::{BodyLookup, decode_step};
 use crate::error::TrajectoryError;
 use crate::model::{Step, Trajectory, TrajectoryHeader};
-use crate::record::parse_used_record;
+pub use crate::record::MAXIMUM_RECORD_BYTES;
+use crate::record::{error_chain, parse_used_record};
 use crate::schema::{
     MESSAGE_ENCODING, METADATA_NAME, MetadataProblem, SCHEMA_ENCODING, WORLD_STEP_SCHEMA_NAME,
     WORLD_TOPIC, header_from_metadata,
 };
-
-/// The largest record or decompressed chunk accepted: a corrupt length field cannot make the
-/// reader allocate more. Our chunks are 1 MiB; other MCAP writers use a few MiB.
-pub const MAXIMUM_RECORD_BYTES: usize = 64 * 1024 * 1024;
 
 /// Pulls parsed MCAP records from a byte source, counting them for error messages.
 pub(crate) struct RecordSource<R> {
@@ -156,18 +153,6 @@ impl<R: Read> RecordSource<R> {
 enum FileRecord {
     Record(Record<'static>),
     Chunk(ChunkRecords),
-}
-
-/// An error and its sources on one line.
-pub(crate) fn error_chain(error: &dyn std::error::Error) -> String {
-    let mut text = error.to_string();
-    let mut source = error.source();
-    while let Some(cause) = source {
-        text.push_str(": ");
-        text.push_str(&cause.to_string());
-        source = cause.source();
-    }
-    text
 }
 
 /// Reads a trajectory file step by step; an iterator of checked steps.

@@ -9,7 +9,9 @@ use std::borrow::Cow;
 
 use mcap::records::{Record, op};
 
-use crate::reader::error_chain;
+/// The largest record or decompressed chunk accepted: a corrupt length field cannot make the
+/// reader allocate more. Our chunks are 1 MiB; other MCAP writers use a few MiB.
+pub const MAXIMUM_RECORD_BYTES: usize = 64 * 1024 * 1024;
 
 /// Parses the records lamp reads (schemas, channels, messages, metadata); any other is
 /// [`Record::Unknown`] with no content. Chunks are opened by the caller, and only at the top level.
@@ -23,6 +25,18 @@ pub(crate) fn parse_used_record(opcode: u8, body: &[u8]) -> Result<Record<'stati
         }
         _ => Ok(Record::Unknown { opcode, data: Cow::Borrowed(&[]) }),
     }
+}
+
+/// An error and its sources on one line.
+pub(crate) fn error_chain(error: &dyn std::error::Error) -> String {
+    let mut text = error.to_string();
+    let mut source = error.source();
+    while let Some(cause) = source {
+        text.push_str(": ");
+        text.push_str(&cause.to_string());
+        source = cause.source();
+    }
+    text
 }
 
 /// Checks that every length-prefixed field of a record fits in it (field layouts from the MCAP

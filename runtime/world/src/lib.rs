@@ -12,7 +12,6 @@ mod from_spec;
 mod ik;
 mod motion;
 mod recording;
-mod rrt;
 mod scene;
 mod straight;
 mod viewing;
@@ -21,13 +20,12 @@ pub use checking::Contact;
 pub use error::WorldError;
 pub use from_spec::{SpecWorld, load_robot, mount_of, robot_names, type_parts_of};
 pub use ik::{ReachError, reach};
+pub use lamp_rrt::{MAX_EDGE_STEPS, RrtConfig, RrtError, RrtStats, Space, rrt_connect, shortcut};
 pub use motion::{
-    DEFAULT_ANGULAR_RESOLUTION, DEFAULT_LINEAR_RESOLUTION, FREE_SAMPLING_MARGIN, MAX_EDGE_STEPS,
-    MotionConfig, MotionError, MotionPlan, RobotSpace, checked_edge_steps, densify, edge_steps,
-    plan_motion,
+    DEFAULT_ANGULAR_RESOLUTION, DEFAULT_LINEAR_RESOLUTION, FREE_SAMPLING_MARGIN, MotionConfig,
+    MotionError, MotionPlan, RobotSpace, checked_edge_steps, densify, edge_steps, plan_motion,
 };
 pub use recording::{Recorder, STEP_NANOSECONDS, trajectory_header};
-pub use rrt::{RrtConfig, RrtError, RrtStats, Space, rrt_connect, shortcut};
 pub use scene::{Body, Gripper, Held, Scene, SceneRobot};
 pub use straight::{StraightLineError, straight_line};
 pub use viewing::{WORLD_FRAME, label_plan_steps, standard_channels};

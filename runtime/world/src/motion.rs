@@ -9,10 +9,10 @@
 use std::time::Duration;
 
 use lamp_robot::{CoordinateKind, JointGroup, Robot, wrap_angle};
+use lamp_rrt::{MAX_EDGE_STEPS, RrtConfig, RrtError, RrtStats, Space, rrt_connect};
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 
-use crate::rrt::{RrtConfig, RrtError, RrtStats, Space, rrt_connect};
 use crate::scene::Scene;
 
 /// Default checking resolution for lengths: 5 mm.
@@ -21,12 +21,6 @@ pub const DEFAULT_LINEAR_RESOLUTION: f64 = 0.005;
 pub const DEFAULT_ANGULAR_RESOLUTION: f64 = 0.01;
 /// Unbounded coordinates (a mobile base's x, y) are sampled this far around start and goal.
 pub const FREE_SAMPLING_MARGIN: f64 = 1.5;
-/// The most states one straight edge may be cut into at the checking resolution, when a path is
-/// densified, recorded or checked. A Café base crossing its 10 m floor at the finest resolution
-/// the spec allows (1 mm) is 10,000 states and a joint's half turn at 0.001 rad 3,142; 50,000 is
-/// beyond any motion of a bundled robot. More is a robot placed kilometres away or a wrong unit,
-/// and recording it would take gigabytes (a state holds every body's pose): it is refused.
-pub const MAX_EDGE_STEPS: usize = 50_000;
 
 /// How to plan one motion.
 #[derive(Clone, Debug, PartialEq)]

@@ -9,11 +9,11 @@
 
 use lamp_geometry::Pose;
 use lamp_robot::{IkConfig, IkError, LinkId, solve_ik};
+use lamp_rrt::{MAX_EDGE_STEPS, Space};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::motion::{MAX_EDGE_STEPS, MotionConfig, MotionError, RobotSpace, edge_steps};
-use crate::rrt::Space;
+use crate::motion::{MotionConfig, MotionError, RobotSpace, edge_steps};
 use crate::scene::Scene;
 
 /// A solution may move no coordinate by more than this many checking resolutions from the one

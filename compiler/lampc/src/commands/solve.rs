@@ -15,7 +15,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use indicatif::ProgressBar;
-use lamp_build::Adapter;
+use lamp_participants::ParticipantMap;
 use lamp_tamp::{SolveError, SolveInput};
 use lamp_world::{SpecWorld, trajectory_header};
 
@@ -163,7 +163,7 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
 
     let world = SpecWorld::load(spec_dir, spec)
         .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
-    let adapter = Adapter::new(spec, &world.robots)
+    let participants = ParticipantMap::new(spec, &world.robots)
         .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
     let scene = world
         .problem_scene(problem)
@@ -200,7 +200,7 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
         domain: &domain,
         problem: &problem_text,
         artifact: &samplers.artifact,
-        adapter: &adapter,
+        participants: &participants,
         targets: &problem.goal.at,
         header,
     };

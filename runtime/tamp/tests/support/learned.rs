@@ -6,14 +6,15 @@
 use std::path::Path;
 use std::sync::LazyLock;
 
-use lamp_build::{Adapter, Artifacts, DemoFile, SamplersFile};
+use lamp_build::{Artifacts, DemoFile, SamplersFile};
 use lamp_demonstrators::{Simulation, file_name, generate_all};
 use lamp_motion_rrt::{RrtConnectPlanner, RrtOptions};
+use lamp_participants::ParticipantMap;
 use lamp_planner_builtin::{BuiltinAlgorithm, BuiltinPlanner};
 use lamp_plugin_api::{MotionBudget, PlanBudget, Planner};
 use lamp_refiner_gmm::{GmmRefiner, RefinerOptions};
 use lamp_spec::Spec;
-use lamp_tamp::execute::MotionSettings;
+use lamp_tamp::MotionSettings;
 use lamp_tamp::{Plugins, Solution, SolveError, SolveInput, SolveSettings, solve};
 use lamp_world::{MotionConfig, Scene, SpecWorld, trajectory_header};
 
@@ -124,7 +125,7 @@ fn solve_texts(
     let Learned { spec, world, artifacts, refiner } = learned;
     let problem = spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
     let scene = world.problem_scene(problem).expect("the scene loads");
-    let adapter = Adapter::new(spec, &world.robots).expect("an adapter");
+    let participants = ParticipantMap::new(spec, &world.robots).expect("a participant map");
     let samplers = SamplersFile::from_json(artifact(artifacts, "samplers.json")).expect("samplers");
     let never = || false;
     let settings = SolveSettings {
@@ -136,7 +137,7 @@ fn solve_texts(
         motion: MotionSettings {
             config: MotionConfig::default(),
             budget: MotionBudget { max_iterations: Some(4000), time_limit: None },
-            grab_ranges: lamp_tamp::execute::grab_ranges(spec),
+            grab_ranges: lamp_tamp::grab_ranges(spec),
             cancelled: &never,
         },
         relax_goal,
@@ -146,7 +147,7 @@ fn solve_texts(
         domain,
         problem: problem_text,
         artifact: &samplers.artifact,
-        adapter: &adapter,
+        participants: &participants,
         targets: &problem.goal.at,
         header: trajectory_header(spec, &scene, seed),
     };

@@ -12,8 +12,9 @@ use std::process::{Command, ExitCode, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use lamp_build::{Adapter, SamplersFile};
+use lamp_build::SamplersFile;
 use lamp_eval::{Outcome, SolveResult};
+use lamp_participants::ParticipantMap;
 use lamp_tamp::{SolveError, SolveInput};
 use lamp_world::{SpecWorld, trajectory_header};
 use miette::Diagnostic as _;
@@ -109,8 +110,8 @@ fn solve(job: &Job) -> SolveResult {
         Ok(world) => world,
         Err(failure) => return error(failure),
     };
-    let adapter = match Adapter::new(&spec, &world.robots) {
-        Ok(adapter) => adapter,
+    let participants = match ParticipantMap::new(&spec, &world.robots) {
+        Ok(participants) => participants,
         Err(failure) => return error(failure),
     };
     let scene = match world.problem_scene(problem) {
@@ -133,7 +134,7 @@ fn solve(job: &Job) -> SolveResult {
         domain: &job.domain,
         problem: &job.problem_pddl,
         artifact: &samplers.artifact,
-        adapter: &adapter,
+        participants: &participants,
         targets: &problem.goal.at,
         header,
     };

@@ -1,4 +1,5 @@
-//! RRT-Connect (Kuffner and LaValle, 2000) with path shortcutting, over any configuration space.
+//! lamp-rrt: RRT-Connect (Kuffner and LaValle, 2000) with path shortcutting, over any configuration
+//! space.
 //!
 //! Two trees grow from the start and the goal; each iteration extends one tree toward a random
 //! sample by at most `step` and then greedily connects the other tree toward the new node. Edges
@@ -13,6 +14,13 @@ use std::time::{Duration, Instant};
 
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
+
+/// The most states one straight edge may be cut into at the checking resolution, when a path is
+/// densified, recorded or checked. A Café base crossing its 10 m floor at the finest resolution
+/// the spec allows (1 mm) is 10,000 states and a joint's half turn at 0.001 rad 3,142; 50,000 is
+/// beyond any motion of a bundled robot. More is a robot placed kilometres away or a wrong unit,
+/// and recording it would take gigabytes (a state holds every body's pose): it is refused.
+pub const MAX_EDGE_STEPS: usize = 50_000;
 
 /// What the planner needs from a configuration space.
 pub trait Space {
@@ -36,10 +44,10 @@ pub trait Space {
     }
 
     /// Whether every state along the edge (endpoints excluded) is valid; an edge of more than
-    /// [`MAX_EDGE_STEPS`](crate::MAX_EDGE_STEPS) sub-steps is not (it could not be recorded).
+    /// [`MAX_EDGE_STEPS`] sub-steps is not (it could not be recorded).
     fn edge_is_valid(&self, a: &[f64], b: &[f64]) -> bool {
         let steps = self.edge_steps(a, b);
-        if steps > crate::MAX_EDGE_STEPS {
+        if steps > MAX_EDGE_STEPS {
             return false;
         }
         let mut q = a.to_vec();

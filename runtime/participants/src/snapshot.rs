@@ -5,14 +5,14 @@
 //! Problem initial states are abstracted from this, and so is every state the solver reaches, so
 //! the two always agree on names and order.
 
-use lamp_learn::{Participant, Role, Snapshot};
+use lamp_abstraction::{Participant, Role, Snapshot};
 use lamp_world::Scene;
 
-use crate::adapter::Adapter;
+use crate::map::ParticipantMap;
 
 /// The participants of `scene` and their snapshot; `Err` names a robot the spec does not declare.
 pub fn scene_snapshot(
-    adapter: &Adapter,
+    map: &ParticipantMap,
     scene: &Scene,
 ) -> Result<(Vec<Participant>, Snapshot), String> {
     let mut participants = Vec::new();
@@ -20,12 +20,12 @@ pub fn scene_snapshot(
     // (gripper participant, scene body) pairs, mapped once every body has its participant index.
     let mut holds = Vec::new();
     for robot in scene.robots() {
-        let parts = adapter
+        let parts = map
             .robot_parts(&robot.name)
             .ok_or_else(|| format!("robot `{}` is not declared", robot.name))?;
         let first = participants.len();
         participants.extend(parts.participants(&robot.name));
-        let mut links = vec![lamp_learn::Pose::identity(); robot.robot().link_count()];
+        let mut links = vec![lamp_abstraction::Pose::identity(); robot.robot().link_count()];
         parts.part_poses(robot.configuration(), &mut links, &mut poses);
         if let Some(gripper) = robot.gripper()
             && let Some(held) = gripper.held

@@ -5,7 +5,7 @@
 
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
-use crate::demo::Pose;
+use crate::snapshot::Pose;
 
 /// The length of a feature vector.
 pub const FEATURE_DIMENSION: usize = 9;

@@ -3,12 +3,12 @@
 //! For a pair (t1, t2) with K ≥ 1 regions, numbered 1..K in region order (g, then smallest voxel):
 //! `<t1>_<t2>_<k>(x, y)` holds iff y's pose in x's frame is in region k, `<t1>_<t2>_0(x, y)` iff it is in none,
 //! `clear_<t1>_<t2>_<k>(x)` iff no object of type t2 is in region k of x, and `nowhere_<t1>_<t2>_<k>(y)` iff y is in
-//! region k of no object of type t1 (each only for the regions where its side is on, see [`crate::capacity`]).
+//! region k of no object of type t1 (each only for the regions where its side is on, as the learner decided).
 //! A pair without regions gets no relations at all: `_0` would always hold and tell the planner nothing.
 
 use std::fmt;
 
-use crate::config::TypePair;
+use crate::type_pair::TypePair;
 
 /// The relations of one type pair.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,0 +1,164 @@
+//! Abstraction: a low-level snapshot becomes the set of true facts of the vocabulary.
+//!
+//! A relative pose is in region k iff the region's held flag equals g and its classifier's margin is at least zero.
+//! Relations of one pair exclude each other: if a pose passes several regions' tests (mixture tails can overlap),
+//! the region with the largest margin wins, ties to the smaller k; if it passes none, `_0` holds.
+
+use std::collections::BTreeSet;
+
+use crate::error::AbstractionError;
+use crate::instances::{self, Instance};
+use crate::relations::{PairVocabulary, Symbol, symbol_name};
+use crate::snapshot::{Participant, Pose, Snapshot};
+
+/// The membership test of one region (its held flag is checked by the caller).
+pub trait RegionClassifier {
+    /// At least zero iff the relative pose is in the region; larger means deeper inside.
+    fn margin(&self, relative: &Pose) -> f64;
+}
+
+impl<C: RegionClassifier + ?Sized> RegionClassifier for &C {
+    fn margin(&self, relative: &Pose) -> f64 {
+        (**self).margin(relative)
+    }
+}
+
+/// A grounded fact over participant indices.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Fact {
+    Relation { pair: usize, region: usize, primary: usize, secondary: usize },
+    Clear { pair: usize, region: usize, object: usize },
+    Nowhere { pair: usize, region: usize, object: usize },
+}
+
+impl Fact {
+    pub fn symbol(self) -> Symbol {
+        match self {
+            Fact::Relation { pair, region, .. } => Symbol::Relation { pair, region },
+            Fact::Clear { pair, region, .. } => Symbol::Clear { pair, region },
+            Fact::Nowhere { pair, region, .. } => Symbol::Nowhere { pair, region },
+        }
+    }
+
+    /// The participants it is about, in argument order.
+    pub fn arguments(self) -> Vec<usize> {
+        match self {
+            Fact::Relation { primary, secondary, .. } => vec![primary, secondary],
+            Fact::Clear { object, .. } | Fact::Nowhere { object, .. } => vec![object],
+        }
+    }
+}
+
+/// A grounded atom with object names: a PDDL init or goal atom.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct GroundAtom {
+    /// The predicate name.
+    pub predicate: String,
+    /// The object names.
+    pub arguments: Vec<String>,
+}
+
+impl std::fmt::Display for GroundAtom {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "({}", self.predicate)?;
+        for argument in &self.arguments {
+            write!(f, " {argument}")?;
+        }
+        write!(f, ")")
+    }
+}
+
+pub fn ground_atom(
+    pairs: &[PairVocabulary],
+    participants: &[Participant],
+    fact: Fact,
+) -> GroundAtom {
+    GroundAtom {
+        predicate: symbol_name(pairs, fact.symbol()),
+        arguments: fact
+            .arguments()
+            .into_iter()
+            .map(|index| participants[index].name.clone())
+            .collect(),
+    }
+}
+
+/// The region of one instance: 0 for none, else k.
+fn region_of<C: RegionClassifier>(
+    vocabulary: &PairVocabulary,
+    classifiers: &[C],
+    relative: &Pose,
+    g: u8,
+) -> usize {
+    let mut best: Option<(usize, f64)> = None;
+    for (index, (classifier, flag)) in classifiers.iter().zip(&vocabulary.region_flags).enumerate()
+    {
+        if *flag != g {
+            continue;
+        }
+        let margin = classifier.margin(relative);
+        if margin >= 0.0 && best.is_none_or(|(_, best_margin)| margin > best_margin) {
+            best = Some((index + 1, margin));
+        }
+    }
+    best.map_or(0, |(region, _)| region)
+}
+
+/// Every true fact of a snapshot. `classifiers[p][k − 1]` tests region k of pair p.
+pub fn abstract_facts<C: RegionClassifier>(
+    vocabulary: &[PairVocabulary],
+    classifiers: &[Vec<C>],
+    participants: &[Participant],
+    snapshot: &Snapshot,
+) -> BTreeSet<Fact> {
+    let type_pairs: Vec<_> = vocabulary.iter().map(|v| v.pair.clone()).collect();
+    let mut facts = BTreeSet::new();
+    // (pair, region, primary) and (pair, region, secondary) of every instance in a region.
+    let mut occupied: BTreeSet<(usize, usize, usize)> = BTreeSet::new();
+    let mut placed: BTreeSet<(usize, usize, usize)> = BTreeSet::new();
+    for instance in instances::instances(&type_pairs, participants) {
+        let Instance { pair, primary, secondary } = instance;
+        let relative = instances::relative_pose(snapshot, instance);
+        let g = instances::held_flag(snapshot, instance);
+        let region = region_of(&vocabulary[pair], &classifiers[pair], &relative, g);
+        facts.insert(Fact::Relation { pair, region, primary, secondary });
+        occupied.insert((pair, region, primary));
+        placed.insert((pair, region, secondary));
+    }
+    for (pair, pair_vocabulary) in vocabulary.iter().enumerate() {
+        for (object, participant) in participants.iter().enumerate() {
+            for region in 1..=pair_vocabulary.region_count() {
+                if participant.type_name == pair_vocabulary.pair.primary
+                    && pair_vocabulary.has_clear(region)
+                    && !occupied.contains(&(pair, region, object))
+                {
+                    facts.insert(Fact::Clear { pair, region, object });
+                }
+                if participant.type_name == pair_vocabulary.pair.secondary
+                    && pair_vocabulary.has_nowhere(region)
+                    && !placed.contains(&(pair, region, object))
+                {
+                    facts.insert(Fact::Nowhere { pair, region, object });
+                }
+            }
+        }
+    }
+    facts
+}
+
+/// Every true atom of a snapshot, with object names; checks the snapshot's shape first.
+pub fn abstract_atoms<C: RegionClassifier>(
+    vocabulary: &[PairVocabulary],
+    classifiers: &[Vec<C>],
+    participants: &[Participant],
+    snapshot: &Snapshot,
+) -> Result<BTreeSet<GroundAtom>, AbstractionError> {
+    if snapshot.poses.len() != participants.len() {
+        return Err(AbstractionError::SnapshotShape {
+            expected: participants.len(),
+            found: snapshot.poses.len(),
+        });
+    }
+    let facts = abstract_facts(vocabulary, classifiers, participants, snapshot);
+    Ok(facts.into_iter().map(|fact| ground_atom(vocabulary, participants, fact)).collect())
+}

@@ -1,0 +1,138 @@
+//! A region's membership test and generator, behind [`RegionClassifier`]: the paper's Gaussian
+//! mixture over continuous pose features with a log-density threshold, and the box of positions
+//! its cells span.
+//!
+//! A pose's margin is its log density minus ε; sampling draws a feature and projects it back to a
+//! pose. How a model is fitted to a region's cells is the learner's (`lamp_learn::region_model`).
+
+use lamp_gmm::GaussianMixture;
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+use crate::abstraction::RegionClassifier;
+use crate::features::{FEATURE_DIMENSION, features_pose, pose_features};
+use crate::snapshot::Pose;
+
+/// Draws of the mixture per sample before one outside the region's extent is returned anyway.
+pub const EXTENT_DRAWS: usize = 64;
+
+/// The model of one region: a mixture over pose features, the log-density threshold ε of
+/// membership, and the box its cells span in position.
+///
+/// A pose is in the region iff its position lies in that box and its log density is at least ε.
+/// The box matters: a mixture fitted to a region of uniform cells leaks a component's tail past
+/// the cells (a Gaussian of a box's spread accepts points well beyond its edges when the other
+/// features match closely), and such a pose was never seen in a demonstration — a can beside the
+/// box would count as in it.
+///
+/// Serialised as `{ "g", "mixture", "threshold", "extent" }`, the mixture in lamp-gmm's parameter
+/// layout; deserialising the mixture validates it, and [`RegionModel::validate`] checks the rest.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RegionModel {
+    g: u8,
+    mixture: GaussianMixture,
+    /// ε: a pose is inside iff its log density is at least this.
+    threshold: f64,
+    /// Per axis, the lowest and highest position coordinate of the region's cells.
+    extent: [[f64; 2]; 3],
+}
+
+impl RegionModel {
+    /// A model from its parts, checked as a deserialised one is ([`RegionModel::validate`]).
+    pub fn new(
+        g: u8,
+        mixture: GaussianMixture,
+        threshold: f64,
+        extent: [[f64; 2]; 3],
+    ) -> Result<Self, String> {
+        let model = RegionModel { g, mixture, threshold, extent };
+        model.validate()?;
+        Ok(model)
+    }
+
+    /// Draws a relative pose: a feature from the mixture, its rotation columns projected to a
+    /// rotation, redrawn (up to [`EXTENT_DRAWS`] times) while its position is outside the
+    /// region's extent.
+    pub fn sample(&self, rng: &mut ChaCha8Rng) -> Pose {
+        let mut pose = features_pose(&self.mixture.sample(rng));
+        for _ in 1..EXTENT_DRAWS {
+            if self.outside(&pose) == 0.0 {
+                break;
+            }
+            pose = features_pose(&self.mixture.sample(rng));
+        }
+        pose
+    }
+
+    /// Whether a pose's position lies within the region's cells' bounding box (a coarser test
+    /// than membership, which also weighs the rotation and the mixture's shape).
+    pub fn spans(&self, relative: &Pose) -> bool {
+        self.outside(relative) == 0.0
+    }
+
+    /// How far (summed over axes, metres) a pose's position is outside the region's extent.
+    fn outside(&self, relative: &Pose) -> f64 {
+        let position = relative.translation.vector;
+        (0..3)
+            .map(|axis| {
+                let [low, high] = self.extent[axis];
+                (low - position[axis]).max(position[axis] - high).max(0.0)
+            })
+            .sum()
+    }
+
+    /// The number of mixture components BIC chose.
+    pub fn component_count(&self) -> usize {
+        self.mixture.component_count()
+    }
+
+    /// The mixture over pose features.
+    pub fn mixture(&self) -> &GaussianMixture {
+        &self.mixture
+    }
+
+    /// The log-density threshold ε of membership.
+    pub fn threshold(&self) -> f64 {
+        self.threshold
+    }
+
+    /// The held flag of the region.
+    pub fn held_flag(&self) -> u8 {
+        self.g
+    }
+
+    /// Checks a deserialised model (the mixture itself was validated when it was built).
+    pub fn validate(&self) -> Result<(), String> {
+        if self.mixture.dimension() != FEATURE_DIMENSION {
+            return Err(format!(
+                "the mixture is over {} features, not {FEATURE_DIMENSION}",
+                self.mixture.dimension()
+            ));
+        }
+        if !self.threshold.is_finite() {
+            return Err("the likelihood threshold is not finite".to_string());
+        }
+        if self.g > 1 {
+            return Err(format!("the held flag is {}, not 0 or 1", self.g));
+        }
+        if self
+            .extent
+            .iter()
+            .any(|[low, high]| !(low.is_finite() && high.is_finite() && low <= high))
+        {
+            return Err("the region's extent is not a box".to_string());
+        }
+        Ok(())
+    }
+}
+
+impl RegionClassifier for RegionModel {
+    fn margin(&self, relative: &Pose) -> f64 {
+        let outside = self.outside(relative);
+        if outside > 0.0 {
+            // Below zero, and lower the further out.
+            return -1.0 - outside;
+        }
+        self.mixture.log_density(&pose_features(relative)) - self.threshold
+    }
+}

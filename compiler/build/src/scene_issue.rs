@@ -1,0 +1,83 @@
+//! A finding of the initial-scene check (`initial_scene`), as a diagnostic of its own: the
+//! build's error lists them.
+
+use miette::Diagnostic;
+use thiserror::Error;
+
+/// One reason a problem's initial scene is not one the solver can start from.
+#[derive(Debug, Clone, PartialEq, Error, Diagnostic)]
+pub enum SceneIssue {
+    /// A placement with a non-finite number.
+    #[error("problem `{problem}`: the pose of {what} `{name}` is not finite")]
+    #[diagnostic(
+        code(lamp::build::scene_not_finite),
+        help("Every coordinate and angle of a placement must be a finite number.")
+    )]
+    NotFinite { problem: String, what: &'static str, name: String },
+
+    /// A placement beyond [`MAX_DISTANCE`](crate::initial_scene::MAX_DISTANCE).
+    #[error(
+        "problem `{problem}`: {what} `{name}` is placed at {position} m, farther than {max} m from the origin"
+    )]
+    #[diagnostic(
+        code(lamp::build::scene_range),
+        help("Place it within {max} m of the origin; check the number and its unit.")
+    )]
+    OutOfRange { problem: String, what: &'static str, name: String, position: String, max: f64 },
+
+    /// Two bodies touch or overlap.
+    #[error("problem `{problem}`: `{first}` and `{second}` touch or overlap")]
+    #[diagnostic(
+        code(lamp::build::scene_contact),
+        help(
+            "Bodies closer than 1 µm count as touching, and the solver cannot move an object that touches another: place them apart, for example an object 1 mm above its support as the bundled specs do."
+        )
+    )]
+    Contact { problem: String, first: String, second: String },
+
+    /// A robot starts in collision.
+    #[error("problem `{problem}`: robot `{robot}` starts in collision: {contact}")]
+    #[diagnostic(
+        code(lamp::build::robot_start_collision),
+        help(
+            "Place the robot elsewhere, choose another `config`, or move what it touches; it must start free of every body and of itself."
+        )
+    )]
+    RobotCollision { problem: String, robot: String, contact: String },
+
+    /// A robot starts outside its joint limits.
+    #[error(
+        "problem `{problem}`: robot `{robot}` starts outside its joint limits: `{coordinate}` is {value}, outside [{lower}, {upper}]"
+    )]
+    #[diagnostic(
+        code(lamp::build::robot_start_limits),
+        help("Change the robot's `config` so that every joint is within the limits of its URDF.")
+    )]
+    RobotLimits {
+        problem: String,
+        robot: String,
+        coordinate: String,
+        value: f64,
+        lower: f64,
+        upper: f64,
+    },
+
+    /// The scene could not be built at all.
+    #[error("problem `{problem}`: the initial scene cannot be built: {reason}")]
+    #[diagnostic(code(lamp::build::scene))]
+    Unbuildable { problem: String, reason: String },
+}
+
+impl SceneIssue {
+    /// The problem the finding is about.
+    pub fn problem(&self) -> &str {
+        match self {
+            SceneIssue::NotFinite { problem, .. }
+            | SceneIssue::OutOfRange { problem, .. }
+            | SceneIssue::Contact { problem, .. }
+            | SceneIssue::RobotCollision { problem, .. }
+            | SceneIssue::RobotLimits { problem, .. }
+            | SceneIssue::Unbuildable { problem, .. } => problem,
+        }
+    }
+}
