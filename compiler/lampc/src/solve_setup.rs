@@ -118,8 +118,8 @@ pub(crate) fn settings<'a>(
                 time_limit: runtime.motion_timeout,
             },
             grab_ranges: lamp_tamp::grab_ranges(spec),
-            cancelled,
         },
         relax_goal: !overrides.no_relax,
+        cancelled,
     }
 }

@@ -1,6 +1,7 @@
 //! Why a problem could not be solved.
 
 use lamp_pddl::{PddlError, PddlErrors};
+use lamp_plugin_api::PluginError;
 use miette::{Diagnostic, NamedSource};
 use thiserror::Error;
 
@@ -97,6 +98,15 @@ pub enum SolveError {
 }
 
 impl SolveError {
+    /// The one conversion of a plugin call's error: a cancellation stops the solve as every other
+    /// cancellation does; anything else is the failure of the plugin of that kind.
+    pub(crate) fn from_plugin(kind: &'static str, error: PluginError) -> Self {
+        match error {
+            PluginError::Cancelled => SolveError::cancelled(),
+            other => SolveError::Plugin { kind, reason: other.to_string() },
+        }
+    }
+
     /// A PDDL text that does not parse, with its errors.
     pub(crate) fn pddl(what: &'static str, text: &str, errors: PddlErrors) -> Self {
         SolveError::Pddl {

@@ -1,13 +1,13 @@
 //! Carrying out one candidate in a scene: let go, move along a planned path, take hold; every
 //! visited state recorded at the checking resolution, every motion checked state by state.
 
-use lamp_plugin_api::{Candidate, MotionOutcome, MotionPlanner, MotionRequest, PluginError};
+use lamp_plugin_api::{Candidate, MotionOutcome, MotionPlanner, MotionRequest};
 use lamp_robot::{IkConfig, Robot};
 use lamp_world::{MotionConfig, Recorder, RobotSpace, Scene, densify, straight_line};
 
 use crate::error::SolveError;
 use crate::host::GroupHost;
-use crate::settings::MotionSettings;
+use crate::settings::SolveSettings;
 
 /// Why a candidate was rejected (the search tries another), or a hard error.
 pub enum Rejection {
@@ -36,7 +36,7 @@ pub fn execute(
     candidate: &Candidate,
     recorder: &mut Recorder,
     motion: &mut dyn MotionPlanner,
-    settings: &MotionSettings<'_>,
+    settings: &SolveSettings<'_>,
     seed: u64,
     counts: &mut MotionCounts,
 ) -> Result<(), Rejection> {
@@ -75,21 +75,23 @@ pub fn execute(
             continue;
         }
         let group = motion_group(&model, &start, goal);
-        if let Some(path) = straight_first(scene, robot, group, &start, goal, &settings.config) {
-            let states = densify(&model, &path, &settings.config)
+        if let Some(path) =
+            straight_first(scene, robot, group, &start, goal, &settings.motion.config)
+        {
+            let states = densify(&model, &path, &settings.motion.config)
                 .map_err(|error| Rejection::Candidate(error.to_string()))?;
             recorder.follow(scene, robot, &states);
             scene.set_configuration(robot, path.last().unwrap_or(&start));
             continue;
         }
-        let space = RobotSpace::new(scene, robot, group, &start, goal, &settings.config)
+        let space = RobotSpace::new(scene, robot, group, &start, goal, &settings.motion.config)
             .map_err(|error| Rejection::Candidate(error.to_string()))?;
         let host = GroupHost::new(&target.robot, &model, space, settings.cancelled);
         let request = MotionRequest {
             robot: target.robot.clone(),
             start: start.clone(),
             goal: goal.clone(),
-            budget: settings.budget,
+            budget: settings.motion.budget,
             seed: seed.wrapping_add(offset as u64),
         };
         counts.calls += 1;
@@ -103,15 +105,9 @@ pub fn execute(
                     if message.is_empty() { "" } else { ": " }
                 )));
             }
-            Err(PluginError::Cancelled) => return Err(Rejection::Fatal(SolveError::cancelled())),
-            Err(error) => {
-                return Err(Rejection::Fatal(SolveError::Plugin {
-                    kind: "motion",
-                    reason: error.to_string(),
-                }));
-            }
+            Err(error) => return Err(Rejection::Fatal(SolveError::from_plugin("motion", error))),
         };
-        let states = densify(&model, &waypoints, &settings.config)
+        let states = densify(&model, &waypoints, &settings.motion.config)
             .map_err(|error| Rejection::Candidate(error.to_string()))?;
         let joins = |a: &[f64], b: &[f64]| model.distance(a, b) < 1e-9;
         let (Some(first), Some(last)) = (states.first(), states.last()) else {
@@ -142,7 +138,7 @@ pub fn execute(
                 (gripper.translation.vector - scene.body_pose(body).translation.vector).norm()
             });
         if let (Some(distance), Some((_, (low, high)))) =
-            (reach, settings.grab_ranges.iter().find(|(name, _)| name == &change.robot))
+            (reach, settings.motion.grab_ranges.iter().find(|(name, _)| name == &change.robot))
             && !(*low..=*high).contains(&distance)
         {
             return Err(Rejection::Candidate(format!(

@@ -5,35 +5,42 @@ use std::collections::BTreeSet;
 
 use lamp_learn::{GroundAtom, ground_atoms};
 use lamp_pddl::{Condition, Domain, Problem, write_domain, write_problem};
-use lamp_plugin_api::{GroundedAction, HostServices, Plan, PlanRequest, PlanStatus, PluginError};
+use lamp_plugin_api::{GroundedAction, HostServices, Plan, PlanRequest, PlanStatus};
 
 use crate::error::SolveError;
 use crate::ground::{ground_step, pddl_atom};
 use crate::plugins::Plugins;
 use crate::settings::SolveSettings;
 
-/// Plans for `problem` (at most `plan_count`), or why there is none (`Err` inside `Ok`), or a
-/// planner failure.
+/// What the planner answered.
+pub enum Planned {
+    /// At least one plan, at most the number asked for.
+    Plans(Vec<Plan>),
+    /// No plan, and why (unsolvable, or the planner's budget ran out).
+    NoPlan(String),
+}
+
+/// Plans for `problem` (at most `plan_count`) or why there is none; `Err` is a planner failure.
 pub fn plans(
     plugins: &mut Plugins<'_>,
     domain: &Domain,
     problem: &Problem,
     plan_count: usize,
     settings: &SolveSettings<'_>,
-) -> Result<Result<Vec<Plan>, String>, SolveError> {
+) -> Result<Planned, SolveError> {
     let mut request = PlanRequest::new(write_domain(domain), write_problem(problem));
     request.plan_count = plan_count.max(1);
     request.budget = settings.planner_budget;
     request.seed = settings.seed;
-    let host = Cancellation(settings.motion.cancelled);
-    let response = plugins.planner.plan(&request, &host).map_err(|error| match error {
-        PluginError::Cancelled => SolveError::cancelled(),
-        other => SolveError::Plugin { kind: "planner", reason: other.to_string() },
-    })?;
+    let host = Cancellation(settings.cancelled);
+    let response = plugins
+        .planner
+        .plan(&request, &host)
+        .map_err(|error| SolveError::from_plugin("planner", error))?;
     if !response.plans.is_empty() {
-        return Ok(Ok(response.plans));
+        return Ok(Planned::Plans(response.plans));
     }
-    Ok(Err(match response.status {
+    Ok(Planned::NoPlan(match response.status {
         PlanStatus::Unsolvable { reason } => reason,
         PlanStatus::BudgetExhausted => "the planner's budget ran out".to_string(),
         PlanStatus::Failed { message } => {
@@ -53,7 +60,7 @@ pub fn plan_from(
 ) -> Result<Option<Vec<GroundedAction>>, SolveError> {
     let mut from = problem.clone();
     from.init = ground_atoms(state);
-    let Ok(found) = plans(plugins, domain, &from, 1, settings)? else {
+    let Planned::Plans(found) = plans(plugins, domain, &from, 1, settings)? else {
         return Ok(None);
     };
     let Some(plan) = found.into_iter().next() else { return Ok(None) };

@@ -15,7 +15,7 @@ use std::collections::BTreeSet;
 use lamp_learn::{GroundAtom, SamplerArtifact};
 use lamp_participants::ParticipantMap;
 use lamp_pddl::{Domain, Problem};
-use lamp_plugin_api::{CandidateStream, GroundedAction, PluginError, RefineRequest};
+use lamp_plugin_api::{CandidateStream, GroundedAction, RefineRequest};
 use lamp_world::{Recorder, Scene};
 
 use crate::error::SolveError;
@@ -122,7 +122,7 @@ pub fn refine_plan(
             let starts = levels.iter().map(|level| level.recorded).collect();
             return Ok(Refined::Done { steps: actions, scene, starts });
         }
-        if (context.settings.motion.cancelled)() {
+        if (context.settings.cancelled)() {
             return Err(SolveError::cancelled());
         }
         let stream_seed = mix(seed, index as u64, counts.candidates as u64);
@@ -131,8 +131,11 @@ pub fn refine_plan(
             world: world_state(context.participants, &scene)?,
             seed: stream_seed,
         };
-        let host = SceneHost::new(&scene, stream_seed, context.settings.motion.cancelled);
-        let stream = plugins.refiner.refine(&request, &host).map_err(plugin_error)?;
+        let host = SceneHost::new(&scene, stream_seed, context.settings.cancelled);
+        let stream = plugins
+            .refiner
+            .refine(&request, &host)
+            .map_err(|error| SolveError::from_plugin("refiner", error))?;
         levels.push(Level {
             scene: scene.clone(),
             recorded: recorder.len(),
@@ -159,8 +162,11 @@ pub fn refine_plan(
                 actions.extend(rest);
             }
             let host_seed = mix(seed, at as u64, counts.candidates as u64);
-            let host = SceneHost::new(&level.scene, host_seed, context.settings.motion.cancelled);
-            let next = level.stream.next(&host).map_err(plugin_error)?;
+            let host = SceneHost::new(&level.scene, host_seed, context.settings.cancelled);
+            let next = level
+                .stream
+                .next(&host)
+                .map_err(|error| SolveError::from_plugin("refiner", error))?;
             let Some(candidate) = next else {
                 // The step below gives up its accepted candidate: that one is wasted too.
                 levels.pop();
@@ -176,49 +182,34 @@ pub fn refine_plan(
                 &candidate,
                 recorder,
                 plugins.motion,
-                &context.settings.motion,
+                context.settings,
                 mix(seed, at as u64, counts.candidates as u64 + 7),
                 &mut counts.motion,
             );
             refused += 1;
-            let why = match attempt {
+            let verdict = match attempt {
                 Ok(()) => {
-                    let reached = abstraction(context.artifact, context.participants, &trial)?;
-                    if !effects_hold(&reached, &actions[at]) {
-                        "its effects do not hold in the state reached".to_string()
-                    } else if let Some(miss) =
-                        first_miss_where_reached(context.targets, goal, &reached, &trial)
-                    {
-                        miss.to_string()
-                    } else if let Some(broken) = first_broken(&reached, &actions[at + 1..], goal) {
-                        let broken = broken_text(&broken, &actions, at);
-                        let rest = if replanned_from.insert(reached.clone()) {
-                            counts.replans += 1;
-                            let settings = context.settings;
-                            plan_from(plugins, context.domain, context.problem, &reached, settings)?
-                                .ok_or("no plan reaches the goal from there")
-                        } else {
-                            Err("replanning from there again would repeat a plan whose side \
-                                 effects the model does not predict")
-                        };
-                        match rest {
-                            Ok(rest) => {
-                                let old = actions.split_off(at + 1);
-                                actions.extend(rest);
-                                level.replaced_rest = Some(old);
-                                scene = trial;
-                                break;
-                            }
-                            Err(why) => format!("{broken}, and {why}"),
-                        }
-                    } else {
-                        refused -= 1;
-                        scene = trial;
-                        break;
-                    }
+                    let mut judge =
+                        Judge { context, plugins, goal, replanned_from: &mut replanned_from };
+                    judge.judge(&trial, &actions, at, counts)?
                 }
-                Err(Rejection::Candidate(reason)) => reason,
+                Err(Rejection::Candidate(reason)) => Verdict::Refused(reason),
                 Err(Rejection::Fatal(error)) => return Err(error),
+            };
+            let why = match verdict {
+                Verdict::Accepted => {
+                    refused -= 1;
+                    scene = trial;
+                    break;
+                }
+                Verdict::Replanned(rest) => {
+                    let old = actions.split_off(at + 1);
+                    actions.extend(rest);
+                    level.replaced_rest = Some(old);
+                    scene = trial;
+                    break;
+                }
+                Verdict::Refused(why) => why,
             };
             if at + 1 >= counts.deepest_failed {
                 counts.deepest_failed = at + 1;
@@ -229,6 +220,68 @@ pub fn refine_plan(
     }
 }
 
+/// What became of a candidate that was carried out.
+enum Verdict {
+    /// Its effects hold, no AtGoal object rests on its marker outside its tolerance, and the
+    /// rest of the plan still runs to the goal.
+    Accepted,
+    /// Its effects hold but a side effect broke the rest of the plan; this new rest, planned from
+    /// the state reached, replaces it.
+    Replanned(Vec<GroundedAction>),
+    /// Refused, and why.
+    Refused(String),
+}
+
+/// Judges the state a candidate reached (execution monitoring), replanning the rest of the plan
+/// when a side effect broke it.
+struct Judge<'j, 'c, 'p> {
+    context: &'j Context<'c>,
+    plugins: &'j mut Plugins<'p>,
+    goal: &'j BTreeSet<GroundAtom>,
+    /// The states replanned from: reaching one again means the planner repeats a plan whose
+    /// step has a side effect the model does not predict, and replanning again would loop.
+    replanned_from: &'j mut BTreeSet<BTreeSet<GroundAtom>>,
+}
+
+impl Judge<'_, '_, '_> {
+    /// The verdict on `trial`, the scene step `at` of `actions` reached.
+    fn judge(
+        &mut self,
+        trial: &Scene,
+        actions: &[GroundedAction],
+        at: usize,
+        counts: &mut RefineCounts,
+    ) -> Result<Verdict, SolveError> {
+        let context = self.context;
+        let reached = abstraction(context.artifact, context.participants, trial)?;
+        if !effects_hold(&reached, &actions[at]) {
+            return Ok(Verdict::Refused(
+                "its effects do not hold in the state reached".to_string(),
+            ));
+        }
+        if let Some(miss) = first_miss_where_reached(context.targets, self.goal, &reached, trial) {
+            return Ok(Verdict::Refused(miss.to_string()));
+        }
+        let Some(broken) = first_broken(&reached, &actions[at + 1..], self.goal) else {
+            return Ok(Verdict::Accepted);
+        };
+        let broken = broken_text(&broken, actions, at);
+        let rest = if self.replanned_from.insert(reached.clone()) {
+            counts.replans += 1;
+            let settings = context.settings;
+            plan_from(self.plugins, context.domain, context.problem, &reached, settings)?
+                .ok_or("no plan reaches the goal from there")
+        } else {
+            Err("replanning from there again would repeat a plan whose side effects the model \
+                 does not predict")
+        };
+        Ok(match rest {
+            Ok(rest) => Verdict::Replanned(rest),
+            Err(why) => Verdict::Refused(format!("{broken}, and {why}")),
+        })
+    }
+}
+
 /// What a broken rest of the plan misses, for messages.
 fn broken_text(broken: &Broken, actions: &[GroundedAction], at: usize) -> String {
     let what = match actions.get(at + 1 + broken.index) {
@@ -236,13 +289,6 @@ fn broken_text(broken: &Broken, actions: &[GroundedAction], at: usize) -> String
         None => "the goal".to_string(),
     };
     format!("the state reached breaks {what}, which needs {}", atom_list(&broken.missing))
-}
-
-fn plugin_error(error: PluginError) -> SolveError {
-    match error {
-        PluginError::Cancelled => SolveError::cancelled(),
-        other => SolveError::Plugin { kind: "refiner", reason: other.to_string() },
-    }
 }
 
 /// Atoms in one state and not the other, for messages.

@@ -19,21 +19,22 @@ pub struct SolveSettings<'a> {
     /// [`WASTED_PER_STEP`](crate::refine::WASTED_PER_STEP) per step.
     pub max_refused: usize,
     /// Motion settings.
-    pub motion: MotionSettings<'a>,
+    pub motion: MotionSettings,
     /// Whether to drop goal atoms when no plan reaches the whole goal.
     pub relax_goal: bool,
+    /// Whether the user asked to stop; the planner, the refiner, the motion planner and the
+    /// final replay all poll it.
+    pub cancelled: &'a dyn Fn() -> bool,
 }
 
 /// What the motion of one candidate may use.
-pub struct MotionSettings<'a> {
+pub struct MotionSettings {
     /// Resolutions of recording and checking.
     pub config: MotionConfig,
     /// The motion planner's budget per call.
     pub budget: MotionBudget,
     /// Grab distance range per robot name (link origin to object origin), if the spec gives one.
     pub grab_ranges: Vec<(String, (f64, f64))>,
-    /// Whether the user asked to stop.
-    pub cancelled: &'a dyn Fn() -> bool,
 }
 
 /// The grab distance range of every robot whose spec gives one, for [`MotionSettings`].

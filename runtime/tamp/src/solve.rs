@@ -15,7 +15,7 @@ use lamp_world::{Recorder, Scene};
 
 use crate::error::{Progress, SolveError};
 use crate::ground::{call_text, ground_step, pddl_atom};
-use crate::planning::{goal_holds_initially, plans, relax};
+use crate::planning::{Planned, goal_holds_initially, plans, relax};
 use crate::plugins::Plugins;
 use crate::refine::{Context, RefineCounts, Refined, difference, mix, refine_plan};
 use crate::settings::SolveSettings;
@@ -108,8 +108,8 @@ fn solve_with(
         let found = plans(plugins, domain, problem, settings.plan_count, settings)?;
         summary.seconds_planning += started.elapsed().as_secs_f64();
         let found = match found {
-            Ok(found) => found,
-            Err(reason) => {
+            Planned::Plans(found) => found,
+            Planned::NoPlan(reason) => {
                 let relaxed = if settings.relax_goal { relax(domain, problem) } else { None };
                 let Some(dropped) = relaxed else {
                     let reason = match summary.relaxed_goal.is_empty() {
@@ -180,7 +180,7 @@ fn solve_with(
                         input.artifact,
                         input.participants,
                         &Expected { goal: &goal, targets: input.targets },
-                        settings.motion.cancelled,
+                        settings.cancelled,
                     )?;
                     summary.seconds_validating = started.elapsed().as_secs_f64();
                     summary.success = !summary.is_partial();

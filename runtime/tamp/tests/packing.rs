@@ -180,9 +180,9 @@ fn a_stale_problem_file_is_refused() {
             config: MotionConfig::default(),
             budget: MotionBudget::default(),
             grab_ranges: Vec::new(),
-            cancelled: &never,
         },
         relax_goal: false,
+        cancelled: &never,
     };
     let input = SolveInput {
         scene: &scene,

@@ -138,9 +138,9 @@ fn solve_texts(
             config: MotionConfig::default(),
             budget: MotionBudget { max_iterations: Some(4000), time_limit: None },
             grab_ranges: lamp_tamp::grab_ranges(spec),
-            cancelled: &never,
         },
         relax_goal,
+        cancelled: &never,
     };
     let input = SolveInput {
         scene: &scene,
