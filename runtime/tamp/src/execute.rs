@@ -30,6 +30,19 @@ pub struct MotionCounts {
     pub failures: usize,
 }
 
+/// Configurations closer than this (in the robot's configuration distance), or coordinates that
+/// differ by less, are the same: rounding, with nothing to move.
+const SAME_CONFIGURATION: f64 = 1e-12;
+/// How close a motion planner's path must begin and end to the start and goal asked for (in the
+/// robot's configuration distance): its ends are copies of them, up to the rounding of a plugin's
+/// arithmetic and the wire's JSON.
+const PATH_END_TOLERANCE: f64 = 1e-9;
+/// How close to the goal's gripper pose a straight line must end (metres, radians): 0.1 mm and
+/// 0.001 rad, well inside any learned region, looser than the default IK so that the line is not
+/// refused for the last micrometre.
+const STRAIGHT_POSITION_TOLERANCE: f64 = 1e-4;
+const STRAIGHT_ORIENTATION_TOLERANCE: f64 = 1e-3;
+
 /// Applies `candidate` to `scene`, recording every state into `recorder`.
 pub fn execute(
     scene: &mut Scene,
@@ -71,7 +84,7 @@ pub fn execute(
                 reason: format!("a target of `{}` has {} coordinates", target.robot, goal.len()),
             }));
         }
-        if model.distance(&start, goal) < 1e-12 {
+        if model.distance(&start, goal) < SAME_CONFIGURATION {
             continue;
         }
         let group = motion_group(&model, &start, goal);
@@ -109,7 +122,7 @@ pub fn execute(
         };
         let states = densify(&model, &waypoints, &settings.motion.config)
             .map_err(|error| Rejection::Candidate(error.to_string()))?;
-        let joins = |a: &[f64], b: &[f64]| model.distance(a, b) < 1e-9;
+        let joins = |a: &[f64], b: &[f64]| model.distance(a, b) < PATH_END_TOLERANCE;
         let (Some(first), Some(last)) = (states.first(), states.last()) else {
             return Err(bad_path("it is empty"));
         };
@@ -159,12 +172,12 @@ fn bad_path(reason: &str) -> Rejection {
     })
 }
 
-/// The smallest joint group that holds every coordinate that changes from `start` to `goal`.
 /// A straight line of the gripper from where it is to where `goal` puts it, when the arm moves
 /// and the mount stays: the way into and out of a grasp among other objects, a narrow passage a
 /// sampling planner rarely finds (and the way the demonstrations move there). `None` when the
 /// line leaves the arm's reach, jumps or touches something; the motion planner then plans the
-/// move. The line ends where IK puts the gripper within 0.1 mm and 0.001 rad of the goal's pose,
+/// move. The line ends where IK puts the gripper within [`STRAIGHT_POSITION_TOLERANCE`] and
+/// [`STRAIGHT_ORIENTATION_TOLERANCE`] of the goal's pose,
 /// not necessarily at `goal` itself: the learned relations see link poses, not joint values.
 fn straight_first(
     scene: &Scene,
@@ -177,18 +190,24 @@ fn straight_first(
     let state = &scene.robots()[robot];
     let model = state.robot();
     let mount = model.mount().coordinate_count();
-    if (0..mount).any(|index| (start[index] - goal[index]).abs() > 1e-12) {
+    if (0..mount).any(|index| (start[index] - goal[index]).abs() > SAME_CONFIGURATION) {
         return None;
     }
     let link = state.gripper()?.link;
     let target = model.link_pose(goal, link);
-    let ik = IkConfig { position_tolerance: 1e-4, orientation_tolerance: 1e-3, ..IkConfig::new() };
+    let ik = IkConfig {
+        position_tolerance: STRAIGHT_POSITION_TOLERANCE,
+        orientation_tolerance: STRAIGHT_ORIENTATION_TOLERANCE,
+        ..IkConfig::new()
+    };
     straight_line(scene, robot, group, Some(link), start, &target, config, &ik).ok()
 }
 
+/// The smallest joint group that holds every coordinate that changes from `start` to `goal`.
 fn motion_group<'r>(robot: &'r Robot, start: &[f64], goal: &[f64]) -> &'r str {
-    let changed: Vec<usize> =
-        (0..start.len()).filter(|&index| (start[index] - goal[index]).abs() > 1e-12).collect();
+    let changed: Vec<usize> = (0..start.len())
+        .filter(|&index| (start[index] - goal[index]).abs() > SAME_CONFIGURATION)
+        .collect();
     let mut groups: Vec<_> = robot
         .groups()
         .filter(|group| changed.iter().all(|index| group.coordinates.contains(index)))

@@ -25,6 +25,10 @@ pub struct Expected<'a> {
     pub targets: &'a [AtGoal],
 }
 
+/// How far (metres, and radians of rotation) a body that is not held may be from where the replay
+/// has it before it counts as moved: the rounding of recomputed poses, far below any resolution.
+const UNMOVED_TOLERANCE: f64 = 1e-9;
+
 /// Checks `steps` from `initial`; returns the final abstract state. `cancelled` is polled before
 /// every step: a long trajectory takes seconds to replay, and a stop request must not wait.
 pub fn replay(
@@ -81,8 +85,9 @@ pub fn replay(
         }
         for (body, pose) in step.body_poses.iter().enumerate() {
             let here = scene.body_pose(body);
-            let moved = (here.translation.vector - pose.translation.vector).norm() > 1e-9
-                || here.rotation.angle_to(&pose.rotation) > 1e-9;
+            let moved = (here.translation.vector - pose.translation.vector).norm()
+                > UNMOVED_TOLERANCE
+                || here.rotation.angle_to(&pose.rotation) > UNMOVED_TOLERANCE;
             if moved {
                 return Err(fail(
                     index,

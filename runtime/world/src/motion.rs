@@ -22,6 +22,10 @@ pub const DEFAULT_ANGULAR_RESOLUTION: f64 = 0.01;
 /// Unbounded coordinates (a mobile base's x, y) are sampled this far around start and goal.
 pub const FREE_SAMPLING_MARGIN: f64 = 1.5;
 
+/// How far a coordinate outside the moving group may differ between start and goal and still
+/// count as held still: rounding, far below any checking resolution.
+const HELD_STILL_TOLERANCE: f64 = 1e-9;
+
 /// How to plan one motion.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MotionConfig {
@@ -121,7 +125,9 @@ impl<'a> RobotSpace<'a> {
             group: group_name.to_string(),
         })?;
         for (index, name) in robot.coordinate_names().iter().enumerate() {
-            if !group.coordinates.contains(&index) && (start[index] - goal[index]).abs() > 1e-9 {
+            if !group.coordinates.contains(&index)
+                && (start[index] - goal[index]).abs() > HELD_STILL_TOLERANCE
+            {
                 return Err(MotionError::OutsideGroup {
                     group: group_name.to_string(),
                     coordinate: name.clone(),
