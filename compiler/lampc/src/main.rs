@@ -12,8 +12,8 @@ mod output;
 mod plugin_setup;
 mod solve_setup;
 mod spec_input;
+mod terminal;
 
-use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -68,7 +68,7 @@ fn main() -> ExitCode {
 
 fn check(spec: &std::path::Path) -> ExitCode {
     let outcome = lamp_lang::check(spec, &files::DiskLoader);
-    let colour = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+    let colour = crate::terminal::colour();
     eprint!("{}", diagnostics::render_all(&outcome, colour, terminal_width()));
     match outcome.spec {
         Some(spec) => {

@@ -7,12 +7,11 @@
 //! then swapped in), under a lock that refuses a second build into the same folder.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use lamp_build::{Adapter, ArtifactFile, Artifacts, BuildContext, BuildError, DemoFile};
 
 use crate::output::{FolderLock, OutputError, OutputFolder, Replaced};
@@ -66,7 +65,7 @@ impl Timings {
 }
 
 pub(crate) fn run(args: &Args) -> ExitCode {
-    let colour = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+    let colour = crate::terminal::colour();
     let mut model = None;
     let failure = match build(args, colour, &mut model) {
         Ok(()) => return ExitCode::SUCCESS,
@@ -259,22 +258,12 @@ impl<'a> BagMappings<'a> {
 
 /// A bar on a terminal, nothing at all otherwise (CI logs stay clean).
 fn progress_bar(length: u64, prefix: &'static str) -> ProgressBar {
-    if !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let style = ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} {wide_msg}")
-        .map(|style| style.progress_chars("=> "))
-        .unwrap_or_else(|_| ProgressStyle::default_bar());
-    ProgressBar::new(length).with_style(style).with_prefix(prefix)
+    crate::terminal::progress_bar(length, "{prefix} [{bar:30}] {pos}/{len} {wide_msg}")
+        .with_prefix(prefix)
 }
 
 fn spinner(message: &'static str) -> ProgressBar {
-    if !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let spinner = ProgressBar::new_spinner().with_message(message);
-    spinner.enable_steady_tick(Duration::from_millis(100));
-    spinner
+    crate::terminal::spinner().with_message(message)
 }
 
 /// Refuses to replace a `model` that is not a folder `lampc build` wrote (no manifest in it).

@@ -4,12 +4,11 @@
 //! line's overrides, shows progress, writes each file through a temporary file renamed into
 //! place, and prints the summary.
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use lamp_demonstrators::{DemoError, Simulation, file_name, generate_all};
 
 /// Arguments of `lampc demos`.
@@ -39,7 +38,7 @@ enum Failure {
 }
 
 pub(crate) fn run(args: &Args) -> ExitCode {
-    let colour = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+    let colour = crate::terminal::colour();
     match demos(args, colour) {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Spec) => ExitCode::from(crate::EXIT_DIAGNOSTICS),
@@ -161,12 +160,6 @@ fn remove_stale(folder: &Path, domain: &str, count: u32) -> usize {
 
 /// A bar on a terminal, nothing at all otherwise (CI logs stay clean).
 fn progress_bar(length: u64, prefix: &'static str) -> ProgressBar {
-    if !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let style =
-        ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} {elapsed} (eta {eta})")
-            .map(|style| style.progress_chars("=> "))
-            .unwrap_or_else(|_| ProgressStyle::default_bar());
-    ProgressBar::new(length).with_style(style).with_prefix(prefix)
+    crate::terminal::progress_bar(length, "{prefix} [{bar:30}] {pos}/{len} {elapsed} (eta {eta})")
+        .with_prefix(prefix)
 }

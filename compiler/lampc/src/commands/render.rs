@@ -3,7 +3,6 @@
 //! The drawing is lamp-render's; this module reads the spec and the trajectory file, picks the
 //! problem or step, and writes the SVG (beside the input unless `--out` says otherwise).
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -51,7 +50,7 @@ enum Input {
 }
 
 pub(crate) fn run(args: &Args) -> ExitCode {
-    let colour = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+    let colour = crate::terminal::colour();
     match render(args, colour) {
         Ok((what, out)) => {
             println!("{}: drew {what} into {}", args.file.display(), out.display());

@@ -8,13 +8,11 @@
 //! refuses a second solve into the same folder. A trajectory to a relaxed goal is written too, as
 //! a partial result with its own exit code.
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
-use indicatif::ProgressBar;
 use lamp_participants::ParticipantMap;
 use lamp_tamp::{SolveError, SolveInput};
 use lamp_world::{SpecWorld, trajectory_header};
@@ -80,7 +78,7 @@ const EXIT_INTERRUPTED: u8 = 130;
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 pub(crate) fn run(args: &Args) -> ExitCode {
-    let colour = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+    let colour = crate::terminal::colour();
     watch_interrupts();
     let mut left = NOTHING_WRITTEN.to_string();
     match solve(args, colour, &mut left) {
@@ -204,7 +202,7 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
         targets: &problem.goal.at,
         header,
     };
-    let spinner = spinner();
+    let spinner = crate::terminal::spinner();
     let report = |phase: &str| spinner.set_message(format!("{}: {phase}", problem.name));
     let outcome = lamp_tamp::solve(&input, &mut plugins.as_plugins(), &settings, &report);
     spinner.finish_and_clear();
@@ -321,13 +319,4 @@ fn print_summary(summary: &lamp_tamp::Summary, out: &Path) {
         "  time            planning {:.2} s, refining {:.2} s, validating {:.2} s",
         summary.seconds_planning, summary.seconds_refining, summary.seconds_validating
     );
-}
-
-fn spinner() -> ProgressBar {
-    if !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let spinner = ProgressBar::new_spinner();
-    spinner.enable_steady_tick(Duration::from_millis(100));
-    spinner
 }

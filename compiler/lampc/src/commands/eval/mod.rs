@@ -15,14 +15,13 @@ pub(crate) mod worker;
 
 use std::cell::RefCell;
 use std::collections::{BTreeMap, BTreeSet};
-use std::io::IsTerminal;
 use std::num::NonZeroUsize;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use lamp_build::{Adapter, BuildContext, DemoFile};
 use lamp_eval::{EvalDocument, EvalInfo, PoolInfo, ProblemInfo, Row, SettingsInfo};
 use lamp_spec::{OptionValue, PluginChoice, PluginSource, Problem, Spec};
@@ -90,7 +89,7 @@ impl From<String> for Failure {
 }
 
 pub(crate) fn run(args: &Args) -> ExitCode {
-    let colour = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+    let colour = crate::terminal::colour();
     // The first Ctrl-C stops the evaluation at once, keeping finished rows; a second one ends
     // the process (the journal holds every finished row either way).
     let _ = ctrlc::set_handler(|| {
@@ -536,15 +535,12 @@ fn print_summary(info: &EvalInfo, rows: &[Row], out: &Path, elapsed: Duration) {
 
 /// One bar for the whole evaluation on a terminal, nothing otherwise.
 fn progress_bar(length: u64) -> ProgressBar {
-    if !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let style = ProgressStyle::with_template(
+    let bar = crate::terminal::progress_bar(
+        length,
         "evaluating [{bar:30}] {pos}/{len} {elapsed} (eta {eta}) {wide_msg}",
-    )
-    .map(|style| style.progress_chars("=> "))
-    .unwrap_or_else(|_| ProgressStyle::default_bar());
-    let bar = ProgressBar::new(length).with_style(style);
-    bar.enable_steady_tick(Duration::from_millis(200));
+    );
+    if !bar.is_hidden() {
+        bar.enable_steady_tick(Duration::from_millis(200));
+    }
     bar
 }
