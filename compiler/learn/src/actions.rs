@@ -378,7 +378,10 @@ fn preconditions(
             if !is_changed(inside) || is_changed(other) {
                 continue;
             }
-            let static_or_robot_link = !is_movable(other);
+            // A static body comes in only through a region it shares with a changed object:
+            // "the glass is on no marker but this one" names, through the `_0` relation, every
+            // other marker of the demonstration, which are its history, not the action's.
+            let static_or_robot_link = is_robot(other) || (!is_movable(other) && region != 0);
             let robot_region = region != 0 && is_robot(inside);
             if static_or_robot_link || robot_region {
                 let mut placeholder = changed.clone();
