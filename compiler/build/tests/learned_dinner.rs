@@ -1,9 +1,10 @@
 //! What is learned from real Dinner demonstrations, and how AtGoal goals are written with it:
-//! every demonstration records markers where its glass or bowl starts and where it is put; the learner finds "on
-//! the marker" for both types, exactly around the marker; the action that puts a held object onto
-//! a marker requires the base to stand at a surface; and every `at` goal of the bundled problems
-//! becomes the object-on-marker atom with the marker `goal_<object>` at its target (and the
-//! marker `start_<object>` where it starts).
+//! every demonstration records markers where its glass or bowl starts and where it is put; the
+//! learner finds "on the marker" for both types, exactly around the marker; every action that
+//! puts an object onto a marker requires the base to stand at that marker, and none requires it
+//! to stand at no other marker; and every `at` goal of the bundled problems becomes the
+//! object-on-marker atom with the marker `goal_<object>` at its target (and the marker
+//! `start_<object>` where it starts).
 
 mod support;
 
@@ -123,4 +124,18 @@ fn at_goals_become_the_object_on_its_marker() {
 fn dinner_domain() {
     let (_, artifacts, _) = &*DINNER_BUILD;
     insta::assert_snapshot!(artifact(artifacts, "domain.pddl"));
+}
+
+#[test]
+fn no_action_requires_the_base_to_stand_at_no_other_marker() {
+    // A place setting puts targets 16 cm apart: a base at one stands at the next too. The
+    // demonstrations' other marker (the start, metres away) must not become a condition.
+    let (model, _, _) = &*DINNER_BUILD;
+    for action in &model.actions {
+        let away_from_an_extra = action.preconditions.iter().any(|atom| {
+            atom.predicate == "base_place_0"
+                && atom.arguments.iter().any(|argument| argument.starts_with("?place_extra"))
+        });
+        assert!(!away_from_an_extra, "{} requires the base away from another marker", action.name);
+    }
 }
