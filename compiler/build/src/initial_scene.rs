@@ -5,7 +5,8 @@
 //! [`MAX_DISTANCE`] of the origin (a scene that is not is not built further); bodies that touch
 //! or overlap, where at least one can move, closer than [`CONTACT_TOLERANCE`]; every robot's
 //! start configuration within its joint limits and free of collision with the bodies and itself,
-//! at the same tolerance. Findings are listed in spec order of problems, then in that order.
+//! at the same tolerance; every AtGoal target finite, in range, and putting its object into no
+//! static body. Findings are listed in spec order of problems, then in that order.
 
 use crate::error::BuildError;
 pub use crate::scene_issue::SceneIssue;
@@ -62,6 +63,7 @@ pub fn problem_scene_issues(spec: &Spec, world: &SpecWorld, problem: &Problem) -
     for (first, second) in scene.body_contacts() {
         issues.push(SceneIssue::Contact { problem: name(), first, second });
     }
+    issues.extend(target_contacts(&scene, problem));
     for (index, robot) in scene.robots().iter().enumerate() {
         let q = robot.configuration();
         let model = robot.robot();
@@ -87,6 +89,37 @@ pub fn problem_scene_issues(spec: &Spec, world: &SpecWorld, problem: &Problem) -
     issues
 }
 
+/// AtGoal targets that put their object into a static body (furniture, the floor): each object
+/// alone at its target, the rest of the scene as it starts.
+fn target_contacts(scene: &lamp_world::Scene, problem: &Problem) -> Vec<SceneIssue> {
+    let mut issues = Vec::new();
+    for target in &problem.goal.at {
+        let Some(body) = scene.body_index(&target.object) else { continue };
+        let mut placed = scene.clone();
+        placed.set_body_pose(body, target.pose);
+        let static_body = |name: &str| {
+            placed.body_index(name).is_some_and(|index| !placed.bodies()[index].movable)
+        };
+        for (first, second) in placed.body_contacts() {
+            let other = if first == target.object {
+                second
+            } else if second == target.object {
+                first
+            } else {
+                continue;
+            };
+            if static_body(&other) {
+                issues.push(SceneIssue::TargetContact {
+                    problem: problem.name.clone(),
+                    object: target.object.clone(),
+                    body: other,
+                });
+            }
+        }
+    }
+    issues
+}
+
 /// Placements that are not finite or too far: objects at their poses, robots at their bases
 /// (a fixed arm at its mount).
 fn placement_issues(spec: &Spec, problem: &Problem) -> Vec<SceneIssue> {
@@ -99,8 +132,11 @@ fn placement_issues(spec: &Spec, problem: &Problem) -> Vec<SceneIssue> {
             .map(|robot| robot.mount);
         ("robot", &placement.robot, placement.base.or(mount))
     });
+    let targets =
+        problem.goal.at.iter().map(|target| ("the target of", &target.object, Some(target.pose)));
     objects
         .chain(robots)
+        .chain(targets)
         .filter_map(|(what, name, pose)| {
             let pose = pose?;
             if !is_finite(&pose) {

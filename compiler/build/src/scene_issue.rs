@@ -35,6 +35,18 @@ pub enum SceneIssue {
     )]
     Contact { problem: String, first: String, second: String },
 
+    /// An AtGoal target puts its object into a static body.
+    #[error(
+        "problem `{problem}`: the `at` goal puts `{object}` where it touches or overlaps `{body}`"
+    )]
+    #[diagnostic(
+        code(lamp::build::target_contact),
+        help(
+            "An object at its target must stand free: place the target 1 mm above its support, as the bundled specs do, and clear of the furniture."
+        )
+    )]
+    TargetContact { problem: String, object: String, body: String },
+
     /// A robot starts in collision.
     #[error("problem `{problem}`: robot `{robot}` starts in collision: {contact}")]
     #[diagnostic(
@@ -75,6 +87,7 @@ impl SceneIssue {
             SceneIssue::NotFinite { problem, .. }
             | SceneIssue::OutOfRange { problem, .. }
             | SceneIssue::Contact { problem, .. }
+            | SceneIssue::TargetContact { problem, .. }
             | SceneIssue::RobotCollision { problem, .. }
             | SceneIssue::RobotLimits { problem, .. }
             | SceneIssue::Unbuildable { problem, .. } => problem,

@@ -138,3 +138,26 @@ fn the_build_refuses_a_bad_scene_before_reading_any_demonstration() {
         other => panic!("expected the scene to be refused, got {:?}", other.map(|_| ())),
     }
 }
+
+#[test]
+fn a_target_inside_the_table_names_the_object_and_the_table() {
+    let (spec, world) = first_problem("dinner", |spec| {
+        let target = &mut spec.problems[0].goal.at[0];
+        target.pose.translation.z -= 0.001; // exactly on the top: touching
+    });
+    let object = spec.problems[0].goal.at[0].object.clone();
+    let issues = initial_scene_issues(&spec, &world);
+    assert_eq!(
+        issues,
+        vec![SceneIssue::TargetContact {
+            problem: "set_table_2".into(),
+            object: object.clone(),
+            body: "dining1".into(),
+        }]
+    );
+    let (spec, world) = first_problem("dinner", |spec| {
+        spec.problems[0].goal.at[1].pose.translation.x = 5000.0;
+    });
+    let far = initial_scene_issues(&spec, &world);
+    assert!(matches!(&far[..], [SceneIssue::OutOfRange { what: "the target of", .. }]), "{far:?}");
+}
