@@ -64,12 +64,6 @@ impl RegionModel {
         pose
     }
 
-    /// Whether a pose's position lies within the region's cells' bounding box (a coarser test
-    /// than membership, which also weighs the rotation and the mixture's shape).
-    pub fn spans(&self, relative: &Pose) -> bool {
-        self.outside(relative) == 0.0
-    }
-
     /// How far (summed over axes, metres) a pose's position is outside the region's extent.
     fn outside(&self, relative: &Pose) -> f64 {
         let position = relative.translation.vector;

@@ -2,26 +2,22 @@
 //! relation that puts an object of the object's type onto a marker, with the marker that
 //! `SpecWorld::problem_scene` places at the target.
 //!
-//! The relation is found by example, the way aliases are: among the learned regions of the
-//! (marker type, object type) pair, the one whose membership test accepts the identity (the
-//! object exactly on its marker), largest margin first. A region fitted to demonstrations that
-//! put objects within a few millimetres of their markers is thin in some directions, and its
-//! membership may narrowly refuse the exact identity; then the region whose cells span the
-//! marker's origin is taken, the closest to accepting it first. The solver samples placements
-//! from the region and checks the tolerance in the world frame, so the exact identity need not
-//! be a member. When samples of the region stray from the target by more than the stated
-//! tolerance, the build warns: the solver then needs more samples to land within it, and the
-//! final replay refuses a solution that does not.
+//! The relation is found by example, the way aliases are (`resolve_alias`): among the learned
+//! regions of the (marker type, object type) pair, the one that contains the identity (the
+//! object exactly on its marker), largest margin first. A region reaches farther than its
+//! centre; when samples of it stray from the target by more than the stated tolerance, the build
+//! warns: the solver then needs more samples to land within it, and the final replay refuses a
+//! solution that does not.
 
-use lamp_learn::RegionClassifier;
 use lamp_learn::{Model, Pose};
 use lamp_pddl::Atom;
-use lamp_spec::{AtGoal, Problem};
+use lamp_spec::{AtGoal, Problem, RelationAlias};
 use miette::Diagnostic;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use thiserror::Error;
 
+use crate::aliases::resolve_alias;
 use crate::error::BuildError;
 
 /// Samples drawn from a region to measure how far it strays from its target.
@@ -82,16 +78,30 @@ pub fn at_goal_atoms(
                 reason: format!("the `at` goal names `{}`, which is not in the scene", goal.object),
             });
         };
-        let relation =
-            object_on_marker(model, &goal.marker_type, &object.type_name).map_err(|reason| {
-                BuildError::AtGoal {
-                    problem: problem.name.clone(),
-                    object: goal.object.clone(),
-                    marker_type: goal.marker_type.clone(),
-                    object_type: object.type_name.clone(),
-                    reason,
-                }
-            })?;
+        let on_marker = RelationAlias {
+            name: format!("at {}", goal.object),
+            parameters: [goal.marker_type.clone(), object.type_name.clone()],
+            primary: goal.marker_type.clone(),
+            secondary: object.type_name.clone(),
+            example: Pose::identity(),
+        };
+        let relation = resolve_alias(model, &on_marker)
+            .map_err(|error| BuildError::AtGoal {
+                problem: problem.name.clone(),
+                object: goal.object.clone(),
+                marker_type: goal.marker_type.clone(),
+                object_type: object.type_name.clone(),
+                reason: match error {
+                    BuildError::AliasPair { .. } => "the demonstrations never put one onto a \
+                                                     marker often enough to learn a region"
+                        .to_string(),
+                    BuildError::AliasRegion { regions, .. } => format!(
+                        "no learned region contains the object exactly on its marker ({regions})"
+                    ),
+                    other => other.to_string(),
+                },
+            })?
+            .relation;
         let marker = goal.marker_name();
         atoms.push(Atom::ground(relation.clone(), &[marker.as_str(), goal.object.as_str()]));
         if let Some(warning) = spread_warning(model, problem, goal, &relation) {
@@ -99,42 +109,6 @@ pub fn at_goal_atoms(
         }
     }
     Ok((atoms, warnings))
-}
-
-/// The relation of an object of `object_type` on a marker of `marker_type`, or why there is none.
-/// Markers are static and objects movable, so the marker is the primary of the learned pair.
-fn object_on_marker(model: &Model, marker_type: &str, object_type: &str) -> Result<String, String> {
-    let learned = model
-        .pairs
-        .iter()
-        .find(|learned| {
-            learned.pair.pair.primary == marker_type && learned.pair.pair.secondary == object_type
-        })
-        .ok_or("the demonstrations never put one onto a marker often enough to learn a region")?;
-    let on = Pose::identity();
-    let best = |candidates: &mut dyn Iterator<Item = &lamp_learn::Region>| {
-        candidates
-            .map(|region| (region.model.margin(&on), region))
-            .max_by(|a, b| a.0.total_cmp(&b.0))
-            .map(|(_, region)| region.relation.clone())
-    };
-    let resting = || learned.regions.iter().filter(|region| region.summary.g == 0);
-    best(&mut resting().filter(|region| region.model.margin(&on) >= 0.0))
-        .or_else(|| best(&mut resting().filter(|region| region.model.spans(&on))))
-        .ok_or_else(|| {
-            let centres: Vec<String> = learned
-                .regions
-                .iter()
-                .map(|region| {
-                    let [x, y, z] = region.summary.centre;
-                    format!("{} centred at ({x:.3}, {y:.3}, {z:.3}) m", region.relation)
-                })
-                .collect();
-            format!(
-                "no learned region is at the marker ({})",
-                if centres.is_empty() { "none learned".to_string() } else { centres.join("; ") }
-            )
-        })
 }
 
 /// A warning when the region strays from the target by more than the goal allows, measured on
