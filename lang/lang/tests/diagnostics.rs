@@ -260,6 +260,21 @@ fn an_at_goal_takes_the_only_marker_type_and_names_its_marker() {
     assert_eq!((target.marker_type.as_str(), target.marker_name()), ("spot", "goal_c1".into()));
 }
 
+#[test]
+fn an_at_goal_whose_start_marker_name_is_taken_is_refused() {
+    let source = VALID
+        .replacen("type can {", "type spot { marker }\ntype can {", 1)
+        .replacen(
+            "    can c1 at (-0.2, 0, 0) m",
+            "    can c1 at (-0.2, 0, 0) m\n    can start_c1 at (-0.3, 0.2, 0) m",
+            1,
+        )
+        .replacen("    in_box(c1, box1)", "    at c1 (0.2, 0, 0.001) m within 0.01 m 5 deg", 1);
+    let outcome = check(&source);
+    assert_eq!(codes(&outcome), ["lamp::check::conflict"], "{}", render(&outcome));
+    assert!(render(&outcome).contains("a marker named `start_c1`"), "{}", render(&outcome));
+}
+
 /// A loader whose one file exists but cannot be read.
 struct LockedLoader;
 

@@ -207,8 +207,8 @@ impl Checker<'_> {
         scene
     }
 
-    /// The marker type an `at` goal on `object` places at its target: the spec's only marker
-    /// type. The marker's name must not be taken by a scene object.
+    /// The marker type an `at` goal on `object` places where the object starts and at its
+    /// target: the spec's only marker type. The markers' names must not be taken by scene objects.
     fn at_goal_marker(
         &mut self,
         object: &Name,
@@ -233,8 +233,11 @@ impl Checker<'_> {
             }));
             return None;
         };
-        let marker = lamp_spec::marker_name(&object.text);
-        if scene.objects.iter().any(|other| other.name == marker) {
+        let markers =
+            [lamp_spec::start_marker_name(&object.text), lamp_spec::marker_name(&object.text)];
+        if let Some(marker) =
+            markers.iter().find(|marker| scene.objects.iter().any(|other| &other.name == *marker))
+        {
             self.report(at(object.span, |at| SpecError::Conflict {
                 message: format!(
                     "the `at` goal on `{}` places a marker named `{marker}`, and a scene object has that name",
