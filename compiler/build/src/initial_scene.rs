@@ -63,7 +63,7 @@ pub fn problem_scene_issues(spec: &Spec, world: &SpecWorld, problem: &Problem) -
     for (first, second) in scene.body_contacts() {
         issues.push(SceneIssue::Contact { problem: name(), first, second });
     }
-    issues.extend(target_contacts(&scene, problem));
+    issues.extend(target_contacts(&mut scene, problem));
     for (index, robot) in scene.robots().iter().enumerate() {
         let q = robot.configuration();
         let model = robot.robot();
@@ -90,12 +90,12 @@ pub fn problem_scene_issues(spec: &Spec, world: &SpecWorld, problem: &Problem) -
 }
 
 /// AtGoal targets that put their object into a static body (furniture, the floor): each object
-/// alone at its target, the rest of the scene as it starts.
-fn target_contacts(scene: &lamp_world::Scene, problem: &Problem) -> Vec<SceneIssue> {
+/// alone at its target, the rest of the scene as it starts; `placed` is left as it was.
+fn target_contacts(placed: &mut lamp_world::Scene, problem: &Problem) -> Vec<SceneIssue> {
     let mut issues = Vec::new();
     for target in &problem.goal.at {
-        let Some(body) = scene.body_index(&target.object) else { continue };
-        let mut placed = scene.clone();
+        let Some(body) = placed.body_index(&target.object) else { continue };
+        let start = placed.body_pose(body);
         placed.set_body_pose(body, target.pose);
         let static_body = |name: &str| {
             placed.body_index(name).is_some_and(|index| !placed.bodies()[index].movable)
@@ -116,6 +116,7 @@ fn target_contacts(scene: &lamp_world::Scene, problem: &Problem) -> Vec<SceneIss
                 });
             }
         }
+        placed.set_body_pose(body, start);
     }
     issues
 }

@@ -104,8 +104,9 @@ pub(crate) struct Cafe<'a> {
     surfaces: Vec<(String, SurfaceTop)>,
     /// The objects a demonstration may carry, one type each: every movable type of the spec.
     carried: Vec<Carried>,
-    /// The spec's marker type, if any: a marker of it is recorded where the object is put.
-    marker: Option<Body>,
+    /// The spec's marker type, if any: markers of it are recorded where the object starts and
+    /// where it is put.
+    marker_type: Option<String>,
     /// The robot at the origin, arm tucked, fingers open.
     tucked: Vec<f64>,
     /// The coordinates of the arm group (torso and arm joints).
@@ -176,11 +177,11 @@ impl<'a> Cafe<'a> {
         if carried.is_empty() {
             return Err(mismatch("a movable object type"));
         }
-        let marker = spec
+        let marker_type = spec
             .object_types
             .iter()
             .find(|ty| ty.mobility == Mobility::Marker)
-            .and_then(|ty| world.body(TARGET_MARKER, &ty.name));
+            .map(|ty| ty.name.clone());
         let named = |name: &str| {
             world
                 .placement_configuration(&robot.name, None, Some(name))
@@ -207,7 +208,7 @@ impl<'a> Cafe<'a> {
             furniture,
             surfaces,
             carried,
-            marker,
+            marker_type,
             tucked,
             arm: group(ARM_GROUP)?,
             room: (
@@ -235,8 +236,8 @@ impl<'a> Cafe<'a> {
         let mut recording = self
             .carry_between(object, from, to, seed, rng)
             .map_err(|reason| format!("from `{from_name}` to `{to_name}`: {reason}"))?;
-        if let Some(marker) = &self.marker {
-            mark_start_and_target(&mut recording, object, marker, rng);
+        if let Some(marker_type) = &self.marker_type {
+            mark_start_and_target(&mut recording, object, marker_type, rng);
         }
         Ok(recording)
     }
@@ -442,7 +443,7 @@ struct Carried {
 fn mark_start_and_target(
     recording: &mut Recording,
     object: &Carried,
-    marker: &Body,
+    marker_type: &str,
     rng: &mut ChaCha8Rng,
 ) {
     let bodies = &recording.header.bodies;
@@ -464,7 +465,7 @@ fn mark_start_and_target(
         let marked = at * noise;
         recording.header.bodies.push(lamp_trajectory::BodyDescription {
             name: name.to_string(),
-            type_name: marker.type_name.clone(),
+            type_name: marker_type.to_string(),
         });
         for step in &mut recording.steps {
             step.body_poses.push(marked);

@@ -48,10 +48,8 @@ pub fn first_miss_where_reached(
     targets
         .iter()
         .filter(|target| {
-            let marker = target.marker_name();
-            goal.iter().any(|atom| {
-                atom.arguments == [marker.clone(), target.object.clone()] && reached.contains(atom)
-            })
+            let arguments = [target.marker_name(), target.object.clone()];
+            goal.iter().any(|atom| atom.arguments == arguments && reached.contains(atom))
         })
         .filter(|target| !is_held(scene, &target.object))
         .find_map(|target| miss(target, scene))
