@@ -244,8 +244,17 @@ pub fn ros2_trajectory(
             .unwrap_or(""),
         _ => "",
     };
+    // The prefixed names, made once: the lookup runs for every joint at every step.
+    let grasp_joint = robot.and_then(|robot| robot.grasp.as_ref()).map(|g| g.joint.joint.as_str());
+    let prefixed: BTreeMap<&str, String> = joints
+        .iter()
+        .map(|(joint, _)| *joint)
+        .chain(grasp_joint)
+        .map(|joint| (joint, format!("{prefix}{joint}")))
+        .collect();
     let joint_value = |values: &BTreeMap<&str, f64>, joint: &str| {
-        values.get(format!("{prefix}{joint}").as_str()).or_else(|| values.get(joint)).copied()
+        let named = prefixed.get(joint).and_then(|name| values.get(name.as_str()));
+        named.or_else(|| values.get(joint)).copied()
     };
     let frame_index: BTreeMap<&str, usize> =
         mapping.objects.iter().enumerate().map(|(index, o)| (o.frame.as_str(), index)).collect();
