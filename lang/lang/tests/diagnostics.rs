@@ -275,6 +275,22 @@ fn an_at_goal_whose_start_marker_name_is_taken_is_refused() {
     assert!(render(&outcome).contains("a marker named `start_c1`"), "{}", render(&outcome));
 }
 
+#[test]
+fn a_start_marker_name_of_an_object_without_an_at_goal_is_checked_too() {
+    // Every movable object of a problem with `at` goals gets a start marker, goal or not.
+    let source = VALID
+        .replacen("type can {", "type spot { marker }\ntype can {", 1)
+        .replacen(
+            "    can c1 at (-0.2, 0, 0) m",
+            "    can c1 at (-0.2, 0, 0) m\n    can c2 at (-0.3, 0.2, 0) m\n    spot start_c2 at (0.3, 0.3, 0) m",
+            1,
+        )
+        .replacen("    in_box(c1, box1)", "    at c1 (0.2, 0, 0.001) m within 0.01 m 5 deg", 1);
+    let outcome = check(&source);
+    assert_eq!(codes(&outcome), ["lamp::check::conflict"], "{}", render(&outcome));
+    assert!(render(&outcome).contains("`start_c2` where `c2` starts"), "{}", render(&outcome));
+}
+
 /// A loader whose one file exists but cannot be read.
 struct LockedLoader;
 

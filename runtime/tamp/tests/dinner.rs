@@ -48,3 +48,23 @@ fn place_settings_are_set_from_at_goals_and_the_trajectory_is_collision_free() {
         check_set(name, &solution);
     }
 }
+
+#[test]
+fn an_at_goal_and_a_learned_relation_goal_are_reached_together() {
+    // The bowl to its pose by an `at` goal; the glass onto a marker of the scene's own (a
+    // coaster) by the learned relation `on_mark`. The glass has no `at` goal, and is picked from
+    // the marker placed where it starts all the same.
+    let name = "set_table_mixed";
+    let solution =
+        solve_problem(&DINNER, name, 1).unwrap_or_else(|error| panic!("{name}: {error}"));
+    assert!(solution.summary.success);
+    assert!(solution.summary.relaxed_goal.is_empty(), "{name}: the whole goal");
+    check_set(name, &solution);
+    let problem = DINNER.spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
+    let scene = learned::replay_collision_free(&DINNER, name, &solution);
+    let last = solution.trajectory.steps.last().expect("a trajectory");
+    let pose_of = |body: &str| last.body_poses[scene.body_index(body).expect("a body")];
+    let coaster = problem.scene.objects.iter().find(|o| o.name == "coaster1").expect("a coaster");
+    let offset = coaster.pose.inv_mul(&pose_of("glass1")).translation.vector;
+    assert!(offset.norm() <= 0.005, "{name}: glass1 on coaster1: {offset:?}");
+}

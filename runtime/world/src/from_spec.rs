@@ -121,7 +121,8 @@ impl SpecWorld {
         Ok(q)
     }
 
-    /// The initial scene of a problem: its objects, a marker at each AtGoal target, its robots.
+    /// The initial scene of a problem: its objects, the markers of its AtGoal goals (where every
+    /// movable object starts, and at each target), its robots.
     pub fn problem_scene(&self, problem: &Problem) -> Result<Scene, WorldError> {
         let mut scene = Scene::new();
         for object in &problem.scene.objects {
@@ -133,22 +134,26 @@ impl SpecWorld {
             })?;
             scene.add_body(body, object.pose)?;
         }
-        // Each AtGoal's object gets a marker where it starts and one at its target, as the
-        // demonstrations mark theirs: the learned relations of an object on a marker are what
-        // the planner picks from and reaches, and markers collide with nothing.
-        for target in &problem.goal.at {
-            let start = problem.scene.objects.iter().find(|object| object.name == target.object);
-            let markers = [
-                (target.start_marker_name(), start.map(|object| object.pose)),
-                (target.marker_name(), Some(target.pose)),
-            ];
-            for (name, pose) in markers {
-                let Some(pose) = pose else { continue };
-                let body = self.body(&name, &target.marker_type).ok_or_else(|| {
-                    WorldError::Undeclared {
-                        problem: problem.name.clone(),
-                        name: target.marker_type.clone(),
-                    }
+        // A problem with AtGoal goals is solved through markers, as the demonstrations mark
+        // theirs: every movable object gets a marker where it starts (a pick is learned as a pick
+        // from a marker, and an object no goal names may have to be moved too), and each AtGoal
+        // object one at its target. Markers collide with nothing.
+        if let Some(marker_type) = problem.goal.at.first().map(|target| &target.marker_type) {
+            let starts = problem
+                .scene
+                .objects
+                .iter()
+                .filter(|object| {
+                    self.spec
+                        .object_type(&object.type_name)
+                        .is_some_and(|kind| kind.mobility == Mobility::Movable)
+                })
+                .map(|object| (lamp_spec::start_marker_name(&object.name), object.pose));
+            let targets = problem.goal.at.iter().map(|target| (target.marker_name(), target.pose));
+            for (name, pose) in starts.chain(targets) {
+                let body = self.body(&name, marker_type).ok_or_else(|| WorldError::Undeclared {
+                    problem: problem.name.clone(),
+                    name: marker_type.clone(),
                 })?;
                 scene.add_body(body, pose)?;
             }

@@ -207,8 +207,8 @@ impl Checker<'_> {
         scene
     }
 
-    /// The marker type an `at` goal on `object` places where the object starts and at its
-    /// target: the spec's only marker type. The markers' names must not be taken by scene objects.
+    /// The marker type an `at` goal on `object` places at its target: the spec's only marker
+    /// type. The marker's name must not be taken by a scene object.
     fn at_goal_marker(
         &mut self,
         object: &Name,
@@ -233,8 +233,9 @@ impl Checker<'_> {
             }));
             return None;
         };
-        let markers =
-            [lamp_spec::start_marker_name(&object.text), lamp_spec::marker_name(&object.text)];
+        // Markers are placed where every movable object starts (see `start_markers_named`)
+        // and at each target.
+        let markers = [lamp_spec::marker_name(&object.text)];
         if let Some(marker) =
             markers.iter().find(|marker| scene.objects.iter().any(|other| &other.name == *marker))
         {
@@ -261,6 +262,7 @@ impl Checker<'_> {
         let errors_before = self.diagnostics.len();
         let mut goal = lamp_spec::Goal::default();
         let mut structure_span = None;
+        let mut first_at = None;
         for item in items {
             match item {
                 GoalItem::Atom { relation, arguments, span } => {
@@ -306,6 +308,7 @@ impl Checker<'_> {
                             }));
                             continue;
                         }
+                        first_at.get_or_insert(object.span);
                         goal.at.push(lamp_spec::AtGoal {
                             object: object.text.clone(),
                             pose,
@@ -348,7 +351,37 @@ impl Checker<'_> {
                 }
             }
         }
+        if let Some(first) = first_at {
+            self.start_markers_named(first, declared, scene);
+        }
         (self.diagnostics.len() == errors_before).then_some(goal)
+    }
+
+    /// A problem with `at` goals places a marker where every movable object starts
+    /// (`start_<object>`), as the demonstrations mark theirs: those names must not be taken by
+    /// scene objects. Reported at the problem's first `at` goal.
+    fn start_markers_named(
+        &mut self,
+        first_at: Span,
+        declared: &Declared,
+        scene: &lamp_spec::Scene,
+    ) {
+        let movable = |type_name: &str| {
+            declared.object_types.get(type_name).is_some_and(|(_, movable)| *movable)
+        };
+        for object in scene.objects.iter().filter(|object| movable(&object.type_name)) {
+            let marker = lamp_spec::start_marker_name(&object.name);
+            if scene.objects.iter().any(|other| other.name == marker) {
+                self.report(at(first_at, |at| SpecError::Conflict {
+                    message: format!(
+                        "the `at` goals place a marker named `{marker}` where `{}` starts, and a scene object has that name",
+                        object.name
+                    ),
+                    at,
+                    help: format!("Rename the scene object `{marker}`."),
+                }));
+            }
+        }
     }
 
     /// The type of a scene object (`Some(None)` if already reported), reporting a missing one.
