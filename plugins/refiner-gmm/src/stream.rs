@@ -30,7 +30,7 @@ pub(crate) struct GmmStream {
     pub(crate) yielded: usize,
     pub(crate) draws: usize,
     /// Placements found but not yet yielded, best first.
-    pub(crate) pool: std::collections::VecDeque<Candidate>,
+    pub(crate) pool: std::collections::VecDeque<(Candidate, Pose)>,
     /// The mean position of the sampled region's mixture (one region per stream), once known.
     pub(crate) centre: Option<Vector3<f64>>,
 }
@@ -38,6 +38,11 @@ pub(crate) struct GmmStream {
 /// Valid placements gathered before the best is yielded, when an object is put into a region
 /// other objects may share.
 const PLACEMENT_POOL: usize = 16;
+
+/// How far a yielded placement may slide outward along each axis of the region's frame (5 cm),
+/// and the halvings that find how far it can (to within 5 cm / 2⁶ ≈ 0.8 mm).
+const SNUG_REACH: f64 = 0.05;
+const SNUG_STEPS: usize = 6;
 
 /// An action's ground effects, in the learner's atoms.
 pub(crate) struct Effects {
@@ -82,16 +87,26 @@ impl CandidateStream for GmmStream {
         let Some(mover) = self.realisation.mover.clone() else { return Ok(None) };
         let placing =
             matches!(mover.anchor, Anchor::HeldSecondary { .. }) && mover.region.is_some();
+        // A region that holds several objects (no clear relation: a box, a table top) is packed
+        // from its edges, each object snug; one that holds one at a time (an object on its
+        // marker) is filled at its most typical pose, its centre.
+        let shared = mover
+            .region
+            .is_some_and(|(pair, region)| !self.artifact.pairs[pair].regions[region].clear);
         if placing && self.pool.is_empty() {
-            self.fill_pool(&mover, host)?;
+            self.fill_pool(&mover, shared, host)?;
         }
         if placing {
-            let next = self.pool.pop_front();
-            self.yielded += usize::from(next.is_some());
-            return Ok(next);
+            let Some((candidate, relative)) = self.pool.pop_front() else { return Ok(None) };
+            self.yielded += 1;
+            if !shared {
+                return Ok(Some(candidate));
+            }
+            let snug = self.snug(&mover, relative, host)?;
+            return Ok(Some(snug.unwrap_or(candidate)));
         }
         while self.draws < self.options.draws {
-            if let Some((candidate, _)) = self.draw(&mover, host)? {
+            if let Some((candidate, _, _)) = self.draw(&mover, host)? {
                 self.yielded += 1;
                 return Ok(Some(candidate));
             }
@@ -107,25 +122,86 @@ impl GmmStream {
         &mut self,
         mover: &Mover,
         host: &dyn HostServices,
-    ) -> Result<Option<(Candidate, f64)>, PluginError> {
+    ) -> Result<Option<(Candidate, f64, Pose)>, PluginError> {
         if host.is_cancelled() {
             return Err(PluginError::Cancelled);
         }
         self.draws += 1;
-        let (target, spread) = self.target(mover, host)?;
+        let (target, spread, relative) = self.target(mover, host)?;
+        Ok(self.candidate_at(mover, &target, host)?.map(|candidate| (candidate, spread, relative)))
+    }
+
+    /// The candidate that moves the link to `target`, if IK reaches it and the state is one.
+    fn candidate_at(
+        &self,
+        mover: &Mover,
+        target: &Pose,
+        host: &dyn HostServices,
+    ) -> Result<Option<Candidate>, PluginError> {
         let seed = self.view.current.configurations.get(&mover.robot).cloned().unwrap_or_default();
-        let Some(q) = host.solve_ik(&mover.robot, &mover.link, &to_wire(&target), &seed)? else {
+        let Some(q) = host.solve_ik(&mover.robot, &mover.link, &to_wire(target), &seed)? else {
             return Ok(None);
         };
         let mut configurations = self.view.current.configurations.clone();
         configurations.insert(mover.robot.clone(), q);
-        Ok(self.try_state(configurations, host)?.map(|candidate| (candidate, spread)))
+        self.try_state(configurations, host)
     }
 
-    /// Gathers up to [`PLACEMENT_POOL`] valid placements and orders them edge first: farthest
-    /// from the region's centre first, so that objects put into a shared region (cans into a
-    /// box) leave room for the next ones, as a person packing a box starts in the corners.
-    fn fill_pool(&mut self, mover: &Mover, host: &dyn HostServices) -> Result<(), PluginError> {
+    /// Slides a placement outward along the primary's x and then y axis, away from the
+    /// region's centre, as far as it stays a candidate (in the region, reachable, free):
+    /// snug against what bounds it, a wall, an object placed before, or the region's edge.
+    ///
+    /// Edge-first ordering alone leaves each object a few millimetres short of the corner it
+    /// heads for, and in a box that holds four cans with 2 cm to spare those millimetres decide
+    /// whether the fourth still fits. A placement pushed until it would touch leaves the most
+    /// room on the other side, as a person packing a box pushes each item into its corner.
+    /// `None` when no slid placement is a candidate (the draw as it was is used).
+    fn snug(
+        &mut self,
+        mover: &Mover,
+        relative: Pose,
+        host: &dyn HostServices,
+    ) -> Result<Option<Candidate>, PluginError> {
+        let Anchor::HeldSecondary { primary, grasp } = &mover.anchor else { return Ok(None) };
+        let Some(centre) = self.centre else { return Ok(None) };
+        let primary_pose = self.view.pose_in(&self.view.current, primary, host)?;
+        let mut relative = relative;
+        let mut best = None;
+        for axis in 0..2 {
+            let sign = (relative.translation.vector[axis] - centre[axis]).signum();
+            let at = |d: f64| {
+                let mut moved = relative;
+                moved.translation.vector[axis] += sign * d;
+                moved
+            };
+            let (mut inside, mut outside) = (0.0, SNUG_REACH);
+            for _ in 0..SNUG_STEPS {
+                let middle = 0.5 * (inside + outside);
+                let target = primary_pose * at(middle) * grasp.inverse();
+                match self.candidate_at(mover, &target, host)? {
+                    Some(candidate) => {
+                        inside = middle;
+                        best = Some(candidate);
+                    }
+                    None => outside = middle,
+                }
+            }
+            relative = at(inside);
+        }
+        Ok(best)
+    }
+
+    /// Gathers up to [`PLACEMENT_POOL`] valid placements and orders them: into a shared region,
+    /// edge first (farthest from the region's centre first), so that objects put into it (cans
+    /// into a box) leave room for the next ones, as a person packing a box starts in the
+    /// corners, each slid snug ([`Self::snug`]) when it is yielded; into a region that holds one
+    /// object at a time, centre first.
+    fn fill_pool(
+        &mut self,
+        mover: &Mover,
+        edge_first: bool,
+        host: &dyn HostServices,
+    ) -> Result<(), PluginError> {
         let mut found = Vec::new();
         while found.len() < PLACEMENT_POOL && self.draws < self.options.draws {
             if let Some(placement) = self.draw(mover, host)? {
@@ -133,8 +209,13 @@ impl GmmStream {
             }
         }
         // Stable: equal distances keep their draw order.
-        found.sort_by(|a, b| b.1.total_cmp(&a.1));
-        self.pool = found.into_iter().map(|(candidate, _)| candidate).collect();
+        if edge_first {
+            found.sort_by(|a, b| b.1.total_cmp(&a.1));
+        } else {
+            found.sort_by(|a, b| a.1.total_cmp(&b.1));
+        }
+        self.pool =
+            found.into_iter().map(|(candidate, _, relative)| (candidate, relative)).collect();
         Ok(())
     }
 
@@ -143,7 +224,7 @@ impl GmmStream {
         &mut self,
         mover: &Mover,
         host: &dyn HostServices,
-    ) -> Result<(Pose, f64), PluginError> {
+    ) -> Result<(Pose, f64, Pose), PluginError> {
         let current = &self.view.current;
         let Some((pair, region)) = mover.region else {
             let here = link_pose(current, &mover.robot, &mover.link, host)?;
@@ -159,7 +240,7 @@ impl GmmStream {
                 }
             };
             let distance = self.rng.random_range(0.0..=self.options.displacement);
-            return Ok((Translation3::from(direction * distance) * here, 0.0));
+            return Ok((Translation3::from(direction * distance) * here, 0.0, Pose::identity()));
         };
         let model = &self.artifact.pairs[pair].regions[region].model;
         let relative = model.sample(&mut self.rng);
@@ -185,7 +266,7 @@ impl GmmStream {
                 self.view.pose_in(current, primary, host)? * relative
             }
         };
-        Ok((target, spread))
+        Ok((target, spread, relative))
     }
 
     /// The candidate reaching `configurations`, if the action's effects hold in the state it
