@@ -14,6 +14,10 @@ use lamp_plugin_sdk::PluginFactory;
 use lamp_refiner_gmm::GmmRefiner;
 use lamp_spec::PluginKind;
 
+/// The key under which every refiner, built in or a library, receives the build's sampler
+/// artifact: the `gmm` refiner's.
+pub(crate) const ARTIFACT_KEY: &str = lamp_refiner_gmm::ARTIFACT_OPTION;
+
 /// Makes a plugin of trait `P` from configuration bytes.
 pub(crate) type Make<P> = fn(&[u8]) -> Result<Box<P>, PluginError>;
 
@@ -128,7 +132,7 @@ mod tests {
                 .map(|(key, value)| ((*key).to_string(), serde_json::json!(value)))
                 .collect();
             if builtin.factory.kind() == PluginKind::Refiner {
-                config.insert("artifact".to_string(), artifact.clone());
+                config.insert(ARTIFACT_KEY.to_string(), artifact.clone());
             }
             let bytes = serde_json::Value::Object(config.clone()).to_string();
             let made = match builtin.factory {

@@ -16,11 +16,10 @@ use std::time::Duration;
 use lamp_learn::SamplerArtifact;
 use lamp_plugin_api::{MotionPlanner, Planner, Refiner};
 use lamp_plugin_host::PluginLibrary;
-use lamp_refiner_gmm::ARTIFACT_OPTION;
 use lamp_spec::limits::{self, Limit};
 use lamp_spec::{OptionKind, OptionValue, PluginChoice, PluginKind, PluginSource};
 
-use crate::builtin_plugins::{self, Builtin, Factory};
+use crate::builtin_plugins::{self, ARTIFACT_KEY, Builtin, Factory};
 
 /// Options the runtime reads itself, out of the plugin blocks.
 #[derive(Clone, Debug, Default)]
@@ -245,7 +244,7 @@ pub(crate) fn refiner(
     artifact: &SamplerArtifact,
 ) -> Result<Box<dyn Refiner>, String> {
     let artifact = serde_json::to_value(artifact).map_err(|error| error.to_string())?;
-    let extra = Some((ARTIFACT_OPTION, artifact));
+    let extra = Some((ARTIFACT_KEY, artifact));
     match Maker::of(PluginKind::Refiner, choice, &choice.options, extra)? {
         (Maker::Builtin(builtin), config) => match builtin.factory {
             Factory::Refiner(make) => make(&config).map_err(|error| rendered(&error)),
