@@ -3,6 +3,14 @@
 //! A relative pose is in region k iff the region's held flag equals g and its classifier's margin is at least zero.
 //! Relations of one pair exclude each other: if a pose passes several regions' tests (mixture tails can overlap),
 //! the region with the largest margin wins, ties to the smaller k; if it passes none, `_0` holds.
+//!
+//! A region whose clear relation exists holds one secondary per primary at a time: that is what
+//! `clear_<t1>_<t2>_<k>(x)` assumes, and the actions learned with it say so (going to one object
+//! leaves the last). Where several secondaries pass one such region of one primary (a base in
+//! front of a place setting stands before all its markers; a gripper between two cans), only the
+//! one with the largest margin is in it (ties: the first participant); each other one is in its
+//! best remaining region, or in `_0`. Without this rule the abstraction would report states the
+//! learned actions cannot leave: driving away from one marker deletes "at" that marker only.
 
 use std::collections::BTreeSet;
 
@@ -83,25 +91,71 @@ pub fn ground_atom(
     }
 }
 
-/// The region of one instance: 0 for none, else k.
-fn region_of<C: RegionClassifier>(
+/// The regions an instance passes (held flag and margin), deepest first, ties to the smaller k.
+fn passed_regions<C: RegionClassifier>(
     vocabulary: &PairVocabulary,
     classifiers: &[C],
     relative: &Pose,
     g: u8,
-) -> usize {
-    let mut best: Option<(usize, f64)> = None;
-    for (index, (classifier, flag)) in classifiers.iter().zip(&vocabulary.region_flags).enumerate()
-    {
-        if *flag != g {
-            continue;
+) -> Vec<(usize, f64)> {
+    let mut passed: Vec<(usize, f64)> = classifiers
+        .iter()
+        .zip(&vocabulary.region_flags)
+        .enumerate()
+        .filter(|(_, (_, flag))| **flag == g)
+        .map(|(index, (classifier, _))| (index + 1, classifier.margin(relative)))
+        .filter(|(_, margin)| *margin >= 0.0)
+        .collect();
+    // Stable: equal margins keep the smaller k first.
+    passed.sort_by(|a, b| b.1.total_cmp(&a.1));
+    passed
+}
+
+/// The region of every instance (0 for none, else k), with one secondary per primary in each
+/// region that has a clear relation (see the module's documentation).
+fn assign_regions(
+    vocabulary: &[PairVocabulary],
+    instances: &[Instance],
+    passed: &mut [Vec<(usize, f64)>],
+) -> Vec<usize> {
+    loop {
+        let best = |index: usize| passed[index].first().copied();
+        // (pair, primary, region) of an exclusive region → the instance holding it, by margin.
+        let mut holder: std::collections::BTreeMap<(usize, usize, usize), usize> =
+            std::collections::BTreeMap::new();
+        let mut evicted = Vec::new();
+        for (index, instance) in instances.iter().enumerate() {
+            let Some((region, margin)) = best(index) else { continue };
+            if !vocabulary[instance.pair].has_clear(region) {
+                continue;
+            }
+            let key = (instance.pair, instance.primary, region);
+            match holder.get(&key).copied() {
+                None => {
+                    holder.insert(key, index);
+                }
+                Some(held) => {
+                    let held_margin = best(held).map_or(f64::NEG_INFINITY, |(_, m)| m);
+                    let wins = margin > held_margin
+                        || (margin == held_margin
+                            && instance.secondary < instances[held].secondary);
+                    if wins {
+                        holder.insert(key, index);
+                        evicted.push(held);
+                    } else {
+                        evicted.push(index);
+                    }
+                }
+            }
         }
-        let margin = classifier.margin(relative);
-        if margin >= 0.0 && best.is_none_or(|(_, best_margin)| margin > best_margin) {
-            best = Some((index + 1, margin));
+        if evicted.is_empty() {
+            return (0..instances.len()).map(|index| best(index).map_or(0, |(k, _)| k)).collect();
+        }
+        // Each pass takes at least one region from one instance's list, so this ends.
+        for index in evicted {
+            passed[index].remove(0);
         }
     }
-    best.map_or(0, |(region, _)| region)
 }
 
 /// Every true fact of a snapshot. `classifiers[p][k − 1]` tests region k of pair p.
@@ -116,11 +170,18 @@ pub fn abstract_facts<C: RegionClassifier>(
     // (pair, region, primary) and (pair, region, secondary) of every instance in a region.
     let mut occupied: BTreeSet<(usize, usize, usize)> = BTreeSet::new();
     let mut placed: BTreeSet<(usize, usize, usize)> = BTreeSet::new();
-    for instance in instances::instances(&type_pairs, participants) {
+    let instances: Vec<Instance> = instances::instances(&type_pairs, participants);
+    let mut passed: Vec<Vec<(usize, f64)>> = instances
+        .iter()
+        .map(|&instance| {
+            let relative = instances::relative_pose(snapshot, instance);
+            let g = instances::held_flag(snapshot, instance);
+            passed_regions(&vocabulary[instance.pair], &classifiers[instance.pair], &relative, g)
+        })
+        .collect();
+    let regions = assign_regions(vocabulary, &instances, &mut passed);
+    for (&instance, region) in instances.iter().zip(regions) {
         let Instance { pair, primary, secondary } = instance;
-        let relative = instances::relative_pose(snapshot, instance);
-        let g = instances::held_flag(snapshot, instance);
-        let region = region_of(&vocabulary[pair], &classifiers[pair], &relative, g);
         facts.insert(Fact::Relation { pair, region, primary, secondary });
         occupied.insert((pair, region, primary));
         placed.insert((pair, region, secondary));

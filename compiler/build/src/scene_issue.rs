@@ -47,6 +47,19 @@ pub enum SceneIssue {
     )]
     TargetContact { problem: String, object: String, body: String },
 
+    /// An AtGoal target leaves its object in the air: nothing static lies within
+    /// [`TARGET_SUPPORT_GAP`](crate::initial_scene::TARGET_SUPPORT_GAP) below it.
+    #[error(
+        "problem `{problem}`: the `at` goal puts `{object}` where nothing supports it: no table, counter or floor lies within {gap_mm} mm below it"
+    )]
+    #[diagnostic(
+        code(lamp::build::target_unsupported),
+        help(
+            "An object can only be left standing on something: put the target's height 1 mm above the top of the surface it should stand on, as the bundled specs do, and its position over that surface."
+        )
+    )]
+    TargetUnsupported { problem: String, object: String, gap_mm: f64 },
+
     /// A robot starts in collision.
     #[error("problem `{problem}`: robot `{robot}` starts in collision: {contact}")]
     #[diagnostic(
@@ -88,6 +101,7 @@ impl SceneIssue {
             | SceneIssue::OutOfRange { problem, .. }
             | SceneIssue::Contact { problem, .. }
             | SceneIssue::TargetContact { problem, .. }
+            | SceneIssue::TargetUnsupported { problem, .. }
             | SceneIssue::RobotCollision { problem, .. }
             | SceneIssue::RobotLimits { problem, .. }
             | SceneIssue::Unbuildable { problem, .. } => problem,

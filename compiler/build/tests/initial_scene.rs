@@ -156,6 +156,24 @@ fn a_target_inside_the_table_names_the_object_and_the_table() {
         }]
     );
     let (spec, world) = first_problem("dinner", |spec| {
+        spec.problems[0].goal.at[0].pose.translation.z += 0.30; // 30 cm above the table
+    });
+    assert_eq!(
+        initial_scene_issues(&spec, &world),
+        vec![SceneIssue::TargetUnsupported {
+            problem: "set_table_2".into(),
+            object: object.clone(),
+            gap_mm: 5.0,
+        }]
+    );
+    let (spec, world) = first_problem("dinner", |spec| {
+        spec.problems[0].goal.at[0].pose.translation.x += 8.0; // beside the table, in the air
+    });
+    assert!(matches!(
+        &initial_scene_issues(&spec, &world)[..],
+        [SceneIssue::TargetUnsupported { .. }]
+    ));
+    let (spec, world) = first_problem("dinner", |spec| {
         spec.problems[0].goal.at[1].pose.translation.x = 5000.0;
     });
     let far = initial_scene_issues(&spec, &world);

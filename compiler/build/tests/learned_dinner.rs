@@ -121,6 +121,28 @@ fn at_goals_become_the_object_on_its_marker() {
 }
 
 #[test]
+fn a_tolerance_tighter_than_the_learned_region_is_warned_about_and_the_bundled_ones_are_not() {
+    let (model, artifacts, _) = &*DINNER_BUILD;
+    assert!(artifacts.summary.warnings.is_empty(), "{:?}", artifacts.summary.warnings);
+    let (spec, _) = lamp_test_support::domain("dinner");
+    let mut problem = spec.problems[0].clone();
+    let object = problem.goal.at[0].object.clone();
+    // Half a millimetre: the markers were recorded with 2 mm of noise.
+    problem.goal.at[0].position_tolerance = 0.0005;
+    let (atoms, warnings) =
+        lamp_build::at_goal_atoms(model, &problem).expect("the goal is still written");
+    assert_eq!(atoms.len(), problem.goal.at.len(), "the goal keeps every atom");
+    match &warnings[..] {
+        [warning @ lamp_build::GoalWarning::LooserRegion { relation, .. }] => {
+            assert_eq!(warning.at_goal(), (problem.name.as_str(), object.as_str()));
+            assert!(relation.starts_with("place_"), "{relation}");
+            assert!(warning.to_string().contains("0.5 mm"), "{warning}");
+        }
+        other => panic!("expected one warning about {object}, got {other:?}"),
+    }
+}
+
+#[test]
 fn dinner_domain() {
     let (_, artifacts, _) = &*DINNER_BUILD;
     insta::assert_snapshot!(artifact(artifacts, "domain.pddl"));

@@ -139,4 +139,53 @@ pub(crate) mod tests {
             ]
         );
     }
+
+    fn both_near(offset: f64) -> Snapshot {
+        // Both cans pass region 1 (centred 0.2 m below the gripper, 5 cm radius); c2 also passes
+        // region 2 (centred 0.25 m below) when it is low enough.
+        Snapshot {
+            poses: vec![
+                Pose::identity(),
+                Pose::translation(0.0, 0.0, -0.2),
+                Pose::translation(0.0, 0.0, -0.2 - offset),
+            ],
+            held: vec![],
+        }
+    }
+
+    #[test]
+    fn a_region_with_a_clear_relation_holds_the_deepest_secondary_only() {
+        // c2 at 0.18 m passes region 1 only, less deep than c1 at its centre: c1 holds it, c2 is
+        // in no region.
+        let facts =
+            abstract_facts(&vocabulary(), &classifiers(), &participants(), &both_near(-0.02));
+        let names = names(&facts);
+        assert!(names.contains(&"(gripper_can_1 g c1)".to_string()), "{names:?}");
+        assert!(names.contains(&"(gripper_can_0 g c2)".to_string()), "{names:?}");
+        assert!(!names.contains(&"(clear_gripper_can_1 g)".to_string()), "{names:?}");
+    }
+
+    #[test]
+    fn an_evicted_secondary_falls_back_to_its_next_region() {
+        // c2 at 0.22 m passes region 1 (2 cm from its centre) and region 2 (3 cm): region 1 is its
+        // deepest, but c1 sits at region 1's centre and holds it, so c2 is in region 2.
+        let facts =
+            abstract_facts(&vocabulary(), &classifiers(), &participants(), &both_near(0.02));
+        let names = names(&facts);
+        assert!(names.contains(&"(gripper_can_1 g c1)".to_string()), "{names:?}");
+        assert!(names.contains(&"(gripper_can_2 g c2)".to_string()), "{names:?}");
+    }
+
+    #[test]
+    fn a_region_without_a_clear_relation_holds_every_secondary_that_passes() {
+        let mut vocabulary = vocabulary();
+        vocabulary[0].clear = vec![false; 3];
+        let facts = abstract_facts(&vocabulary, &classifiers(), &participants(), &both_near(-0.02));
+        let atoms: Vec<String> = facts
+            .iter()
+            .map(|f| ground_atom(&vocabulary, &participants(), *f).to_string())
+            .collect();
+        assert!(atoms.contains(&"(gripper_can_1 g c1)".to_string()), "{atoms:?}");
+        assert!(atoms.contains(&"(gripper_can_1 g c2)".to_string()), "{atoms:?}");
+    }
 }

@@ -45,14 +45,20 @@ const FURNITURE_PROBLEM: &str = "cafe2_01";
 const START_MARKER: &str = "start";
 const TARGET_MARKER: &str = "target";
 /// Noise of a recorded marker about where the object came to rest, as a motion-capture marker
-/// or one put down by hand has: 2 mm along the top, 1 mm in height, 2° about the vertical. A
-/// marker lies flat on its top: no tilt, as the objects stand upright (the learned rotation
-/// cells of an upright object are flat, and a tilt of a quarter degree leaves them).
-/// Without noise, "on the marker" would be as thin as the demonstrator's IK error in height,
-/// and an object exactly on its marker could fall outside it.
+/// or one put down by hand has: 2 mm along the top, 1 mm in height. A marker lies flat on its
+/// top: no tilt, as the objects stand upright (the learned rotation cells of an upright object
+/// are flat, and a tilt of a quarter degree leaves them). Without noise, "on the marker" would
+/// be as thin as the demonstrator's IK error in height, and an object exactly on its marker
+/// could fall outside it.
+///
+/// A marker's yaw is drawn at random: the objects this demonstrator carries are round (it grasps
+/// them from the side as cylinders), so a marker says where one stands, not which way it faces.
+/// Recorded at the object's own yaw, "on the marker" would also mean "turned as the marker",
+/// and a glass picked up from one side of the counter could then only be set down from that
+/// same side of the room: most of the arm's placements at a table the robot faces from another
+/// side would be refused, and a goal's yaw tolerance would have no say.
 const MARKER_POSITION_NOISE: f64 = 0.002;
 const MARKER_HEIGHT_NOISE: f64 = 0.001;
-const MARKER_YAW_NOISE: f64 = 0.035;
 /// The named configuration the arm rests in while the base moves, empty-handed or holding.
 const TUCK: &str = "tuck";
 /// Height of a resting can's origin above its support.
@@ -460,7 +466,7 @@ fn mark_start_and_target(
             draw(MARKER_HEIGHT_NOISE),
             0.0,
             0.0,
-            draw(MARKER_YAW_NOISE),
+            draw(std::f64::consts::PI),
         );
         let marked = at * noise;
         recording.header.bodies.push(lamp_trajectory::BodyDescription {

@@ -9,8 +9,15 @@
 //! When it does, the planner is asked for a new rest of the plan from the reached state
 //! (replanning), and the candidate is kept if there is one; backtracking into that step puts the
 //! old rest back.
+//!
+//! Replanning can loop: a rest whose own step has the same unstated side effect leads back to a
+//! state the refinement has already been in. A candidate is refused when the abstract state it
+//! reaches is one of the states before the steps refined so far on the current path (a cycle).
+//! Reaching a state that was replanned from on another path, after backtracking, is no loop: the
+//! continuous state differs, and the rest planned from there before is used again (the planner is
+//! deterministic, so asking it again would only cost time).
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use lamp_learn::{GroundAtom, SamplerArtifact};
 use lamp_participants::ParticipantMap;
@@ -57,6 +64,8 @@ pub fn wasted_budget(least: usize, steps: usize) -> usize {
 /// One level of the backtracking stack: the state before a step and the step's stream.
 struct Level {
     scene: Scene,
+    /// The abstract state of `scene`.
+    state: BTreeSet<GroundAtom>,
     recorded: usize,
     stream: Box<dyn CandidateStream>,
     /// The steps after this one as they were when the level was opened, kept while a candidate
@@ -110,10 +119,9 @@ pub fn refine_plan(
 ) -> Result<Refined, SolveError> {
     let start_len = recorder.len();
     let mut search = Search { actions: actions.to_vec(), levels: Vec::new(), refused: 0, seed };
-    // The states replanned from: reaching one again means the planner repeats a plan whose
-    // step has a side effect the model does not predict, and replanning again would loop.
-    let mut replanned_from: BTreeSet<BTreeSet<GroundAtom>> = BTreeSet::new();
+    let mut rests = Rests::default();
     let mut scene = initial.clone();
+    let mut state = abstraction(context.artifact, context.participants, &scene)?;
     loop {
         if search.levels.len() == search.actions.len() {
             let starts = search.levels.iter().map(|level| level.recorded).collect();
@@ -122,15 +130,16 @@ pub fn refine_plan(
         if (context.settings.cancelled)() {
             return Err(SolveError::cancelled());
         }
-        search.open_level(context, plugins, &scene, recorder.len(), counts)?;
+        let before = std::mem::take(&mut state);
+        search.open_level(context, plugins, &scene, before, recorder.len(), counts)?;
         loop {
             let Some((at, candidate)) = search.next_candidate(context, counts)? else {
                 recorder.steps.truncate(start_len);
                 return Ok(Refined::Failed);
             };
-            let level = &mut search.levels[at];
-            let mut trial = level.scene.clone();
-            recorder.steps.truncate(level.recorded);
+            let recorded = search.levels[at].recorded;
+            let mut trial = search.levels[at].scene.clone();
+            recorder.steps.truncate(recorded);
             let attempt = execute(
                 &mut trial,
                 &candidate,
@@ -143,24 +152,27 @@ pub fn refine_plan(
             search.refused += 1;
             let verdict = match attempt {
                 Ok(()) => {
-                    let mut judge =
-                        Judge { context, plugins, goal, replanned_from: &mut replanned_from };
+                    let path: Vec<&BTreeSet<GroundAtom>> =
+                        search.levels.iter().map(|level| &level.state).collect();
+                    let mut judge = Judge { context, plugins, goal, rests: &mut rests, path };
                     judge.judge(&trial, &search.actions, at, counts)?
                 }
                 Err(Rejection::Candidate(reason)) => Verdict::Refused(reason),
                 Err(Rejection::Fatal(error)) => return Err(error),
             };
             let why = match verdict {
-                Verdict::Accepted => {
+                Verdict::Accepted(reached) => {
                     search.refused -= 1;
                     scene = trial;
+                    state = reached;
                     break;
                 }
-                Verdict::Replanned(rest) => {
+                Verdict::Replanned(reached, rest) => {
                     let old = search.actions.split_off(at + 1);
                     search.actions.extend(rest);
-                    level.replaced_rest = Some(old);
+                    search.levels[at].replaced_rest = Some(old);
                     scene = trial;
+                    state = reached;
                     break;
                 }
                 Verdict::Refused(why) => why,
@@ -170,7 +182,7 @@ pub fn refine_plan(
                 counts.deepest_failure =
                     format!("step {} ({}): {why}", at + 1, search.actions[at].name);
             }
-            recorder.steps.truncate(level.recorded);
+            recorder.steps.truncate(recorded);
         }
     }
 }
@@ -187,12 +199,14 @@ struct Search {
 }
 
 impl Search {
-    /// Opens the refiner's stream for the next step, from `scene`, the state it starts in.
+    /// Opens the refiner's stream for the next step, from `scene`, the state it starts in, whose
+    /// abstract state is `state`.
     fn open_level(
         &mut self,
         context: &Context<'_>,
         plugins: &mut Plugins<'_>,
         scene: &Scene,
+        state: BTreeSet<GroundAtom>,
         recorded: usize,
         counts: &mut RefineCounts,
     ) -> Result<(), SolveError> {
@@ -208,7 +222,13 @@ impl Search {
             .refiner
             .refine(&request, &host)
             .map_err(|error| SolveError::from_plugin("refiner", error))?;
-        self.levels.push(Level { scene: scene.clone(), recorded, stream, replaced_rest: None });
+        self.levels.push(Level {
+            scene: scene.clone(),
+            state,
+            recorded,
+            stream,
+            replaced_rest: None,
+        });
         if index + 1 > counts.deepest {
             counts.deepest = index + 1;
             counts.deepest_of = self.actions.len();
@@ -254,14 +274,21 @@ impl Search {
     }
 }
 
+/// The rests of plans planned from states reached during one plan's refinement, by state
+/// (`None`: no plan reaches the goal from there).
+#[derive(Default)]
+struct Rests {
+    by_state: BTreeMap<BTreeSet<GroundAtom>, Option<Vec<GroundedAction>>>,
+}
+
 /// What became of a candidate that was carried out.
 enum Verdict {
     /// Its effects hold, no AtGoal object rests on its marker outside its tolerance, and the
-    /// rest of the plan still runs to the goal.
-    Accepted,
+    /// rest of the plan still runs to the goal from the state reached.
+    Accepted(BTreeSet<GroundAtom>),
     /// Its effects hold but a side effect broke the rest of the plan; this new rest, planned from
     /// the state reached, replaces it.
-    Replanned(Vec<GroundedAction>),
+    Replanned(BTreeSet<GroundAtom>, Vec<GroundedAction>),
     /// Refused, and why.
     Refused(String),
 }
@@ -272,9 +299,9 @@ struct Judge<'j, 'c, 'p> {
     context: &'j Context<'c>,
     plugins: &'j mut Plugins<'p>,
     goal: &'j BTreeSet<GroundAtom>,
-    /// The states replanned from: reaching one again means the planner repeats a plan whose
-    /// step has a side effect the model does not predict, and replanning again would loop.
-    replanned_from: &'j mut BTreeSet<BTreeSet<GroundAtom>>,
+    rests: &'j mut Rests,
+    /// The abstract states before each step on the current path, the first step's first.
+    path: Vec<&'j BTreeSet<GroundAtom>>,
 }
 
 impl Judge<'_, '_, '_> {
@@ -297,21 +324,28 @@ impl Judge<'_, '_, '_> {
             return Ok(Verdict::Refused(miss.to_string()));
         }
         let Some(broken) = first_broken(&reached, &actions[at + 1..], self.goal) else {
-            return Ok(Verdict::Accepted);
+            return Ok(Verdict::Accepted(reached));
         };
         let broken = broken_text(&broken, actions, at);
-        let rest = if self.replanned_from.insert(reached.clone()) {
-            counts.replans += 1;
-            let settings = context.settings;
-            plan_from(self.plugins, context.domain, context.problem, &reached, settings)?
-                .ok_or("no plan reaches the goal from there")
-        } else {
-            Err("replanning from there again would repeat a plan whose side effects the model \
-                 does not predict")
+        if self.path.contains(&&reached) {
+            return Ok(Verdict::Refused(format!(
+                "{broken}, and the state reached is one this plan was already in (a loop)"
+            )));
+        }
+        let rest = match self.rests.by_state.get(&reached) {
+            Some(rest) => rest.clone(),
+            None => {
+                counts.replans += 1;
+                let settings = context.settings;
+                let rest =
+                    plan_from(self.plugins, context.domain, context.problem, &reached, settings)?;
+                self.rests.by_state.insert(reached.clone(), rest.clone());
+                rest
+            }
         };
         Ok(match rest {
-            Ok(rest) => Verdict::Replanned(rest),
-            Err(why) => Verdict::Refused(format!("{broken}, and {why}")),
+            Some(rest) => Verdict::Replanned(reached, rest),
+            None => Verdict::Refused(format!("{broken}, and no plan reaches the goal from there")),
         })
     }
 }

@@ -37,6 +37,12 @@ pub static CAFE: LazyLock<Learned> = LazyLock::new(|| {
     learn("cafe", Some(100), RefinerOptions { draws: 300, ..RefinerOptions::default() })
 });
 
+/// Dinner from the first 80 of the spec's demonstrations (each moves one glass or bowl from a
+/// start marker to a target marker), with the spec's refiner settings.
+pub static DINNER: LazyLock<Learned> = LazyLock::new(|| {
+    learn("dinner", Some(80), RefinerOptions { draws: 300, ..RefinerOptions::default() })
+});
+
 fn learn(domain: &str, count: Option<u32>, refiner: RefinerOptions) -> Learned {
     let (spec, world) = lamp_test_support::load(&lamp_test_support::spec_path(domain));
     let mut simulation = Simulation::from_spec(&spec).expect("the spec simulates its domain");
