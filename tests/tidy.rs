@@ -247,6 +247,71 @@ fn plugins_link_only_the_plugin_contract_and_small_leaves() {
     assert!(violations.is_empty(), "plugins linking heavy crates:\n{}", violations.join("\n"));
 }
 
+/// The code of a crate's `src/` files: each cut at its tests, without comment lines (whose
+/// examples are not the crate's code).
+fn library_source(manifest: &Manifest) -> Vec<(PathBuf, String)> {
+    let mut files = Vec::new();
+    rust_files(&manifest.dir.join("src"), &mut files);
+    files.sort();
+    files
+        .into_iter()
+        .map(|file| {
+            let text = fs::read_to_string(&file).expect("readable source");
+            let code = text
+                .split("#[cfg(test)]")
+                .next()
+                .unwrap_or_default()
+                .lines()
+                .filter(|line| !line.trim_start().starts_with("//"))
+                .collect::<Vec<_>>()
+                .join("\n");
+            (file, code)
+        })
+        .collect()
+}
+
+#[test]
+fn every_plugin_reads_its_configuration_as_one_json_object() {
+    let root = workspace_root();
+    let mut violations = Vec::new();
+    for manifest in workspace_manifests().iter().filter(|m| m.dir.starts_with(root.join("plugins")))
+    {
+        let source = library_source(manifest);
+        let makes = source.iter().any(|(_, code)| code.contains("impl PluginFactory for"));
+        let reads = source.iter().any(|(_, code)| code.contains("PluginConfig::parse("));
+        if makes && !reads {
+            violations.push(manifest.name.clone());
+        }
+    }
+    assert!(
+        violations.is_empty(),
+        "plugins whose factory does not read lamp_plugin_api::PluginConfig:\n{}",
+        violations.join("\n")
+    );
+}
+
+#[test]
+fn lampc_names_first_party_plugins_only_in_its_one_factory_table() {
+    let manifests = workspace_manifests();
+    let lampc = manifests.iter().find(|m| m.name == "lampc").expect("lampc is a member");
+    let plugin_crates =
+        ["lamp_planner_builtin", "lamp_planner_external", "lamp_refiner_gmm", "lamp_motion_rrt"];
+    let mut violations = Vec::new();
+    for (file, code) in library_source(lampc) {
+        if file.ends_with("builtin_plugins.rs") {
+            continue;
+        }
+        for name in plugin_crates.iter().filter(|name| code.contains(&format!("{name}::"))) {
+            violations.push(format!("{} names {name}", file.display()));
+        }
+    }
+    assert!(
+        violations.is_empty(),
+        "built-in plugins made outside compiler/lampc/src/builtin_plugins.rs:\n{}",
+        violations.join("\n")
+    );
+}
+
 /// The crate-internal modules a source file names (`crate::name`, `crate::{a, b}`), outside
 /// comments and after its tests are cut off.
 fn named_modules(text: &str) -> BTreeSet<String> {

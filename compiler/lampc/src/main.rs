@@ -4,6 +4,7 @@
 #![allow(clippy::print_stdout, clippy::print_stderr)]
 
 mod build_folder;
+mod builtin_plugins;
 mod commands;
 mod diagnostics;
 mod files;

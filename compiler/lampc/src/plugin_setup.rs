@@ -1,13 +1,13 @@
-//! Turning the spec's plugin choices (or the command line's) into plugin trait objects: built-in
-//! plugins are constructed directly, libraries are opened through lamp-plugin-host.
+//! Turning the spec's plugin choices (or the command line's) into plugin trait objects: a
+//! built-in is made by its factory in `builtin_plugins`' table, a library is opened through
+//! lamp-plugin-host; both receive the same configuration, one JSON object (docs/plugins.md).
 //!
 //! Options the runtime itself reads are taken out first: the planner's `timeout` and `plans`, the
 //! motion planner's `resolution` (a length or an angle: the checking resolution) and `timeout`.
 //! Every number taken is checked by the rule the spec checker applied (`lamp_spec::limits`), so
 //! a value that reaches here unchecked is refused all the same, never turned into a panic.
-//! The rest go to the plugin: built-in plugins take them typed; a library receives them as a JSON
-//! object (numbers in SI units, words and text as strings), the `gmm` refiner's sampler artifact
-//! included under `artifact`.
+//! The rest go to the plugin as that JSON object (numbers in SI units, words and text as
+//! strings), a refiner's sampler artifact included under `artifact`.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -17,7 +17,9 @@ use lamp_learn::SamplerArtifact;
 use lamp_plugin_api::{MotionPlanner, Planner, Refiner};
 use lamp_plugin_host::PluginLibrary;
 use lamp_spec::limits::{self, Limit};
-use lamp_spec::{OptionValue, PluginChoice, PluginSource};
+use lamp_spec::{OptionKind, OptionValue, PluginChoice, PluginKind, PluginSource};
+
+use crate::builtin_plugins::{self, ARTIFACT_KEY, Builtin, Factory};
 
 /// Options the runtime reads itself, out of the plugin blocks.
 #[derive(Clone, Debug, Default)]
@@ -83,43 +85,138 @@ fn take_count(
     }
 }
 
-/// A length within `limit`, taken out of `options`.
-fn take_length(
-    options: &mut BTreeMap<String, OptionValue>,
-    key: &str,
-    limit: &Limit,
-) -> Result<Option<f64>, String> {
-    match options.remove(key) {
-        None => Ok(None),
-        Some(OptionValue::Length(value)) => {
-            limit.check(value).map(Some).map_err(|error| format!("option `{key}`: {error}"))
+/// A plugin's configuration: the JSON object of docs/plugins.md. Numbers are in SI units (whole
+/// numbers written as integers), words and text are strings; `preset` and `extra` come first.
+fn configuration(
+    preset: &[(&str, &str)],
+    options: &BTreeMap<String, OptionValue>,
+    extra: Option<(&str, serde_json::Value)>,
+) -> Result<Vec<u8>, String> {
+    let mut object: serde_json::Map<String, serde_json::Value> =
+        preset.iter().map(|(key, value)| ((*key).to_string(), serde_json::json!(value))).collect();
+    if let Some((key, value)) = extra {
+        object.insert(key.to_string(), value);
+    }
+    for (key, value) in options {
+        let value = match value {
+            OptionValue::Number(v) if is_whole(*v) => {
+                // Exact: `is_whole` bounds it to the integers an f64 holds exactly.
+                #[allow(clippy::cast_possible_truncation)]
+                let whole = *v as i64;
+                serde_json::json!(whole)
+            }
+            OptionValue::Number(v)
+            | OptionValue::Length(v)
+            | OptionValue::Angle(v)
+            | OptionValue::Duration(v) => serde_json::json!(v),
+            OptionValue::Text(text) | OptionValue::Word(text) => serde_json::json!(text),
+        };
+        if object.insert(key.clone(), value).is_some() {
+            return Err(format!("option `{key}` is set by the plugin's name already"));
         }
-        Some(other) => Err(format!("option `{key}` must be a length, not {other:?}")),
+    }
+    serde_json::to_vec(&serde_json::Value::Object(object)).map_err(|error| error.to_string())
+}
+
+/// Whether `value` is a whole number that an `f64` and an `i64` both hold exactly.
+fn is_whole(value: f64) -> bool {
+    let exact = 2f64.powi(f64::MANTISSA_DIGITS as i32);
+    value.fract() == 0.0 && value.abs() <= exact
+}
+
+/// A built-in's options checked by the rules the spec checker applies to them, so that a value
+/// that reaches here unchecked is refused all the same; options no rule names are left to the
+/// plugin, which refuses what it does not read.
+fn check_builtin_options(
+    kind: PluginKind,
+    name: &str,
+    options: &BTreeMap<String, OptionValue>,
+) -> Result<(), String> {
+    let rules = kind.builtin_options(name).unwrap_or_default();
+    for (key, value) in options {
+        let Some(rule) = rules.iter().find(|rule| rule.name == key) else { continue };
+        let range = |limit: &Limit, v: f64| {
+            limit.check(v).map(drop).map_err(|error| format!("option `{key}`: {error}"))
+        };
+        match (rule.kind, value) {
+            (OptionKind::Count(limit), OptionValue::Number(v)) => {
+                limit.count(*v).map(drop).map_err(|error| format!("option `{key}`: {error}"))?;
+            }
+            (OptionKind::Number(limit), OptionValue::Number(v))
+            | (OptionKind::Length(limit), OptionValue::Length(v)) => range(&limit, *v)?,
+            (OptionKind::Text, OptionValue::Text(_) | OptionValue::Word(_)) => {}
+            (expected, other) => {
+                return Err(format!(
+                    "option `{key}` must be {}, not {other:?}",
+                    describe(expected)
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn describe(kind: OptionKind) -> &'static str {
+    match kind {
+        OptionKind::Seconds => "a duration",
+        OptionKind::Count(_) => "a whole number",
+        OptionKind::Number(_) => "a number",
+        OptionKind::Length(_) => "a length",
+        OptionKind::Resolution => "a length or an angle",
+        OptionKind::Text => "text",
     }
 }
 
-fn json_options(
-    options: &BTreeMap<String, OptionValue>,
-) -> serde_json::Map<String, serde_json::Value> {
-    options
-        .iter()
-        .map(|(key, value)| {
-            let value = match value {
-                OptionValue::Number(v)
-                | OptionValue::Length(v)
-                | OptionValue::Angle(v)
-                | OptionValue::Duration(v) => {
-                    serde_json::json!(v)
-                }
-                OptionValue::Text(text) | OptionValue::Word(text) => serde_json::json!(text),
-            };
-            (key.clone(), value)
-        })
-        .collect()
+/// Where a plugin is made: a built-in's factory, or a library's `create`.
+enum Maker {
+    Builtin(&'static Builtin),
+    Library(PluginLibrary),
 }
 
-fn open(path: &Path) -> Result<PluginLibrary, String> {
-    PluginLibrary::open(path).map_err(|error| crate::diagnostics::render_error(&error, false))
+impl Maker {
+    /// The maker of `choice`, with the configuration it receives: the options, then `extra`.
+    fn of(
+        kind: PluginKind,
+        choice: &PluginChoice,
+        options: &BTreeMap<String, OptionValue>,
+        extra: Option<(&str, serde_json::Value)>,
+    ) -> Result<(Maker, Vec<u8>), String> {
+        match &choice.source {
+            PluginSource::Builtin(name) => {
+                let builtin = builtin_plugins::find(kind, name).ok_or_else(|| {
+                    format!(
+                        "there is no built-in {} `{name}`; built in: {}; or give a library path",
+                        kind_name(kind),
+                        builtin_plugins::names(kind).join(", ")
+                    )
+                })?;
+                check_builtin_options(kind, name, options)?;
+                let config = configuration(builtin.preset, options, extra)?;
+                Ok((Maker::Builtin(builtin), config))
+            }
+            PluginSource::Library(path) => {
+                let library = PluginLibrary::open(path).map_err(|error| rendered(&error))?;
+                Ok((Maker::Library(library), configuration(&[], options, extra)?))
+            }
+        }
+    }
+}
+
+fn rendered(error: &dyn miette::Diagnostic) -> String {
+    crate::diagnostics::render_error(error, false)
+}
+
+fn kind_name(kind: PluginKind) -> &'static str {
+    match kind {
+        PluginKind::Planner => "planner",
+        PluginKind::Refiner => "refiner",
+        PluginKind::Motion => "motion planner",
+    }
+}
+
+/// A built-in's table row holds another kind's factory: the table is wrong, not the input.
+fn wrong_factory(builtin: &Builtin) -> String {
+    format!("the built-in `{}` is listed with another kind's factory", builtin.name)
 }
 
 /// The planner.
@@ -130,79 +227,31 @@ pub(crate) fn planner(
     let mut options = choice.options.clone();
     runtime.planner_timeout = take_seconds(&mut options, "timeout")?;
     runtime.plan_count = take_count(&mut options, "plans", &limits::PLANS)?;
-    match &choice.source {
-        PluginSource::Builtin(name) => match name.as_str() {
-            "gbfs-ff" | "topk" => {
-                no_options(name, &options)?;
-                let algorithm = if name == "topk" {
-                    lamp_planner_builtin::BuiltinAlgorithm::TopK
-                } else {
-                    lamp_planner_builtin::BuiltinAlgorithm::GbfsFf
-                };
-                Ok(Box::new(lamp_planner_builtin::BuiltinPlanner::new(algorithm)))
-            }
-            "external" => {
-                let pairs: Vec<(String, String)> = options
-                    .iter()
-                    .map(|(key, value)| match value {
-                        OptionValue::Text(text) | OptionValue::Word(text) => {
-                            Ok((key.clone(), text.clone()))
-                        }
-                        other => {
-                            Err(format!("option `{key}` of `external` must be text, not {other:?}"))
-                        }
-                    })
-                    .collect::<Result<_, _>>()?;
-                let options = lamp_planner_external::ExternalOptions::from_pairs(
-                    pairs.iter().map(|(k, v)| (k.as_str(), v.as_str())),
-                )
-                .map_err(|error| error.to_string())?;
-                Ok(Box::new(lamp_planner_external::ExternalPlanner::new(options)))
-            }
-            other => Err(unknown("planner", other, &["gbfs-ff", "topk", "external"])),
+    match Maker::of(PluginKind::Planner, choice, &options, None)? {
+        (Maker::Builtin(builtin), config) => match builtin.factory {
+            Factory::Planner(make) => make(&config).map_err(|error| rendered(&error)),
+            _ => Err(wrong_factory(builtin)),
         },
-        PluginSource::Library(path) => {
-            let config = serde_json::Value::Object(json_options(&options)).to_string();
-            open(path)?
-                .create_planner(config.as_bytes())
-                .map_err(|error| crate::diagnostics::render_error(&error, false))
+        (Maker::Library(library), config) => {
+            library.create_planner(&config).map_err(|error| rendered(&error))
         }
     }
 }
 
-/// The refiner; the `gmm` refiner samples `artifact`.
+/// The refiner; it receives `artifact` under the `artifact` key.
 pub(crate) fn refiner(
     choice: &PluginChoice,
     artifact: &SamplerArtifact,
 ) -> Result<Box<dyn Refiner>, String> {
-    let mut options = choice.options.clone();
-    match &choice.source {
-        PluginSource::Builtin(name) if name == "gmm" => {
-            let mut refiner_options = lamp_refiner_gmm::RefinerOptions::default();
-            if let Some(samples) = take_count(&mut options, "samples", &limits::SAMPLES)? {
-                refiner_options.samples = samples;
-            }
-            if let Some(draws) = take_count(&mut options, "draws", &limits::DRAWS)? {
-                refiner_options.draws = draws;
-            }
-            if let Some(length) = take_length(&mut options, "displacement", &limits::DISPLACEMENT)?
-            {
-                refiner_options.displacement = length;
-            }
-            no_options(name, &options)?;
-            let refiner = lamp_refiner_gmm::GmmRefiner::new(artifact.clone(), refiner_options)
-                .map_err(|error| error.to_string())?;
-            Ok(Box::new(refiner))
-        }
-        PluginSource::Builtin(other) => Err(unknown("refiner", other, &["gmm"])),
-        PluginSource::Library(path) => {
-            let mut config = json_options(&options);
-            let artifact = serde_json::to_value(artifact).map_err(|error| error.to_string())?;
-            config.insert("artifact".to_string(), artifact);
-            let config = serde_json::Value::Object(config).to_string();
-            open(path)?
-                .create_refiner(config.as_bytes())
-                .map_err(|error| crate::diagnostics::render_error(&error, false))
+    let artifact = serde_json::to_value(artifact).map_err(|error| error.to_string())?;
+    let extra = Some((ARTIFACT_KEY, artifact));
+    match Maker::of(PluginKind::Refiner, choice, &choice.options, extra)? {
+        (Maker::Builtin(builtin), config) => match builtin.factory {
+            Factory::Refiner(make) => make(&config).map_err(|error| rendered(&error)),
+            _ => Err(wrong_factory(builtin)),
+        },
+        (Maker::Library(library), config) => {
+            library.create_refiner(&config).map_err(|error| rendered(&error))
         }
     }
 }
@@ -229,42 +278,61 @@ pub(crate) fn motion(
         }
     }
     runtime.motion_timeout = take_seconds(&mut options, "timeout")?;
-    let text: Vec<String> = options
-        .iter()
-        .map(|(key, value)| match value {
-            OptionValue::Number(v) => format!("{key}={v}"),
-            OptionValue::Length(v) | OptionValue::Angle(v) | OptionValue::Duration(v) => {
-                format!("{key}={v}")
-            }
-            OptionValue::Text(text) | OptionValue::Word(text) => format!("{key}={text}"),
-        })
-        .collect();
-    match &choice.source {
-        PluginSource::Builtin(name) if name == "rrt-connect" => {
-            let options = lamp_motion_rrt::RrtOptions::parse(&text.join(","))
-                .map_err(|error| error.to_string())?;
-            Ok(Box::new(lamp_motion_rrt::RrtConnectPlanner::new(options)))
-        }
-        PluginSource::Builtin(other) => Err(unknown("motion planner", other, &["rrt-connect"])),
-        PluginSource::Library(path) => {
-            let config = serde_json::Value::Object(json_options(&options)).to_string();
-            open(path)?
-                .create_motion_planner(config.as_bytes())
-                .map_err(|error| crate::diagnostics::render_error(&error, false))
+    match Maker::of(PluginKind::Motion, choice, &options, None)? {
+        (Maker::Builtin(builtin), config) => match builtin.factory {
+            Factory::Motion(make) => make(&config).map_err(|error| rendered(&error)),
+            _ => Err(wrong_factory(builtin)),
+        },
+        (Maker::Library(library), config) => {
+            library.create_motion_planner(&config).map_err(|error| rendered(&error))
         }
     }
 }
 
-fn no_options(name: &str, options: &BTreeMap<String, OptionValue>) -> Result<(), String> {
-    match options.keys().next() {
-        None => Ok(()),
-        Some(key) => Err(format!("plugin `{name}` has no option `{key}`")),
-    }
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-fn unknown(kind: &str, name: &str, known: &[&str]) -> String {
-    format!(
-        "there is no built-in {kind} `{name}`; built in: {}; or give a library path",
-        known.join(", ")
-    )
+    fn options(entries: &[(&str, OptionValue)]) -> BTreeMap<String, OptionValue> {
+        entries.iter().map(|(key, value)| ((*key).to_string(), value.clone())).collect()
+    }
+
+    #[test]
+    fn the_configuration_is_one_json_object_with_whole_numbers_as_integers() {
+        let given = options(&[
+            ("draws", OptionValue::Number(2000.0)),
+            ("step", OptionValue::Number(0.25)),
+            ("displacement", OptionValue::Length(1.0)),
+            ("command", OptionValue::Text("fd --x".to_string())),
+        ]);
+        let config = configuration(&[("algorithm", "topk")], &given, None).unwrap();
+        assert_eq!(
+            String::from_utf8(config).unwrap(),
+            r#"{"algorithm":"topk","command":"fd --x","displacement":1.0,"draws":2000,"step":0.25}"#
+        );
+        let clash = options(&[("algorithm", OptionValue::Word("gbfs-ff".to_string()))]);
+        assert!(configuration(&[("algorithm", "topk")], &clash, None).is_err());
+    }
+
+    #[test]
+    fn built_in_options_are_held_to_the_spec_rules_and_unknown_names_listed() {
+        let bad = options(&[("samples", OptionValue::Number(0.0))]);
+        let message = check_builtin_options(PluginKind::Refiner, "gmm", &bad).unwrap_err();
+        assert!(message.starts_with("option `samples`"), "{message}");
+        let typed = options(&[("step", OptionValue::Length(0.1))]);
+        let message = check_builtin_options(PluginKind::Motion, "rrt-connect", &typed).unwrap_err();
+        assert!(message.contains("must be a number"), "{message}");
+
+        let choice = PluginChoice {
+            source: PluginSource::Builtin("astar".to_string()),
+            options: BTreeMap::new(),
+        };
+        let Err(message) = planner(&choice, &mut RuntimeOptions::default()) else {
+            panic!("an unknown built-in is refused")
+        };
+        assert_eq!(
+            message,
+            "there is no built-in planner `astar`; built in: gbfs-ff, topk, external; or give a library path"
+        );
+    }
 }

@@ -1,10 +1,12 @@
 //! `lampc solve` as a user runs it: demonstrations, a build, then a solve of a four-can Packing
 //! problem into a scratch folder; the files are there and say what happened. A build folder that
 //! was tampered with, mixed or interrupted is refused naming the file; a relaxed goal is a partial
-//! result, not a success; the solution folder is replaced whole, under a lock.
+//! result, not a success; the solution folder is replaced whole, under a lock; every first-party
+//! plugin loads as a shared library, and solves as its built-in does.
 
 mod common;
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::sync::OnceLock;
@@ -66,8 +68,9 @@ fn build_copy(scratch: &Path) -> PathBuf {
 }
 
 /// `lampc solve SPEC --problem pack4_03 --build BUILD --out OUT` with more arguments.
-fn solve_into(build: &Path, out: &Path, more: &[&str]) -> Output {
-    lampc()
+fn solve_command(build: &Path, out: &Path, more: &[&str]) -> Command {
+    let mut command = lampc();
+    command
         .arg("solve")
         .arg(spec())
         .args(["--problem", "pack4_03", "--build"])
@@ -77,9 +80,13 @@ fn solve_into(build: &Path, out: &Path, more: &[&str]) -> Output {
         .args(more)
         .env("NO_COLOR", "1")
         // Long enough that no message is wrapped.
-        .env("COLUMNS", "10000")
-        .output()
-        .expect("lampc runs")
+        .env("COLUMNS", "10000");
+    command
+}
+
+/// What `solve_command` printed and how it ended.
+fn solve_into(build: &Path, out: &Path, more: &[&str]) -> Output {
+    solve_command(build, out, more).output().expect("lampc runs")
 }
 
 fn stderr(output: &Output) -> String {
@@ -128,6 +135,128 @@ fn solve_writes_a_validated_trajectory_plan_summary_and_picture() {
     assert_eq!(texts, plan.lines().collect::<Vec<_>>());
     assert!(labels[0].0 > 0, "the initial state carries no label");
     assert!(labels.windows(2).all(|pair| pair[0].0 < pair[1].0), "labels in time order");
+}
+
+/// Every first-party plugin built as a shared library (with its `shared-library` feature, which
+/// exports the entry symbol), by the same cargo into the same target folder and profile as this
+/// test, once: the library of each package.
+fn plugin_libraries() -> &'static BTreeMap<&'static str, PathBuf> {
+    const PACKAGES: [(&str, Option<&str>); 5] = [
+        ("lamp-planner-builtin", Some("shared-library")),
+        ("lamp-planner-external", Some("shared-library")),
+        ("lamp-refiner-gmm", Some("shared-library")),
+        ("lamp-motion-rrt", Some("shared-library")),
+        ("echo-planner", None),
+    ];
+    static BUILT: OnceLock<BTreeMap<&'static str, PathBuf>> = OnceLock::new();
+    BUILT.get_or_init(|| {
+        let exe = std::env::current_exe().expect("the test binary knows its path");
+        let profile_dir = exe
+            .parent()
+            .and_then(Path::parent)
+            .expect("test binaries live in <target>/<profile>/deps")
+            .to_path_buf();
+        let target_dir = profile_dir.parent().expect("<target>/<profile>").to_path_buf();
+        let profile = profile_dir.file_name().and_then(|name| name.to_str()).unwrap_or("debug");
+        let mut command = Command::new(env!("CARGO"));
+        command.current_dir(env!("CARGO_MANIFEST_DIR")).args(["build", "--quiet", "--lib"]);
+        for (package, feature) in PACKAGES {
+            command.args(["--package", package]);
+            if let Some(feature) = feature {
+                command.args(["--features", &format!("{package}/{feature}")]);
+            }
+        }
+        command.arg("--target-dir").arg(&target_dir);
+        match profile {
+            "debug" => {}
+            "release" => {
+                command.arg("--release");
+            }
+            other => {
+                command.args(["--profile", other]);
+            }
+        }
+        let status = command.status().expect("cargo runs");
+        assert!(status.success(), "building the plugin libraries failed: {status}");
+        PACKAGES
+            .iter()
+            .map(|(package, _)| {
+                let file = format!(
+                    "{}{}{}",
+                    std::env::consts::DLL_PREFIX,
+                    package.replace('-', "_"),
+                    std::env::consts::DLL_SUFFIX
+                );
+                (*package, profile_dir.join(file))
+            })
+            .collect()
+    })
+}
+
+fn path_text(path: &Path) -> &str {
+    path.to_str().expect("a UTF-8 path")
+}
+
+#[test]
+fn every_first_party_plugin_loads_as_a_shared_library_and_solves_as_its_built_in() {
+    let libraries = plugin_libraries();
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let (loaded, linked) = (scratch.path().join("loaded"), scratch.path().join("linked"));
+    let output = run(&mut solve_command(
+        built(),
+        &loaded,
+        &[
+            "--planner",
+            path_text(&libraries["lamp-planner-builtin"]),
+            "--refiner",
+            path_text(&libraries["lamp-refiner-gmm"]),
+            "--motion",
+            path_text(&libraries["lamp-motion-rrt"]),
+        ],
+    ));
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(stdout.contains("pack4_03: solved"), "{stdout}");
+    assert!(stdout.contains("validated by replay"), "{stdout}");
+    // The built-ins are made by the same factories from the same configuration, so the
+    // libraries find the same plan and trajectory, byte for byte.
+    run(&mut solve_command(
+        built(),
+        &linked,
+        &["--planner", "gbfs-ff", "--refiner", "gmm", "--motion", "rrt-connect"],
+    ));
+    for file in ["plan.txt", "trajectory.mcap"] {
+        let read = |folder: &Path| std::fs::read(folder.join(file)).expect("a solution file");
+        assert!(read(&loaded) == read(&linked), "{file} differs between library and built-in");
+    }
+
+    // The example planner loads and plans, but its `achieve` steps are no action of the domain.
+    let echo = solve_into(
+        built(),
+        &scratch.path().join("echo"),
+        &["--planner", path_text(&libraries["echo-planner"])],
+    );
+    let message = stderr(&echo);
+    assert_eq!(echo.status.code(), Some(1), "{message}");
+    assert!(!message.contains("lamp::plugin::"), "loaded and created: {message}");
+    assert!(message.contains("achieve"), "{message}");
+
+    // The external planner loads; it solves where Fast Downward is installed, and otherwise
+    // says how to install it.
+    let external = solve_into(
+        built(),
+        &scratch.path().join("external"),
+        &["--planner", path_text(&libraries["lamp-planner-external"])],
+    );
+    let message = stderr(&external);
+    if external.status.success() {
+        assert!(String::from_utf8_lossy(&external.stdout).contains("pack4_03: solved"));
+    } else {
+        assert!(
+            std::env::var_os("LAMP_REQUIRE_ORACLES").is_none_or(|value| value != "1"),
+            "Fast Downward is required: {message}"
+        );
+        assert!(message.contains("pip install up-fast-downward"), "{message}");
+    }
 }
 
 #[test]

@@ -16,6 +16,7 @@
 
 #![deny(missing_docs)]
 
+pub mod config;
 mod error;
 mod host;
 mod motion;
@@ -23,6 +24,7 @@ mod planner;
 mod refiner;
 pub mod wire;
 
+pub use config::{ConfigError, PluginConfig};
 pub use error::{HostError, PluginError};
 pub use host::{HostServices, IDENTITY_POSE, MinimalHost, Pose};
 pub use motion::{MotionBudget, MotionOutcome, MotionPlanner, MotionRequest, NoPathReason};

@@ -7,7 +7,7 @@
 //! host's too; the host checks each edge whole at its own resolution.
 //!
 //! Linked statically, construct [`RrtConnectPlanner::new`] with [`RrtOptions`]; built as a shared
-//! library, the configuration bytes are the options' `key=value` text (see [`RrtOptions::parse`]).
+//! library, the configuration is the options' JSON object (see [`RrtOptions::from_config`]).
 
 mod host_space;
 mod options;
@@ -21,7 +21,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::host_space::HostSpace;
-pub use crate::options::RrtOptions;
+pub use crate::options::{ITERATIONS_OPTION, RrtOptions, SHORTCUTS_OPTION, STEP_OPTION};
 
 /// RRT-Connect over the host's oracles.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -60,7 +60,7 @@ impl RrtConnectPlanner {
 
 impl PluginFactory for RrtConnectPlanner {
     fn create(config: &[u8]) -> Result<Self, PluginError> {
-        RrtOptions::from_config(config).map(Self::new)
+        Ok(Self::new(RrtOptions::from_config(config)?))
     }
 }
 
@@ -114,5 +114,5 @@ lamp_plugin_sdk::export_plugin! {
     motion_planner: RrtConnectPlanner,
     name: "rrt-connect",
     version: env!("CARGO_PKG_VERSION"),
-    description: "RRT-Connect with shortcutting over the host's oracles (config `step=, shortcuts=, iterations=`).",
+    description: "RRT-Connect with shortcutting over the host's oracles (config {\"step\", \"shortcuts\", \"iterations\"}).",
 }

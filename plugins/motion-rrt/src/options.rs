@@ -1,8 +1,15 @@
-//! The planner's options and their text form, the plugin's configuration bytes: a `key=value`
-//! list separated by commas or whitespace, for example `step=0.2, shortcuts=50, iterations=2000`.
+//! The planner's options and the plugin's configuration: the JSON object
+//! `{"step": 0.2, "shortcuts": 50, "iterations": 2000}`, every key optional.
 
-use lamp_plugin_api::PluginError;
+use lamp_plugin_api::config::{self, ConfigError, PluginConfig};
 use lamp_rrt::RrtConfig;
+
+/// The configuration key of [`RrtOptions::step`].
+pub const STEP_OPTION: &str = "step";
+/// The configuration key of [`RrtOptions::shortcut_attempts`].
+pub const SHORTCUTS_OPTION: &str = "shortcuts";
+/// The configuration key of [`RrtOptions::iterations`].
+pub const ITERATIONS_OPTION: &str = "iterations";
 
 /// How the RRT-Connect search runs; every field defaults to lamp-rrt's [`RrtConfig`].
 #[derive(Clone, Debug, PartialEq)]
@@ -27,69 +34,35 @@ impl Default for RrtOptions {
 }
 
 impl RrtOptions {
-    /// Parses a `key=value` list (`step`, `shortcuts`, `iterations`), separated by commas or
-    /// whitespace; keys not given keep their defaults, and the empty text gives the defaults.
+    /// The options of the plugin's configuration: a JSON object with `step` (a number),
+    /// `shortcuts` and `iterations` (whole numbers); keys not given keep their defaults, and the
+    /// empty configuration gives the defaults.
     ///
     /// # Errors
-    /// [`PluginError::InvalidRequest`] for an unknown or repeated key, a missing `=`, or a value
-    /// out of range: `step` must be finite and positive, `iterations` at least 1.
-    pub fn parse(text: &str) -> Result<Self, PluginError> {
+    /// A [`ConfigError`] for bytes that are not a JSON object, an unknown key, a value of the
+    /// wrong type, or one out of range: `step` must be finite and positive, `iterations` at
+    /// least 1.
+    pub fn from_config(bytes: &[u8]) -> Result<Self, ConfigError> {
+        let mut config = PluginConfig::parse(bytes)?;
         let mut options = Self::default();
-        let mut seen: Vec<&str> = Vec::new();
-        let items = text.split(|c: char| c == ',' || c.is_whitespace());
-        for item in items.filter(|item| !item.is_empty()) {
-            let Some((key, value)) = item.split_once('=') else {
-                return Err(invalid(format!("`{item}` is not `key=value`")));
-            };
-            if seen.contains(&key) {
-                return Err(invalid(format!("`{key}` is given twice")));
+        if let Some(step) = config.number(STEP_OPTION)? {
+            if !(step.is_finite() && step > 0.0) {
+                return Err(config::bad_value(STEP_OPTION, format!("{step} is not positive")));
             }
-            seen.push(key);
-            match key {
-                "step" => {
-                    options.step = value
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|step| step.is_finite() && *step > 0.0)
-                        .ok_or_else(|| {
-                            invalid(format!("step `{value}` is not a positive number"))
-                        })?;
-                }
-                "shortcuts" => options.shortcut_attempts = count(key, value)?,
-                "iterations" => {
-                    options.iterations = count(key, value)?;
-                    if options.iterations == 0 {
-                        return Err(invalid("iterations must be at least 1".to_string()));
-                    }
-                }
-                other => {
-                    return Err(invalid(format!(
-                        "unknown option `{other}`; expected `step`, `shortcuts` or `iterations`"
-                    )));
-                }
-            }
+            options.step = step;
         }
+        if let Some(shortcuts) = config.count(SHORTCUTS_OPTION)? {
+            options.shortcut_attempts = shortcuts;
+        }
+        if let Some(iterations) = config.count(ITERATIONS_OPTION)? {
+            if iterations == 0 {
+                return Err(config::bad_value(ITERATIONS_OPTION, "must be at least 1"));
+            }
+            options.iterations = iterations;
+        }
+        config.finish()?;
         Ok(options)
     }
-
-    /// The plugin's configuration bytes: UTF-8 text for [`parse`](Self::parse).
-    ///
-    /// # Errors
-    /// As [`parse`](Self::parse), and [`PluginError::InvalidRequest`] for bytes that are not
-    /// UTF-8.
-    pub fn from_config(config: &[u8]) -> Result<Self, PluginError> {
-        let text = std::str::from_utf8(config)
-            .map_err(|_| invalid("the configuration is not UTF-8".to_string()))?;
-        Self::parse(text)
-    }
-}
-
-fn count(key: &str, value: &str) -> Result<usize, PluginError> {
-    value.parse().map_err(|_| invalid(format!("{key} `{value}` is not a whole number")))
-}
-
-fn invalid(message: String) -> PluginError {
-    PluginError::invalid_request(format!("rrt-connect options: {message}"))
 }
 
 #[cfg(test)]
@@ -97,39 +70,37 @@ mod tests {
     use super::*;
 
     #[test]
-    fn empty_text_gives_lamp_rrts_defaults() {
-        let options = RrtOptions::parse("").unwrap();
+    fn an_empty_configuration_gives_lamp_rrts_defaults() {
+        let options = RrtOptions::from_config(b"").unwrap();
         let defaults = RrtConfig::default();
         assert_eq!(options.step, defaults.step);
         assert_eq!(options.shortcut_attempts, defaults.shortcut_attempts);
         assert_eq!(options.iterations, defaults.max_iterations);
-        assert_eq!(RrtOptions::from_config(b" \n").unwrap(), options);
+        assert_eq!(RrtOptions::from_config(b" {} ").unwrap(), options);
     }
 
     #[test]
-    fn keys_override_their_defaults_in_any_separator_style() {
-        let options = RrtOptions::parse("step=0.25, shortcuts=0\niterations=42").unwrap();
+    fn keys_override_their_defaults() {
+        let options =
+            RrtOptions::from_config(br#"{"step": 0.25, "shortcuts": 0, "iterations": 42}"#)
+                .unwrap();
         assert_eq!(options, RrtOptions { step: 0.25, shortcut_attempts: 0, iterations: 42 });
-        let partial = RrtOptions::parse("iterations=7").unwrap();
+        let partial = RrtOptions::from_config(br#"{"iterations": 7.0}"#).unwrap();
         assert_eq!(partial, RrtOptions { iterations: 7, ..RrtOptions::default() });
     }
 
     #[test]
     fn bad_options_are_refused_with_the_reason() {
-        let message = |text: &str| match RrtOptions::parse(text) {
-            Err(PluginError::InvalidRequest { message }) => message,
-            other => panic!("{text}: expected a refusal, got {other:?}"),
+        let message = |text: &str| match RrtOptions::from_config(text.as_bytes()) {
+            Err(error) => error.to_string(),
+            Ok(options) => panic!("{text}: expected a refusal, got {options:?}"),
         };
-        assert!(message("speed=3").contains("unknown option `speed`"));
-        assert!(message("step").contains("`step` is not `key=value`"));
-        assert!(message("step=-1").contains("not a positive number"));
-        assert!(message("step=NaN").contains("not a positive number"));
-        assert!(message("shortcuts=1.5").contains("not a whole number"));
-        assert!(message("iterations=0").contains("at least 1"));
-        assert!(message("step=1 step=2").contains("given twice"));
-        assert!(matches!(
-            RrtOptions::from_config(b"\xff"),
-            Err(PluginError::InvalidRequest { .. })
-        ));
+        assert!(message(r#"{"speed": 3}"#).contains("unknown option `speed`"));
+        assert!(message("step=1").contains("not JSON"));
+        assert!(message(r#"{"step": -1}"#).contains("not positive"));
+        assert!(message(r#"{"step": "fast"}"#).contains("must be a number"));
+        assert!(message(r#"{"shortcuts": 1.5}"#).contains("not a whole number"));
+        assert!(message(r#"{"iterations": 0}"#).contains("at least 1"));
+        assert!(matches!(RrtOptions::from_config(b"\xff"), Err(ConfigError::NotJson { .. })));
     }
 }

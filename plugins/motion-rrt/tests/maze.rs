@@ -98,7 +98,7 @@ fn a_tiny_budget_on_a_hard_maze_is_exhausted() {
         "{outcome:?}"
     );
     // Without an iteration budget in the request, the planner's own `iterations` applies.
-    let mut few = RrtConnectPlanner::create(b"iterations=30").unwrap();
+    let mut few = RrtConnectPlanner::create(br#"{"iterations": 30}"#).unwrap();
     request.budget.max_iterations = None;
     request.budget.time_limit = None;
     assert_eq!(reason(plan(&mut few, &request, &maze)), NoPathReason::BudgetExhausted);
@@ -110,7 +110,7 @@ fn shortcutting_as_configured_shortens_the_path() {
     let request = request(START, GOAL, 5_000, 11);
     let raw = RrtOptions { shortcut_attempts: 0, ..RrtOptions::default() };
     let raw = path(plan(&mut RrtConnectPlanner::new(raw), &request, &maze));
-    let mut shortcutting = RrtConnectPlanner::create(b"shortcuts=300").unwrap();
+    let mut shortcutting = RrtConnectPlanner::create(br#"{"shortcuts": 300}"#).unwrap();
     let short = path(plan(&mut shortcutting, &request, &maze));
     assert_valid_path(&maze, &request, &raw);
     assert_valid_path(&maze, &request, &short);

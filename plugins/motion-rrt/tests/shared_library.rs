@@ -68,9 +68,9 @@ fn the_shared_library_plans_the_maze_exactly_as_the_linked_planner() {
     assert_eq!((info.abi_major, info.abi_minor), (1, 1));
 
     let maze = Maze::two_walls();
-    let config = "step=0.4, shortcuts=50";
-    let mut loaded = library.create_motion_planner(config.as_bytes()).unwrap();
-    let mut linked = RrtConnectPlanner::new(RrtOptions::parse(config).unwrap());
+    let config = br#"{"step": 0.4, "shortcuts": 50}"#;
+    let mut loaded = library.create_motion_planner(config).unwrap();
+    let mut linked = RrtConnectPlanner::new(RrtOptions::from_config(config).unwrap());
     for seed in [7, 8] {
         let request = request([1.0, 1.0], [9.0, 9.0], 5_000, seed);
         let outcome = loaded.plan_path(&request, &maze).unwrap();
@@ -94,7 +94,7 @@ fn the_shared_library_plans_the_maze_exactly_as_the_linked_planner() {
 #[test]
 fn the_shared_library_refuses_bad_options() {
     let library = PluginLibrary::open(shared_library()).unwrap();
-    let Err(error) = library.create_motion_planner(b"speed=3") else { panic!("created") };
+    let Err(error) = library.create_motion_planner(br#"{"speed": 3}"#) else { panic!("created") };
     assert!(matches!(
         error,
         LoadError::Create { source: PluginError::InvalidRequest { message }, .. }

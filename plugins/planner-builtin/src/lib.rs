@@ -3,11 +3,13 @@
 //! `plan_count` best distinct loop-free plans).
 //!
 //! Linked statically, construct [`BuiltinPlanner`] directly; built as a shared library, the
-//! plugin's configuration bytes name the algorithm (`gbfs-ff`, the default when empty, or `topk`).
+//! plugin's configuration is the JSON object `{"algorithm": "gbfs-ff"}` (the default) or
+//! `{"algorithm": "topk"}`.
 //! Both planners are deterministic, so the request's seed is not used. Cancellation is polled
 //! before the search starts; a running search stops on its budget, not on cancellation.
 
 use lamp_planner::{Algorithm, Budget, Status, Unsolvable, parse_task};
+use lamp_plugin_api::config::{self, ConfigError, PluginConfig};
 use lamp_plugin_api::{
     HostServices, Plan, PlanRequest, PlanResponse, PlanStatus, PlanStep, Planner, PluginError,
 };
@@ -60,18 +62,37 @@ impl BuiltinPlanner {
     }
 }
 
+/// The configuration key naming the algorithm.
+pub const ALGORITHM_OPTION: &str = "algorithm";
+
+impl BuiltinAlgorithm {
+    /// The algorithm named `name` in the configuration.
+    ///
+    /// # Errors
+    /// [`ConfigError::BadValue`] for a name that is neither `gbfs-ff` nor `topk`.
+    pub fn from_name(name: &str) -> Result<Self, ConfigError> {
+        [BuiltinAlgorithm::GbfsFf, BuiltinAlgorithm::TopK]
+            .into_iter()
+            .find(|algorithm| algorithm.name() == name)
+            .ok_or_else(|| {
+                config::bad_value(
+                    ALGORITHM_OPTION,
+                    format!("unknown algorithm `{name}`; expected `gbfs-ff` or `topk`"),
+                )
+            })
+    }
+}
+
 impl PluginFactory for BuiltinPlanner {
+    /// The configuration is `{"algorithm": "gbfs-ff" | "topk"}`; without it, `gbfs-ff`.
     fn create(config: &[u8]) -> Result<Self, PluginError> {
-        let name = std::str::from_utf8(config)
-            .map_err(|_| PluginError::invalid_request("the configuration is not UTF-8"))?
-            .trim();
-        match name {
-            "" | "gbfs-ff" => Ok(Self::new(BuiltinAlgorithm::GbfsFf)),
-            "topk" => Ok(Self::new(BuiltinAlgorithm::TopK)),
-            other => Err(PluginError::invalid_request(format!(
-                "unknown algorithm `{other}`; expected `gbfs-ff` or `topk`"
-            ))),
-        }
+        let mut config = PluginConfig::parse(config)?;
+        let algorithm = match config.text(ALGORITHM_OPTION)? {
+            None => BuiltinAlgorithm::GbfsFf,
+            Some(name) => BuiltinAlgorithm::from_name(&name)?,
+        };
+        config.finish()?;
+        Ok(Self::new(algorithm))
     }
 }
 
@@ -145,5 +166,5 @@ lamp_plugin_sdk::export_plugin! {
     planner: BuiltinPlanner,
     name: "lamp-builtin-planner",
     version: env!("CARGO_PKG_VERSION"),
-    description: "Lazy GBFS with FF (config `gbfs-ff`, the default) or top-k plans (config `topk`).",
+    description: "Lazy GBFS with FF (the default) or top-k plans (config {\"algorithm\": \"topk\"}).",
 }

@@ -94,7 +94,7 @@ fn gbfs_ff_solves_the_sussman_anomaly_alike_statically_and_through_the_abi() {
     assert_eq!(response.plans.len(), 1);
     assert_valid(&response.plans[0], SUSSMAN);
     assert!(response.plans[0].steps.len() >= SUSSMAN_OPTIMAL_LENGTH);
-    assert_eq!(plan(through_abi(b"gbfs-ff").as_mut(), &request), response);
+    assert_eq!(plan(through_abi(br#"{"algorithm": "gbfs-ff"}"#).as_mut(), &request), response);
     assert_eq!(plan(through_abi(b"").as_mut(), &request), response);
 }
 
@@ -102,7 +102,7 @@ fn gbfs_ff_solves_the_sussman_anomaly_alike_statically_and_through_the_abi() {
 fn topk_returns_distinct_valid_plans_alike_statically_and_through_the_abi() {
     let mut request = PlanRequest::new(DOMAIN, ONE_STACK);
     request.plan_count = 5;
-    let mut direct = BuiltinPlanner::create(b"topk").unwrap();
+    let mut direct = BuiltinPlanner::create(br#"{"algorithm": "topk"}"#).unwrap();
     assert_eq!(direct.algorithm(), BuiltinAlgorithm::TopK);
     let response = plan(&mut direct, &request);
     assert_eq!(response.status, PlanStatus::Solved);
@@ -121,12 +121,12 @@ fn topk_returns_distinct_valid_plans_alike_statically_and_through_the_abi() {
     );
     assert_eq!(single.plans[0], response.plans[0]);
     assert_eq!(response.plans[0].steps.len(), 2);
-    assert_eq!(plan(through_abi(b"topk").as_mut(), &request), response);
+    assert_eq!(plan(through_abi(br#"{"algorithm": "topk"}"#).as_mut(), &request), response);
 }
 
 #[test]
 fn unsolvable_failed_and_budget_statuses_cross_the_abi() {
-    let mut planner = through_abi(b"gbfs-ff");
+    let mut planner = through_abi(br#"{"algorithm": "gbfs-ff"}"#);
     let response = plan(planner.as_mut(), &PlanRequest::new(DOMAIN, IMPOSSIBLE));
     assert_eq!(
         response.status,
@@ -144,14 +144,28 @@ fn unsolvable_failed_and_budget_statuses_cross_the_abi() {
 }
 
 #[test]
-fn an_unknown_algorithm_is_refused_at_creation() {
+fn an_unknown_algorithm_key_or_document_is_refused_at_creation() {
     assert_eq!(
-        BuiltinPlanner::create(b"astar").unwrap_err(),
-        PluginError::invalid_request("unknown algorithm `astar`; expected `gbfs-ff` or `topk`")
+        BuiltinPlanner::create(br#"{"algorithm": "astar"}"#).unwrap_err(),
+        PluginError::invalid_request(
+            "option `algorithm`: unknown algorithm `astar`; expected `gbfs-ff` or `topk`"
+        )
     );
+    assert_eq!(
+        BuiltinPlanner::create(br#"{"algorithm": "topk", "weight": 2}"#).unwrap_err(),
+        PluginError::invalid_request("unknown option `weight`; it reads `algorithm`")
+    );
+    // A bare word is not a JSON document.
+    assert!(matches!(
+        BuiltinPlanner::create(b"topk"),
+        Err(PluginError::InvalidRequest { message }) if message.starts_with("the configuration is not JSON")
+    ));
     let descriptor = Descriptor { name: "lamp-builtin-planner", version: "test", description: "" };
     let library =
         PluginLibrary::from_trusted_entry(in_process_planner::<BuiltinPlanner>(descriptor))
             .unwrap();
-    assert!(matches!(library.create_planner(b"astar"), Err(LoadError::Create { .. })));
+    assert!(matches!(
+        library.create_planner(br#"{"algorithm": "astar"}"#),
+        Err(LoadError::Create { .. })
+    ));
 }

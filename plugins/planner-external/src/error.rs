@@ -11,13 +11,6 @@ pub const INSTALL_HELP: &str = "install Fast Downward with `python3 -m pip insta
 /// the response, not errors.
 #[derive(Debug, Error, miette::Diagnostic)]
 pub enum ExternalError {
-    /// The plugin's options are malformed.
-    #[error("invalid external planner options: {message}")]
-    #[diagnostic(code(lamp::planner::external::options))]
-    Options {
-        /// What is wrong.
-        message: String,
-    },
     /// No planner was configured and none was found.
     #[error("no external planner found for {purpose} (tried {tried})")]
     #[diagnostic(code(lamp::planner::external::not_installed), help("{INSTALL_HELP}"))]

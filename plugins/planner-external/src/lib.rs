@@ -19,7 +19,7 @@
 //! neither planner takes them, and both searches are deterministic.
 //!
 //! Linked statically, construct [`ExternalPlanner::new`]; built as a shared library, the
-//! configuration bytes are `name value` lines ([`ExternalOptions::from_config`]).
+//! configuration is a JSON object of the options ([`ExternalOptions::from_config`]).
 
 mod call;
 mod error;
@@ -101,11 +101,7 @@ impl ExternalPlanner {
 
 impl PluginFactory for ExternalPlanner {
     fn create(config: &[u8]) -> Result<Self, PluginError> {
-        let text = std::str::from_utf8(config)
-            .map_err(|_| PluginError::invalid_request("the configuration is not UTF-8"))?;
-        let options = ExternalOptions::from_config(text)
-            .map_err(|error| PluginError::invalid_request(error.to_string()))?;
-        Ok(Self::new(options))
+        Ok(Self::new(ExternalOptions::from_config(config)?))
     }
 }
 

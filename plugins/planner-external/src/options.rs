@@ -1,6 +1,7 @@
-//! The plugin's options: which programs to run, from typed values or from configuration text.
+//! The plugin's options: which programs to run, from typed values or from the plugin's
+//! configuration, the JSON object `{"command": "...", "kstar-command": "...", "python": "..."}`.
 
-use crate::error::ExternalError;
+use lamp_plugin_api::config::{self, ConfigError, PluginConfig};
 
 /// A program and the arguments that come before the planner's own (domain, problem, search).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -18,18 +19,14 @@ impl CommandLine {
         Self { program: program.into(), arguments: Vec::new() }
     }
 
-    /// Splits `text` at whitespace: the first word is the program, the rest its arguments.
-    /// Quoting is not interpreted, so a path with spaces cannot be written this way (build the
-    /// value directly instead).
-    ///
-    /// # Errors
-    /// [`ExternalError::Options`] when `text` has no word.
-    pub fn parse(text: &str) -> Result<Self, ExternalError> {
+    /// Splits `text` at whitespace: the first word is the program, the rest its arguments, or
+    /// `None` when `text` has no word. Quoting is not interpreted, so a path with spaces cannot
+    /// be written this way (build the value directly instead).
+    #[must_use]
+    pub fn parse(text: &str) -> Option<Self> {
         let mut words = text.split_whitespace().map(str::to_string);
-        let program = words.next().ok_or_else(|| ExternalError::Options {
-            message: "a command needs at least a program".to_string(),
-        })?;
-        Ok(Self { program, arguments: words.collect() })
+        let program = words.next()?;
+        Some(Self { program, arguments: words.collect() })
     }
 
     /// The command as one line, for messages.
@@ -71,71 +68,36 @@ impl Default for ExternalOptions {
 }
 
 impl ExternalOptions {
-    /// Options from `(name, value)` pairs: `command` and `kstar-command` (a program and its
-    /// arguments, split at whitespace) and `python` (an interpreter).
+    /// The options of the plugin's configuration: a JSON object whose keys, all optional, are
+    /// `command` and `kstar-command` (a program and its arguments, split at whitespace) and
+    /// `python` (an interpreter). The empty configuration gives the defaults.
     ///
     /// # Errors
-    /// [`ExternalError::Options`] for an unknown name, a repeated one or an empty value.
-    pub fn from_pairs<'a>(
-        pairs: impl IntoIterator<Item = (&'a str, &'a str)>,
-    ) -> Result<Self, ExternalError> {
-        let mut options = Self::default();
-        let mut python = None;
-        for (name, value) in pairs {
-            let repeated = match name {
-                COMMAND_OPTION => options.command.replace(CommandLine::parse(value)?).is_some(),
-                KSTAR_COMMAND_OPTION => {
-                    options.kstar_command.replace(CommandLine::parse(value)?).is_some()
-                }
-                PYTHON_OPTION => {
-                    let interpreter = value.trim();
-                    if interpreter.is_empty() {
-                        return Err(ExternalError::Options {
-                            message: "`python` needs an interpreter".to_string(),
-                        });
-                    }
-                    python.replace(interpreter.to_string()).is_some()
-                }
-                other => {
-                    return Err(ExternalError::Options {
-                        message: format!(
-                            "unknown option `{other}`; expected `{COMMAND_OPTION}`, \
-                             `{KSTAR_COMMAND_OPTION}` or `{PYTHON_OPTION}`"
-                        ),
-                    });
-                }
-            };
-            if repeated {
-                return Err(ExternalError::Options {
-                    message: format!("option `{name}` is given twice"),
-                });
+    /// A [`ConfigError`] for bytes that are not a JSON object, an unknown key, a value that is
+    /// not a string, or an empty one.
+    pub fn from_config(bytes: &[u8]) -> Result<Self, ConfigError> {
+        let mut config = PluginConfig::parse(bytes)?;
+        let mut command = |key: &str| -> Result<Option<CommandLine>, ConfigError> {
+            match config.text(key)? {
+                None => Ok(None),
+                Some(text) => CommandLine::parse(&text)
+                    .map(Some)
+                    .ok_or_else(|| config::bad_value(key, "a command needs at least a program")),
             }
-        }
-        if let Some(python) = python {
-            options.python = python;
-        }
+        };
+        let options = Self {
+            command: command(COMMAND_OPTION)?,
+            kstar_command: command(KSTAR_COMMAND_OPTION)?,
+            python: match config.text(PYTHON_OPTION)? {
+                None => DEFAULT_PYTHON.to_string(),
+                Some(interpreter) if interpreter.trim().is_empty() => {
+                    return Err(config::bad_value(PYTHON_OPTION, "needs an interpreter"));
+                }
+                Some(interpreter) => interpreter.trim().to_string(),
+            },
+        };
+        config.finish()?;
         Ok(options)
-    }
-
-    /// Options from configuration text: one `name value` (or `name=value`) pair per line, blank
-    /// lines and lines starting with `#` ignored. Empty text gives the defaults.
-    ///
-    /// # Errors
-    /// [`ExternalError::Options`] for a line without a value, or as [`Self::from_pairs`].
-    pub fn from_config(text: &str) -> Result<Self, ExternalError> {
-        let mut pairs = Vec::new();
-        for line in text.lines().map(str::trim) {
-            if line.is_empty() || line.starts_with('#') {
-                continue;
-            }
-            let (name, value) = line
-                .split_once(|c: char| c == '=' || c.is_whitespace())
-                .ok_or_else(|| ExternalError::Options {
-                    message: format!("`{line}` has no value; write `name value`"),
-                })?;
-            pairs.push((name.trim_end(), value.trim_start_matches('=')));
-        }
-        Self::from_pairs(pairs)
     }
 }
 
@@ -144,9 +106,9 @@ mod tests {
     use super::*;
 
     #[test]
-    fn config_text_sets_each_option() {
+    fn the_configuration_sets_each_option() {
         let options = ExternalOptions::from_config(
-            "# a comment\ncommand python3 /opt/fd/fast-downward.py\n\nkstar-command=kstar\npython = py3",
+            br#"{"command": "python3 /opt/fd/fast-downward.py", "kstar-command": "kstar", "python": " py3 "}"#,
         )
         .expect("valid options");
         assert_eq!(
@@ -158,16 +120,22 @@ mod tests {
         );
         assert_eq!(options.kstar_command, Some(CommandLine::program("kstar")));
         assert_eq!(options.python, "py3");
-        assert_eq!(ExternalOptions::from_config("").expect("empty"), ExternalOptions::default());
+        assert_eq!(ExternalOptions::from_config(b"").expect("empty"), ExternalOptions::default());
     }
 
     #[test]
-    fn unknown_repeated_and_empty_options_are_refused() {
-        for text in ["search astar", "command a\ncommand b", "command", "python  "] {
-            let error = ExternalOptions::from_config(text).expect_err(text);
-            assert!(matches!(error, ExternalError::Options { .. }), "{text}: {error:?}");
+    fn unknown_mistyped_and_empty_options_are_refused() {
+        for text in [
+            r#"{"search": "astar"}"#,
+            r#"{"command": ["a", "b"]}"#,
+            r#"{"command": " "}"#,
+            r#"{"python": ""}"#,
+            "command a",
+        ] {
+            assert!(ExternalOptions::from_config(text.as_bytes()).is_err(), "{text}");
         }
-        let message = ExternalOptions::from_config("timeout 3").expect_err("unknown").to_string();
+        let message =
+            ExternalOptions::from_config(br#"{"timeout": 3}"#).expect_err("unknown").to_string();
         assert!(message.contains("`timeout`") && message.contains("`command`"), "{message}");
     }
 }

@@ -166,13 +166,17 @@ fn through_the_c_abi_the_configuration_names_the_command() {
     let library =
         PluginLibrary::from_trusted_entry(in_process_planner::<ExternalPlanner>(descriptor))
             .expect("the SDK builds a valid entry");
-    let mut planner =
-        library.create_planner(b"command /nonexistent/planner --flag\n").expect("valid options");
+    let mut planner = library
+        .create_planner(br#"{"command": "/nonexistent/planner --flag"}"#)
+        .expect("valid options");
     match planner.plan(&request("gripper", "gripper-2"), &MinimalHost) {
         Err(PluginError::Failed { message }) => {
             assert!(message.contains("/nonexistent/planner"), "{message}")
         }
         other => panic!("expected a failure, got {other:?}"),
     }
-    assert!(library.create_planner(b"search astar").is_err(), "unknown options are refused");
+    assert!(
+        library.create_planner(br#"{"search": "astar"}"#).is_err(),
+        "unknown options are refused"
+    );
 }

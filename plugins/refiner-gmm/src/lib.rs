@@ -20,18 +20,17 @@ mod world_view;
 use std::sync::Arc;
 
 use lamp_abstraction::SamplerArtifact;
+use lamp_plugin_api::config::{self, PluginConfig};
 use lamp_plugin_api::{CandidateStream, HostServices, PluginError, RefineRequest, Refiner};
 use lamp_plugin_sdk::PluginFactory;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use serde::Deserialize;
 
 use crate::stream::{Effects, GmmStream};
 use crate::world_view::WorldView;
 
 /// How hard the refiner tries per action.
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RefinerOptions {
     /// Most candidates one stream yields (how many alternatives backtracking may try).
     pub samples: usize,
@@ -104,20 +103,34 @@ impl Refiner for GmmRefiner {
     }
 }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct Configuration {
-    artifact: SamplerArtifact,
-    #[serde(flatten)]
-    options: RefinerOptions,
-}
+/// The configuration key of the sampler artifact, the one option without a default.
+pub const ARTIFACT_OPTION: &str = "artifact";
+/// The configuration key of [`RefinerOptions::samples`].
+pub const SAMPLES_OPTION: &str = "samples";
+/// The configuration key of [`RefinerOptions::draws`].
+pub const DRAWS_OPTION: &str = "draws";
+/// The configuration key of [`RefinerOptions::displacement`].
+pub const DISPLACEMENT_OPTION: &str = "displacement";
 
 impl PluginFactory for GmmRefiner {
+    /// The configuration is `{"artifact": <sampler artifact>, "samples": n, "draws": n,
+    /// "displacement": metres}`, all but the artifact optional.
     fn create(config: &[u8]) -> Result<Self, PluginError> {
-        let configuration: Configuration = serde_json::from_slice(config).map_err(|error| {
-            PluginError::invalid_request(format!("the gmm refiner's configuration: {error}"))
-        })?;
-        GmmRefiner::new(configuration.artifact, configuration.options)
+        let mut config = PluginConfig::parse(config)?;
+        let artifact: SamplerArtifact =
+            config.document(ARTIFACT_OPTION)?.ok_or_else(|| config::missing(ARTIFACT_OPTION))?;
+        let mut options = RefinerOptions::default();
+        if let Some(samples) = config.count(SAMPLES_OPTION)? {
+            options.samples = samples;
+        }
+        if let Some(draws) = config.count(DRAWS_OPTION)? {
+            options.draws = draws;
+        }
+        if let Some(displacement) = config.number(DISPLACEMENT_OPTION)? {
+            options.displacement = displacement;
+        }
+        config.finish()?;
+        GmmRefiner::new(artifact, options)
     }
 }
 
@@ -154,5 +167,38 @@ mod tests {
             );
         }
         assert!(GmmRefiner::new(artifact, defaults).is_ok());
+    }
+
+    #[test]
+    fn the_configuration_is_one_object_with_the_artifact_required() {
+        let artifact = r#"{"version": VERSION, "seed": 3, "pairs": []}"#
+            .replace("VERSION", &lamp_abstraction::SAMPLER_ARTIFACT_VERSION.to_string());
+        let created = |text: &str| GmmRefiner::create(text.as_bytes());
+        let refiner =
+            created(&format!(r#"{{"artifact": {artifact}, "samples": 2, "displacement": 0.5}}"#))
+                .unwrap();
+        assert_eq!(
+            refiner.options,
+            RefinerOptions { samples: 2, displacement: 0.5, ..RefinerOptions::default() }
+        );
+        assert_eq!(refiner.artifact.seed, 3);
+        let message = |text: &str| match created(text) {
+            Err(PluginError::InvalidRequest { message }) => message,
+            other => panic!("{text}: expected a refusal, got {other:?}"),
+        };
+        assert_eq!(message("{}"), "option `artifact` is required");
+        assert!(
+            message(&format!(r#"{{"artifact": {artifact}, "sample": 2}}"#))
+                .starts_with("unknown option `sample`")
+        );
+        assert!(
+            message(&format!(r#"{{"artifact": {artifact}, "draws": "many"}}"#))
+                .contains("must be a whole number")
+        );
+        assert!(message(r#"{"artifact": {"version": 1}}"#).starts_with("option `artifact`"));
+        assert!(
+            message(&format!(r#"{{"artifact": {artifact}, "samples": 0}}"#))
+                .contains("must be at least 1")
+        );
     }
 }

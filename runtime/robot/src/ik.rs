@@ -10,6 +10,7 @@
 //! returned; a rejected one counts as a failed attempt.
 
 use lamp_geometry::Pose;
+use lamp_geometry::math::relative_pose;
 use nalgebra::{Matrix6, Matrix6xX, Vector6};
 use rand_chacha::ChaCha8Rng;
 
@@ -198,7 +199,7 @@ fn solve_floating_base_exactly(
     if *robot.mount() != Mount::Floating || group.coordinates != [0, 1, 2, 3, 4, 5] {
         return None;
     }
-    let root_to_link = robot.mount().root_pose(seed).inverse() * robot.link_pose(seed, link);
+    let root_to_link = relative_pose(&robot.mount().root_pose(seed), &robot.link_pose(seed, link));
     let root = target * root_to_link.inverse();
     let mut solution = seed.to_vec();
     robot.mount().write_coordinates(&root, &mut solution);

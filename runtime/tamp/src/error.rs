@@ -37,10 +37,16 @@ pub enum SolveError {
     #[error("the planner returned a bad step {step}: {reason}")]
     #[diagnostic(code(lamp::solve::bad_plan))]
     BadPlan { step: String, reason: String },
-    /// A plugin call failed.
+    /// A plugin call failed: the plugin's own error, kept whole for callers that tell its
+    /// variants apart.
+    #[error("the {kind} plugin failed: {error}")]
+    #[diagnostic(code(lamp::solve::plugin))]
+    Plugin { kind: &'static str, error: PluginError },
+    /// A plugin answered with something the solver cannot use: a planner's `Failed` status, a
+    /// refiner's target for another robot, a path the world rejects.
     #[error("the {kind} plugin failed: {reason}")]
     #[diagnostic(code(lamp::solve::plugin))]
-    Plugin { kind: &'static str, reason: String },
+    PluginAnswer { kind: &'static str, reason: String },
     /// No plan exists even with every goal relation but one dropped, or the planner gave up.
     #[error("no plan: {reason}")]
     #[diagnostic(
@@ -103,7 +109,7 @@ impl SolveError {
     pub(crate) fn from_plugin(kind: &'static str, error: PluginError) -> Self {
         match error {
             PluginError::Cancelled => SolveError::cancelled(),
-            other => SolveError::Plugin { kind, reason: other.to_string() },
+            error => SolveError::Plugin { kind, error },
         }
     }
 

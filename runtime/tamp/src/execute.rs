@@ -55,7 +55,7 @@ pub fn execute(
 ) -> Result<(), Rejection> {
     let robot_index = |scene: &Scene, name: &str| {
         scene.robot_index(name).ok_or_else(|| {
-            Rejection::Fatal(SolveError::Plugin {
+            Rejection::Fatal(SolveError::PluginAnswer {
                 kind: "refiner",
                 reason: format!("it names robot `{name}`, which is not in the scene"),
             })
@@ -79,7 +79,7 @@ pub fn execute(
         let start = scene.robots()[robot].configuration().to_vec();
         let goal = &target.configuration;
         if goal.len() != start.len() {
-            return Err(Rejection::Fatal(SolveError::Plugin {
+            return Err(Rejection::Fatal(SolveError::PluginAnswer {
                 kind: "refiner",
                 reason: format!("a target of `{}` has {} coordinates", target.robot, goal.len()),
             }));
@@ -166,7 +166,7 @@ pub fn execute(
 }
 
 fn bad_path(reason: &str) -> Rejection {
-    Rejection::Fatal(SolveError::Plugin {
+    Rejection::Fatal(SolveError::PluginAnswer {
         kind: "motion",
         reason: format!("it returned a path the world rejects: {reason}"),
     })

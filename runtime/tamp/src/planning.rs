@@ -44,7 +44,7 @@ pub fn plans(
         PlanStatus::Unsolvable { reason } => reason,
         PlanStatus::BudgetExhausted => "the planner's budget ran out".to_string(),
         PlanStatus::Failed { message } => {
-            return Err(SolveError::Plugin { kind: "planner", reason: message });
+            return Err(SolveError::PluginAnswer { kind: "planner", reason: message });
         }
         PlanStatus::Solved => "the planner returned no plan".to_string(),
     }))

@@ -22,7 +22,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use lamp_learn::{GroundAtom, SamplerArtifact};
 use lamp_participants::ParticipantMap;
 use lamp_pddl::{Domain, Problem};
-use lamp_plugin_api::{CandidateStream, GroundedAction, RefineRequest};
+use lamp_plugin_api::{Candidate, CandidateStream, GroundedAction, RefineRequest};
 use lamp_world::{Recorder, Scene};
 
 use crate::error::SolveError;
@@ -118,74 +118,28 @@ pub fn refine_plan(
     counts: &mut RefineCounts,
 ) -> Result<Refined, SolveError> {
     let start_len = recorder.len();
-    let mut actions = actions.to_vec();
-    let mut refused = 0;
+    let mut search = Search { actions: actions.to_vec(), levels: Vec::new(), refused: 0, seed };
     let mut rests = Rests::default();
-    let mut levels: Vec<Level> = Vec::new();
     let mut scene = initial.clone();
     let mut state = abstraction(context.artifact, context.participants, &scene)?;
     loop {
-        let index = levels.len();
-        if index == actions.len() {
-            let starts = levels.iter().map(|level| level.recorded).collect();
-            return Ok(Refined::Done { steps: actions, scene, starts });
+        if search.levels.len() == search.actions.len() {
+            let starts = search.levels.iter().map(|level| level.recorded).collect();
+            return Ok(Refined::Done { steps: search.actions, scene, starts });
         }
         if (context.settings.cancelled)() {
             return Err(SolveError::cancelled());
         }
-        let stream_seed = mix(seed, index as u64, counts.candidates as u64);
-        let request = RefineRequest {
-            action: actions[index].clone(),
-            world: world_state(context.participants, &scene)?,
-            seed: stream_seed,
-        };
-        let host = SceneHost::new(&scene, stream_seed, context.settings.cancelled);
-        let stream = plugins
-            .refiner
-            .refine(&request, &host)
-            .map_err(|error| SolveError::from_plugin("refiner", error))?;
-        levels.push(Level {
-            scene: scene.clone(),
-            state: std::mem::take(&mut state),
-            recorded: recorder.len(),
-            stream,
-            replaced_rest: None,
-        });
-        if index + 1 > counts.deepest {
-            counts.deepest = index + 1;
-            counts.deepest_of = actions.len();
-        }
-        // Find a candidate for the top level, backtracking while levels run dry.
+        let before = std::mem::take(&mut state);
+        search.open_level(context, plugins, &scene, before, recorder.len(), counts)?;
         loop {
-            let at = levels.len().wrapping_sub(1);
-            let Some(level) = levels.last_mut() else {
+            let Some((at, candidate)) = search.next_candidate(context, counts)? else {
                 recorder.steps.truncate(start_len);
                 return Ok(Refined::Failed);
             };
-            if refused >= wasted_budget(context.settings.max_refused, actions.len()) {
-                recorder.steps.truncate(start_len);
-                return Ok(Refined::Failed);
-            }
-            if let Some(rest) = level.replaced_rest.take() {
-                actions.truncate(at + 1);
-                actions.extend(rest);
-            }
-            let host_seed = mix(seed, at as u64, counts.candidates as u64);
-            let host = SceneHost::new(&level.scene, host_seed, context.settings.cancelled);
-            let next = level
-                .stream
-                .next(&host)
-                .map_err(|error| SolveError::from_plugin("refiner", error))?;
-            let Some(candidate) = next else {
-                // The step below gives up its accepted candidate: that one is wasted too.
-                levels.pop();
-                counts.backtracks += 1;
-                refused += 1;
-                continue;
-            };
-            counts.candidates += 1;
-            let mut trial = level.scene.clone();
-            recorder.steps.truncate(level.recorded);
+            let recorded = search.levels[at].recorded;
+            let mut trial = search.levels[at].scene.clone();
+            recorder.steps.truncate(recorded);
             let attempt = execute(
                 &mut trial,
                 &candidate,
@@ -195,30 +149,28 @@ pub fn refine_plan(
                 mix(seed, at as u64, counts.candidates as u64 + 7),
                 &mut counts.motion,
             );
-            refused += 1;
+            search.refused += 1;
             let verdict = match attempt {
                 Ok(()) => {
                     let path: Vec<&BTreeSet<GroundAtom>> =
-                        levels.iter().map(|level| &level.state).collect();
+                        search.levels.iter().map(|level| &level.state).collect();
                     let mut judge = Judge { context, plugins, goal, rests: &mut rests, path };
-                    judge.judge(&trial, &actions, at, counts)?
+                    judge.judge(&trial, &search.actions, at, counts)?
                 }
                 Err(Rejection::Candidate(reason)) => Verdict::Refused(reason),
                 Err(Rejection::Fatal(error)) => return Err(error),
             };
             let why = match verdict {
                 Verdict::Accepted(reached) => {
-                    refused -= 1;
+                    search.refused -= 1;
                     scene = trial;
                     state = reached;
                     break;
                 }
                 Verdict::Replanned(reached, rest) => {
-                    let old = actions.split_off(at + 1);
-                    actions.extend(rest);
-                    if let Some(level) = levels.last_mut() {
-                        level.replaced_rest = Some(old);
-                    }
+                    let old = search.actions.split_off(at + 1);
+                    search.actions.extend(rest);
+                    search.levels[at].replaced_rest = Some(old);
                     scene = trial;
                     state = reached;
                     break;
@@ -227,11 +179,97 @@ pub fn refine_plan(
             };
             if at + 1 >= counts.deepest_failed {
                 counts.deepest_failed = at + 1;
-                counts.deepest_failure = format!("step {} ({}): {why}", at + 1, actions[at].name);
+                counts.deepest_failure =
+                    format!("step {} ({}): {why}", at + 1, search.actions[at].name);
             }
-            if let Some(level) = levels.last() {
-                recorder.steps.truncate(level.recorded);
+            recorder.steps.truncate(recorded);
+        }
+    }
+}
+
+/// The backtracking stack of one plan's refinement and the candidates it has wasted.
+struct Search {
+    /// The plan's steps, their rest replaced where a replan was accepted.
+    actions: Vec<GroundedAction>,
+    /// One level per step refined so far, the last one being refined.
+    levels: Vec<Level>,
+    /// Wasted candidates (see [`wasted_budget`]).
+    refused: usize,
+    seed: u64,
+}
+
+impl Search {
+    /// Opens the refiner's stream for the next step, from `scene`, the state it starts in, whose
+    /// abstract state is `state`.
+    fn open_level(
+        &mut self,
+        context: &Context<'_>,
+        plugins: &mut Plugins<'_>,
+        scene: &Scene,
+        state: BTreeSet<GroundAtom>,
+        recorded: usize,
+        counts: &mut RefineCounts,
+    ) -> Result<(), SolveError> {
+        let index = self.levels.len();
+        let stream_seed = mix(self.seed, index as u64, counts.candidates as u64);
+        let request = RefineRequest {
+            action: self.actions[index].clone(),
+            world: world_state(context.participants, scene)?,
+            seed: stream_seed,
+        };
+        let host = SceneHost::new(scene, stream_seed, context.settings.cancelled);
+        let stream = plugins
+            .refiner
+            .refine(&request, &host)
+            .map_err(|error| SolveError::from_plugin("refiner", error))?;
+        self.levels.push(Level {
+            scene: scene.clone(),
+            state,
+            recorded,
+            stream,
+            replaced_rest: None,
+        });
+        if index + 1 > counts.deepest {
+            counts.deepest = index + 1;
+            counts.deepest_of = self.actions.len();
+        }
+        Ok(())
+    }
+
+    /// The next candidate of the last level, backtracking while levels run dry: the level's
+    /// index with the candidate, or `None` when every level ran dry or the budget of wasted
+    /// candidates is spent. Backtracking into a level whose candidate had replaced the rest of
+    /// the plan puts the old rest back.
+    fn next_candidate(
+        &mut self,
+        context: &Context<'_>,
+        counts: &mut RefineCounts,
+    ) -> Result<Option<(usize, Candidate)>, SolveError> {
+        loop {
+            let at = self.levels.len().wrapping_sub(1);
+            let Some(level) = self.levels.last_mut() else { return Ok(None) };
+            if self.refused >= wasted_budget(context.settings.max_refused, self.actions.len()) {
+                return Ok(None);
             }
+            if let Some(rest) = level.replaced_rest.take() {
+                self.actions.truncate(at + 1);
+                self.actions.extend(rest);
+            }
+            let host_seed = mix(self.seed, at as u64, counts.candidates as u64);
+            let host = SceneHost::new(&level.scene, host_seed, context.settings.cancelled);
+            let next = level
+                .stream
+                .next(&host)
+                .map_err(|error| SolveError::from_plugin("refiner", error))?;
+            let Some(candidate) = next else {
+                // The step below gives up its accepted candidate: that one is wasted too.
+                self.levels.pop();
+                counts.backtracks += 1;
+                self.refused += 1;
+                continue;
+            };
+            counts.candidates += 1;
+            return Ok(Some((at, candidate)));
         }
     }
 }

@@ -14,6 +14,7 @@ use std::time::{Duration, Instant};
 use indicatif::ProgressBar;
 use lamp_build::{Adapter, ArtifactFile, Artifacts, BuildContext, BuildError, DemoFile};
 
+use crate::commands::failure::Failure;
 use crate::output::{FolderLock, OutputError, OutputFolder, Replaced};
 
 /// Arguments of `lampc build`.
@@ -27,28 +28,6 @@ pub(crate) struct Args {
     /// Read demonstrations from `DIR/*.mcap` instead of the spec's sources.
     #[arg(long, value_name = "DIR")]
     pub(crate) demos: Option<PathBuf>,
-}
-
-/// Why a build stopped.
-enum Failure {
-    /// The spec has errors (already rendered).
-    Spec,
-    /// A build error to render.
-    Build(Box<BuildError>),
-    /// The model folder is locked, in the way, or could not be written or swapped in.
-    Output(Box<OutputError>),
-}
-
-impl From<OutputError> for Failure {
-    fn from(error: OutputError) -> Self {
-        Failure::Output(Box::new(error))
-    }
-}
-
-impl From<BuildError> for Failure {
-    fn from(error: BuildError) -> Self {
-        Failure::Build(Box::new(error))
-    }
 }
 
 /// Wall-clock time per phase, for the summary.
@@ -72,16 +51,13 @@ pub(crate) fn run(args: &Args) -> ExitCode {
         Err(Failure::Spec) => return ExitCode::from(crate::EXIT_DIAGNOSTICS),
         Err(failure) => failure,
     };
-    let (error, outcome): (&dyn miette::Diagnostic, _) = match &failure {
-        Failure::Build(error) => (error.as_ref(), None),
-        Failure::Output(error) => match error.as_ref() {
-            OutputError::Swap { state, .. } => (error.as_ref(), Some(state.clone())),
-            _ => (error.as_ref(), None),
-        },
-        Failure::Spec => return ExitCode::from(crate::EXIT_DIAGNOSTICS),
+    failure.print(colour);
+    // A swap that failed half way says itself what became of the model folder.
+    let swapped = match failure.report_of::<OutputError>() {
+        Some(OutputError::Swap { state, .. }) => Some(state.clone()),
+        _ => None,
     };
-    eprint!("{}", crate::diagnostics::render_error(error, colour));
-    let outcome = outcome.unwrap_or_else(|| match model {
+    let outcome = swapped.unwrap_or_else(|| match model {
         Some(model) if model.is_dir() => format!("the model in {} is unchanged", model.display()),
         _ => "no model was written".to_string(),
     });

@@ -11,6 +11,8 @@ use std::time::Instant;
 use indicatif::ProgressBar;
 use lamp_demonstrators::{DemoError, Simulation, file_name, generate_all};
 
+use crate::commands::failure::Failure;
+
 /// Arguments of `lampc demos`.
 #[derive(clap::Args)]
 pub(crate) struct Args {
@@ -27,27 +29,17 @@ pub(crate) struct Args {
     pub(crate) out: Option<PathBuf>,
 }
 
-/// Why the command stopped.
-enum Failure {
-    /// The spec has errors (already rendered).
-    Spec,
-    /// A demonstrator or world error to render.
-    Demo(Box<dyn miette::Diagnostic + Send + Sync>),
-    /// Writing a file failed.
-    Write(String),
-}
-
 pub(crate) fn run(args: &Args) -> ExitCode {
     let colour = crate::terminal::colour();
     match demos(args, colour) {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Spec) => ExitCode::from(crate::EXIT_DIAGNOSTICS),
-        Err(Failure::Demo(error)) => {
-            eprint!("{}", crate::diagnostics::render_error(error.as_ref(), colour));
+        Err(failure @ Failure::Report(_)) => {
+            failure.print(colour);
             eprintln!("lampc demos: failed; no files were written");
             ExitCode::from(crate::EXIT_DIAGNOSTICS)
         }
-        Err(Failure::Write(reason)) => {
+        Err(Failure::Message(reason)) => {
             eprintln!("lampc demos: {reason}");
             ExitCode::from(crate::EXIT_DIAGNOSTICS)
         }
@@ -68,8 +60,7 @@ fn demos(args: &Args, colour: bool) -> Result<(), Failure> {
     let mut simulation = Simulation::from_spec(&spec).map_err(demo_failure)?;
     simulation.count = args.count.unwrap_or(simulation.count);
     simulation.seed = args.seed.unwrap_or(simulation.seed);
-    let world = lamp_world::SpecWorld::load(&spec_dir, &spec)
-        .map_err(|error| Failure::Demo(Box::new(error)))?;
+    let world = lamp_world::SpecWorld::load(&spec_dir, &spec).map_err(Failure::from)?;
 
     let progress = progress_bar(u64::from(simulation.count), simulation.demonstrator.name());
     let demonstrations =
@@ -77,13 +68,13 @@ fn demos(args: &Args, colour: bool) -> Result<(), Failure> {
     progress.finish_and_clear();
 
     std::fs::create_dir_all(&out)
-        .map_err(|error| Failure::Write(format!("cannot create {}: {error}", out.display())))?;
+        .map_err(|error| Failure::Message(format!("cannot create {}: {error}", out.display())))?;
     let (mut steps, mut bytes, mut cut) = (0, 0, 0);
     for demonstration in &demonstrations {
         let contents =
-            viewable_bytes(&world, &demonstration.trajectory, None).map_err(Failure::Demo)?;
+            viewable_bytes(&world, &demonstration.trajectory, None).map_err(Failure::Report)?;
         write_file(&out, &file_name(&spec.domain, demonstration.index), &contents)
-            .map_err(Failure::Write)?;
+            .map_err(Failure::Message)?;
         steps += demonstration.trajectory.steps.len();
         bytes += contents.len();
         cut += usize::from(demonstration.cut_at.is_some());
@@ -121,7 +112,7 @@ pub(crate) fn viewable_bytes(
 }
 
 fn demo_failure(error: DemoError) -> Failure {
-    Failure::Demo(Box::new(error))
+    Failure::from(error)
 }
 
 /// Writes through a temporary file renamed into place, so a file is never seen half written.

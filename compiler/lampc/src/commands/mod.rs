@@ -3,5 +3,6 @@
 pub(crate) mod build;
 pub(crate) mod demos;
 pub(crate) mod eval;
+mod failure;
 pub(crate) mod render;
 pub(crate) mod solve;

@@ -8,7 +8,9 @@ use std::process::ExitCode;
 
 use lamp_render::{RenderOptions, render_scene, render_trajectory};
 use lamp_world::SpecWorld;
-use miette::{Diagnostic, MietteDiagnostic};
+use miette::MietteDiagnostic;
+
+use crate::commands::failure::Failure;
 
 /// Arguments of `lampc render`.
 #[derive(clap::Args)]
@@ -29,20 +31,6 @@ pub(crate) struct Args {
     pub(crate) out: Option<PathBuf>,
 }
 
-/// Why nothing was drawn.
-enum Failure {
-    /// The spec has errors (already printed).
-    Spec,
-    /// A diagnostic to print.
-    Report(Box<dyn Diagnostic + Send + Sync>),
-}
-
-impl<E: Diagnostic + Send + Sync + 'static> From<E> for Failure {
-    fn from(error: E) -> Self {
-        Failure::Report(Box::new(error))
-    }
-}
-
 /// What kind of file is drawn, by its extension.
 enum Input {
     Spec,
@@ -56,9 +44,8 @@ pub(crate) fn run(args: &Args) -> ExitCode {
             println!("{}: drew {what} into {}", args.file.display(), out.display());
             ExitCode::SUCCESS
         }
-        Err(Failure::Spec) => ExitCode::from(crate::EXIT_DIAGNOSTICS),
-        Err(Failure::Report(error)) => {
-            eprint!("{}", crate::diagnostics::render_error(error.as_ref(), colour));
+        Err(failure) => {
+            failure.print(colour);
             ExitCode::from(crate::EXIT_DIAGNOSTICS)
         }
     }

@@ -7,7 +7,8 @@
 mod sexpr;
 
 use lamp_plugin_api::{
-    HostServices, Plan, PlanRequest, PlanResponse, PlanStatus, PlanStep, Planner, PluginError,
+    HostServices, Plan, PlanRequest, PlanResponse, PlanStatus, PlanStep, Planner, PluginConfig,
+    PluginError,
 };
 use lamp_plugin_sdk::{PluginFactory, export_plugin};
 
@@ -16,17 +17,15 @@ use crate::sexpr::{Expression, parse};
 /// The name of the step each goal atom becomes.
 pub const ACHIEVE: &str = "achieve";
 
-/// The example planner. It takes no configuration.
+/// The example planner. It reads no options: its configuration is empty or `{}`.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct EchoPlanner;
 
 impl PluginFactory for EchoPlanner {
     fn create(config: &[u8]) -> Result<Self, PluginError> {
-        if config.is_empty() {
-            Ok(EchoPlanner)
-        } else {
-            Err(PluginError::invalid_request("echo-planner takes no configuration"))
-        }
+        // Reading the one configuration format, even with nothing to read, refuses any option.
+        PluginConfig::parse(config)?.finish()?;
+        Ok(EchoPlanner)
     }
 }
 

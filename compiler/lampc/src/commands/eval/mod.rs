@@ -31,6 +31,7 @@ use miette::Diagnostic as _;
 use self::journal::{JOURNAL_FILE, Journal, Key};
 use self::schedule::{Done, Learned, Model, SubsetWork};
 use self::worker::one_line;
+use crate::commands::failure::Failure;
 use crate::solve_setup::{self, Overrides};
 
 /// Arguments of `lampc eval`.
@@ -74,20 +75,6 @@ const EXIT_INTERRUPTED: u8 = 130;
 /// Set by the first Ctrl-C: the evaluation stops, keeping the rows it finished.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
-/// Why an evaluation stopped early.
-enum Failure {
-    /// The spec has errors (already rendered).
-    Spec,
-    /// A message to print.
-    Message(String),
-}
-
-impl From<String> for Failure {
-    fn from(message: String) -> Self {
-        Failure::Message(message)
-    }
-}
-
 pub(crate) fn run(args: &Args) -> ExitCode {
     let colour = crate::terminal::colour();
     // The first Ctrl-C stops the evaluation at once, keeping finished rows; a second one ends
@@ -101,8 +88,8 @@ pub(crate) fn run(args: &Args) -> ExitCode {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::from(EXIT_INTERRUPTED),
         Err(Failure::Spec) => ExitCode::from(crate::EXIT_DIAGNOSTICS),
-        Err(Failure::Message(message)) => {
-            eprintln!("{}", message.trim_end());
+        Err(failure) => {
+            failure.print(colour);
             eprintln!("lampc eval: failed");
             ExitCode::from(crate::EXIT_DIAGNOSTICS)
         }
@@ -124,6 +111,16 @@ fn evaluate(args: &Args, colour: bool) -> Result<bool, Failure> {
     let Some(checked) = crate::spec_input::check_spec(&args.spec, colour) else {
         return Err(Failure::Spec);
     };
+    evaluate_checked(args, colour, &checked, started).map_err(Failure::Message)
+}
+
+/// Runs the evaluation of a checked spec; an error is a message to print.
+fn evaluate_checked(
+    args: &Args,
+    colour: bool,
+    checked: &crate::spec_input::CheckedSpec,
+    started: Instant,
+) -> Result<bool, String> {
     let render = |error: &dyn miette::Diagnostic| crate::diagnostics::render_error(error, colour);
     let seed = args.seed.unwrap_or(checked.spec.seed);
     // The learner and the problems take their seed from the spec.
@@ -264,7 +261,7 @@ fn evaluate(args: &Args, colour: bool) -> Result<bool, Failure> {
     );
     progress.finish_and_clear();
     if let Some(message) = write_error {
-        return Err(Failure::Message(message));
+        return Err(message);
     }
     if !complete {
         let kept = slots
