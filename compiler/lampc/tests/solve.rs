@@ -150,44 +150,19 @@ fn plugin_libraries() -> &'static BTreeMap<&'static str, PathBuf> {
     ];
     static BUILT: OnceLock<BTreeMap<&'static str, PathBuf>> = OnceLock::new();
     BUILT.get_or_init(|| {
-        let exe = std::env::current_exe().expect("the test binary knows its path");
-        let profile_dir = exe
-            .parent()
-            .and_then(Path::parent)
-            .expect("test binaries live in <target>/<profile>/deps")
-            .to_path_buf();
-        let target_dir = profile_dir.parent().expect("<target>/<profile>").to_path_buf();
-        let profile = profile_dir.file_name().and_then(|name| name.to_str()).unwrap_or("debug");
-        let mut command = Command::new(env!("CARGO"));
-        command.current_dir(env!("CARGO_MANIFEST_DIR")).args(["build", "--quiet", "--lib"]);
+        let mut arguments = vec!["--lib".to_string()];
         for (package, feature) in PACKAGES {
-            command.args(["--package", package]);
+            arguments.extend(["--package".to_string(), package.to_string()]);
             if let Some(feature) = feature {
-                command.args(["--features", &format!("{package}/{feature}")]);
+                arguments.extend(["--features".to_string(), format!("{package}/{feature}")]);
             }
         }
-        command.arg("--target-dir").arg(&target_dir);
-        match profile {
-            "debug" => {}
-            "release" => {
-                command.arg("--release");
-            }
-            other => {
-                command.args(["--profile", other]);
-            }
-        }
-        let status = command.status().expect("cargo runs");
-        assert!(status.success(), "building the plugin libraries failed: {status}");
+        let arguments: Vec<&str> = arguments.iter().map(String::as_str).collect();
+        let profile_dir = lamp_test_support::cargo_build_like_this_test(&arguments);
         PACKAGES
             .iter()
             .map(|(package, _)| {
-                let file = format!(
-                    "{}{}{}",
-                    std::env::consts::DLL_PREFIX,
-                    package.replace('-', "_"),
-                    std::env::consts::DLL_SUFFIX
-                );
-                (*package, profile_dir.join(file))
+                (*package, profile_dir.join(lamp_test_support::shared_library_file(package)))
             })
             .collect()
     })

@@ -3,8 +3,7 @@
 
 mod support;
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use lamp_motion_rrt::{RrtConnectPlanner, RrtOptions};
@@ -18,45 +17,11 @@ use support::{Maze, assert_valid_path, request};
 fn shared_library() -> &'static PathBuf {
     static BUILT: OnceLock<PathBuf> = OnceLock::new();
     BUILT.get_or_init(|| {
-        let exe = std::env::current_exe().expect("the test binary knows its path");
-        let profile_dir = exe
-            .parent()
-            .and_then(Path::parent)
-            .expect("test binaries live in <target>/<profile>/deps")
-            .to_path_buf();
-        let target_dir = profile_dir.parent().expect("<target>/<profile>").to_path_buf();
-        let profile = profile_dir.file_name().and_then(|name| name.to_str()).unwrap_or("debug");
-        let mut command = Command::new(env!("CARGO"));
-        command
-            .current_dir(env!("CARGO_MANIFEST_DIR"))
-            .args([
-                "build",
-                "--quiet",
-                "--package",
-                env!("CARGO_PKG_NAME"),
-                "--lib",
-                "--features",
-                "shared-library",
-            ])
-            .arg("--target-dir")
-            .arg(&target_dir);
-        match profile {
-            "debug" => {}
-            "release" => {
-                command.arg("--release");
-            }
-            other => {
-                command.args(["--profile", other]);
-            }
-        }
-        let status = command.status().expect("cargo runs");
-        assert!(status.success(), "building the plugin library failed: {status}");
-        let file = format!(
-            "{}lamp_motion_rrt{}",
-            std::env::consts::DLL_PREFIX,
-            std::env::consts::DLL_SUFFIX
-        );
-        profile_dir.join(file)
+        let package = env!("CARGO_PKG_NAME");
+        let features = format!("{package}/shared-library");
+        let arguments = ["--package", package, "--lib", "--features", features.as_str()];
+        lamp_test_support::cargo_build_like_this_test(&arguments)
+            .join(lamp_test_support::shared_library_file(package))
     })
 }
 

@@ -1,5 +1,6 @@
 //! Test and bench support shared by the crates: the bundled specs under `domains/`, read from
-//! disk, checked, with their worlds loaded; and the oracle rule for Python references. Only
+//! disk, checked, with their worlds loaded; the oracle rule for Python references; and packages
+//! built as shared libraries with the calling test's cargo and profile. Only
 //! dev-dependencies name this crate.
 
 use std::path::{Path, PathBuf};
@@ -90,4 +91,48 @@ pub fn python_oracle(module: &str, package: &str) -> bool {
         println!("skipped: python3 cannot import {module} (pip install {package})");
     }
     available
+}
+
+/// Builds packages of the workspace with the same cargo, target folder and profile as the
+/// calling test binary (`cargo build --quiet` plus `arguments`, such as `--package` and
+/// `--features`), and returns the profile folder the libraries land in. Tests that load plugins
+/// as shared libraries call it once (behind a `OnceLock`).
+pub fn cargo_build_like_this_test(arguments: &[&str]) -> PathBuf {
+    let exe = std::env::current_exe().expect("the test binary knows its path");
+    let profile_dir = exe
+        .parent()
+        .and_then(Path::parent)
+        .expect("test binaries live in <target>/<profile>/deps")
+        .to_path_buf();
+    let target_dir = profile_dir.parent().expect("<target>/<profile>").to_path_buf();
+    let profile = profile_dir.file_name().and_then(|name| name.to_str()).unwrap_or("debug");
+    let mut command = std::process::Command::new(env!("CARGO"));
+    command
+        .current_dir(Path::new(env!("CARGO_MANIFEST_DIR")))
+        .args(["build", "--quiet"])
+        .args(arguments)
+        .arg("--target-dir")
+        .arg(&target_dir);
+    match profile {
+        "debug" => {}
+        "release" => {
+            command.arg("--release");
+        }
+        other => {
+            command.args(["--profile", other]);
+        }
+    }
+    let status = command.status().expect("cargo runs");
+    assert!(status.success(), "cargo build {arguments:?} failed: {status}");
+    profile_dir
+}
+
+/// The file name of a shared library built from `crate_name` (`lib<name>.so` on Linux).
+pub fn shared_library_file(crate_name: &str) -> String {
+    format!(
+        "{}{}{}",
+        std::env::consts::DLL_PREFIX,
+        crate_name.replace('-', "_"),
+        std::env::consts::DLL_SUFFIX
+    )
 }
