@@ -243,14 +243,22 @@ fn at_goal_without_a_marker_type() {
     );
 }
 
+/// The valid spec with a marker type `spot`, the goal `at c1 …` instead of `in_box(c1, box1)`,
+/// and `extra_scene` lines after `c1` in the scene.
+fn with_at_goal(extra_scene: &str) -> String {
+    VALID
+        .replacen("type can {", "type spot { marker }\ntype can {", 1)
+        .replacen(
+            "    can c1 at (-0.2, 0, 0) m",
+            &format!("    can c1 at (-0.2, 0, 0) m{extra_scene}"),
+            1,
+        )
+        .replacen("    in_box(c1, box1)", "    at c1 (0.2, 0, 0.001) m within 0.01 m 5 deg", 1)
+}
+
 #[test]
 fn an_at_goal_takes_the_only_marker_type_and_names_its_marker() {
-    let source = VALID.replacen("type can {", "type spot { marker }\ntype can {", 1).replacen(
-        "    in_box(c1, box1)",
-        "    at c1 (0.2, 0, 0.001) m within 0.01 m 5 deg",
-        1,
-    );
-    let outcome = check(&source);
+    let outcome = check(&with_at_goal(""));
     let rendered = render(&outcome);
     let spec = outcome.spec.unwrap_or_else(|| panic!("{rendered}"));
     let spot = spec.object_type("spot").expect("the marker type");
@@ -262,15 +270,7 @@ fn an_at_goal_takes_the_only_marker_type_and_names_its_marker() {
 
 #[test]
 fn an_at_goal_whose_start_marker_name_is_taken_is_refused() {
-    let source = VALID
-        .replacen("type can {", "type spot { marker }\ntype can {", 1)
-        .replacen(
-            "    can c1 at (-0.2, 0, 0) m",
-            "    can c1 at (-0.2, 0, 0) m\n    can start_c1 at (-0.3, 0.2, 0) m",
-            1,
-        )
-        .replacen("    in_box(c1, box1)", "    at c1 (0.2, 0, 0.001) m within 0.01 m 5 deg", 1);
-    let outcome = check(&source);
+    let outcome = check(&with_at_goal("\n    can start_c1 at (-0.3, 0.2, 0) m"));
     assert_eq!(codes(&outcome), ["lamp::check::conflict"], "{}", render(&outcome));
     assert!(render(&outcome).contains("a marker named `start_c1`"), "{}", render(&outcome));
 }
@@ -278,15 +278,9 @@ fn an_at_goal_whose_start_marker_name_is_taken_is_refused() {
 #[test]
 fn a_start_marker_name_of_an_object_without_an_at_goal_is_checked_too() {
     // Every movable object of a problem with `at` goals gets a start marker, goal or not.
-    let source = VALID
-        .replacen("type can {", "type spot { marker }\ntype can {", 1)
-        .replacen(
-            "    can c1 at (-0.2, 0, 0) m",
-            "    can c1 at (-0.2, 0, 0) m\n    can c2 at (-0.3, 0.2, 0) m\n    spot start_c2 at (0.3, 0.3, 0) m",
-            1,
-        )
-        .replacen("    in_box(c1, box1)", "    at c1 (0.2, 0, 0.001) m within 0.01 m 5 deg", 1);
-    let outcome = check(&source);
+    let outcome = check(&with_at_goal(
+        "\n    can c2 at (-0.3, 0.2, 0) m\n    spot start_c2 at (0.3, 0.3, 0) m",
+    ));
     assert_eq!(codes(&outcome), ["lamp::check::conflict"], "{}", render(&outcome));
     assert!(render(&outcome).contains("`start_c2` where `c2` starts"), "{}", render(&outcome));
 }
