@@ -256,18 +256,21 @@ fn library_source(manifest: &Manifest) -> Vec<(PathBuf, String)> {
     files
         .into_iter()
         .map(|file| {
-            let text = fs::read_to_string(&file).expect("readable source");
-            let code = text
-                .split("#[cfg(test)]")
-                .next()
-                .unwrap_or_default()
-                .lines()
-                .filter(|line| !line.trim_start().starts_with("//"))
-                .collect::<Vec<_>>()
-                .join("\n");
+            let code = code_of(&fs::read_to_string(&file).expect("readable source"));
             (file, code)
         })
         .collect()
+}
+
+/// A source file's code: cut at its tests, without comment lines.
+fn code_of(text: &str) -> String {
+    text.split("#[cfg(test)]")
+        .next()
+        .unwrap_or_default()
+        .lines()
+        .filter(|line| !line.trim_start().starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 #[test]
@@ -315,14 +318,7 @@ fn lampc_names_first_party_plugins_only_in_its_one_factory_table() {
 /// The crate-internal modules a source file names (`crate::name`, `crate::{a, b}`), outside
 /// comments and after its tests are cut off.
 fn named_modules(text: &str) -> BTreeSet<String> {
-    let code: String = text
-        .split("#[cfg(test)]")
-        .next()
-        .unwrap_or_default()
-        .lines()
-        .filter(|line| !line.trim_start().starts_with("//"))
-        .collect::<Vec<_>>()
-        .join("\n");
+    let code = code_of(text);
     let identifier = |rest: &str| -> String {
         rest.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect()
     };
