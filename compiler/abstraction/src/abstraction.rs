@@ -12,7 +12,7 @@
 //! best remaining region, or in `_0`. Without this rule the abstraction would report states the
 //! learned actions cannot leave: driving away from one marker deletes "at" that marker only.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use crate::error::AbstractionError;
 use crate::instances::{self, Instance};
@@ -120,34 +120,32 @@ fn assign_regions(
 ) -> Vec<usize> {
     loop {
         let best = |index: usize| passed[index].first().copied();
-        // (pair, primary, region) of an exclusive region → the instance holding it, by margin.
-        let mut holder: std::collections::BTreeMap<(usize, usize, usize), usize> =
-            std::collections::BTreeMap::new();
-        let mut evicted = Vec::new();
-        for (index, instance) in instances.iter().enumerate() {
-            let Some((region, margin)) = best(index) else { continue };
-            if !vocabulary[instance.pair].has_clear(region) {
-                continue;
-            }
-            let key = (instance.pair, instance.primary, region);
-            match holder.get(&key).copied() {
-                None => {
-                    holder.insert(key, index);
-                }
-                Some(held) => {
-                    let held_margin = best(held).map_or(f64::NEG_INFINITY, |(_, m)| m);
-                    let wins = margin > held_margin
-                        || (margin == held_margin
-                            && instance.secondary < instances[held].secondary);
-                    if wins {
-                        holder.insert(key, index);
-                        evicted.push(held);
-                    } else {
-                        evicted.push(index);
-                    }
-                }
+        // The instances whose best region holds one secondary per primary, with that key.
+        let contested: Vec<(usize, (usize, usize, usize))> = (0..instances.len())
+            .filter_map(|index| {
+                let (region, _) = best(index)?;
+                let Instance { pair, primary, .. } = instances[index];
+                vocabulary[pair].has_clear(region).then_some((index, (pair, primary, region)))
+            })
+            .collect();
+        // The deeper of two instances: the larger margin, ties to the first secondary.
+        let deeper = |a: usize, b: usize| {
+            let margin = |index: usize| best(index).map_or(f64::NEG_INFINITY, |(_, m)| m);
+            margin(a) > margin(b)
+                || (margin(a) == margin(b) && instances[a].secondary < instances[b].secondary)
+        };
+        let mut holder: BTreeMap<(usize, usize, usize), usize> = BTreeMap::new();
+        for &(index, key) in &contested {
+            let held = holder.entry(key).or_insert(index);
+            if deeper(index, *held) {
+                *held = index;
             }
         }
+        let evicted: Vec<usize> = contested
+            .iter()
+            .filter(|(index, key)| holder[key] != *index)
+            .map(|(index, _)| *index)
+            .collect();
         if evicted.is_empty() {
             return (0..instances.len()).map(|index| best(index).map_or(0, |(k, _)| k)).collect();
         }
