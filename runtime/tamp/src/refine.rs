@@ -276,10 +276,7 @@ impl Search {
 
 /// The rests of plans planned from states reached during one plan's refinement, by state
 /// (`None`: no plan reaches the goal from there).
-#[derive(Default)]
-struct Rests {
-    by_state: BTreeMap<BTreeSet<GroundAtom>, Option<Vec<GroundedAction>>>,
-}
+type Rests = BTreeMap<BTreeSet<GroundAtom>, Option<Vec<GroundedAction>>>;
 
 /// What became of a candidate that was carried out.
 enum Verdict {
@@ -332,14 +329,14 @@ impl Judge<'_, '_, '_> {
                 "{broken}, and the state reached is one this plan was already in (a loop)"
             )));
         }
-        let rest = match self.rests.by_state.get(&reached) {
+        let rest = match self.rests.get(&reached) {
             Some(rest) => rest.clone(),
             None => {
                 counts.replans += 1;
                 let settings = context.settings;
                 let rest =
                     plan_from(self.plugins, context.domain, context.problem, &reached, settings)?;
-                self.rests.by_state.insert(reached.clone(), rest.clone());
+                self.rests.insert(reached.clone(), rest.clone());
                 rest
             }
         };
