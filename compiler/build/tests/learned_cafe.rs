@@ -10,8 +10,7 @@ mod support;
 
 use std::sync::LazyLock;
 
-use lamp_build::{Artifacts, DemoFile};
-use lamp_demonstrators::{Simulation, file_name, generate_all};
+use lamp_build::Artifacts;
 use lamp_learn::{LiftedAtom, Model, Region, SideReason};
 use lamp_planner::{Algorithm, Budget, Status};
 use lamp_trajectory::{Step, TrajectoryHeader};
@@ -30,10 +29,7 @@ type Journey = (String, String);
 /// the surfaces each full one carries its can between.
 static CAFE_BUILD: LazyLock<(Model, Artifacts, Vec<Journey>)> = LazyLock::new(|| {
     let (spec, world) = lamp_test_support::domain("cafe");
-    let mut simulation = Simulation::from_spec(&spec).expect("the spec simulates Café");
-    simulation.count = DEMOS;
-    let demonstrations = generate_all(&world, &simulation, |_| {})
-        .unwrap_or_else(|error| panic!("the demonstrator runs: {error}"));
+    let demonstrations = support::simulated(&spec, &world, DEMOS);
     let journeys = demonstrations
         .iter()
         .filter(|demonstration| demonstration.cut_at.is_none())
@@ -44,13 +40,7 @@ static CAFE_BUILD: LazyLock<(Model, Artifacts, Vec<Journey>)> = LazyLock::new(||
             (surface_under(header, &steps[0]), surface_under(header, last))
         })
         .collect();
-    let files: Vec<DemoFile> = demonstrations
-        .into_iter()
-        .map(|demonstration| DemoFile {
-            name: file_name("cafe", demonstration.index),
-            bytes: demonstration.to_bytes().expect("a demonstration encodes"),
-        })
-        .collect();
+    let files = support::demo_files("cafe", demonstrations);
     let (model, artifacts) = lamp_build::build(&spec, "cafe.lamp", &world, &files)
         .unwrap_or_else(|error| panic!("the demonstrations build: {error}"));
     (model, artifacts, journeys)

@@ -10,8 +10,7 @@ mod support;
 
 use std::sync::LazyLock;
 
-use lamp_build::{Artifacts, DemoFile};
-use lamp_demonstrators::{Simulation, file_name, generate_all};
+use lamp_build::Artifacts;
 use lamp_learn::Model;
 
 use support::{actions_changing, artifact, has, regions};
@@ -24,10 +23,7 @@ const DEMOS: u32 = 60;
 /// and whether each full one holds a marker under its object at the end.
 static DINNER_BUILD: LazyLock<(Model, Artifacts, Vec<bool>)> = LazyLock::new(|| {
     let (spec, world) = lamp_test_support::domain("dinner");
-    let mut simulation = Simulation::from_spec(&spec).expect("the spec simulates Dinner");
-    simulation.count = DEMOS;
-    let demonstrations = generate_all(&world, &simulation, |_| {})
-        .unwrap_or_else(|error| panic!("the demonstrator runs: {error}"));
+    let demonstrations = support::simulated(&spec, &world, DEMOS);
     let marked = demonstrations
         .iter()
         .filter(|demonstration| demonstration.cut_at.is_none())
@@ -46,13 +42,7 @@ static DINNER_BUILD: LazyLock<(Model, Artifacts, Vec<bool>)> = LazyLock::new(|| 
             p.x.abs() < 0.0025 && p.y.abs() < 0.0025 && p.z.abs() < 0.0015
         })
         .collect();
-    let files: Vec<DemoFile> = demonstrations
-        .into_iter()
-        .map(|demonstration| DemoFile {
-            name: file_name("dinner", demonstration.index),
-            bytes: demonstration.to_bytes().expect("a demonstration encodes"),
-        })
-        .collect();
+    let files = support::demo_files("dinner", demonstrations);
     let (model, artifacts) = lamp_build::build(&spec, "dinner.lamp", &world, &files)
         .unwrap_or_else(|error| panic!("the demonstrations build: {error}"));
     (model, artifacts, marked)

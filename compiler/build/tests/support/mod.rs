@@ -8,7 +8,7 @@ use std::path::Path;
 use std::sync::LazyLock;
 
 use lamp_build::{Artifacts, DemoFile};
-use lamp_demonstrators::{Simulation, file_name, generate_all};
+use lamp_demonstrators::{Demonstration, Simulation, file_name, generate_all};
 use lamp_learn::{Action, LiftedAtom, Model, Region};
 use lamp_spec::Spec;
 use lamp_world::SpecWorld;
@@ -37,17 +37,28 @@ pub const DEMOS: usize = 100;
 /// cut fraction), named as `lampc demos` names them.
 pub static PACKING_DEMOS: LazyLock<Vec<DemoFile>> = LazyLock::new(|| {
     let (spec, world) = packing();
-    let mut simulation = Simulation::from_spec(&spec).expect("the spec simulates Packing");
-    simulation.count = u32::try_from(DEMOS).expect("a small count");
-    generate_all(&world, &simulation, |_| {})
+    let count = u32::try_from(DEMOS).expect("a small count");
+    demo_files("packing", simulated(&spec, &world, count))
+});
+
+/// The first `count` demonstrations of a spec's own `simulate` source, made in memory.
+pub fn simulated(spec: &Spec, world: &SpecWorld, count: u32) -> Vec<Demonstration> {
+    let mut simulation = Simulation::from_spec(spec).expect("the spec simulates its domain");
+    simulation.count = count;
+    generate_all(world, &simulation, |_| {})
         .unwrap_or_else(|error| panic!("the demonstrator runs: {error}"))
+}
+
+/// Demonstrations as build inputs, named as `lampc demos` names them.
+pub fn demo_files(domain: &str, demonstrations: Vec<Demonstration>) -> Vec<DemoFile> {
+    demonstrations
         .into_iter()
         .map(|demonstration| DemoFile {
-            name: file_name("packing", demonstration.index),
+            name: file_name(domain, demonstration.index),
             bytes: demonstration.to_bytes().expect("a demonstration encodes"),
         })
         .collect()
-});
+}
 
 /// The real demonstrations built once per test binary.
 pub static PACKING_BUILD: LazyLock<(Model, Artifacts)> = LazyLock::new(|| {
