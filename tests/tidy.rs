@@ -12,6 +12,7 @@ const CONFINED_DEPENDENCIES: &[(&str, &[&str])] = &[
     ("pest", &["lamp-lang", "lamp-pddl"]),
     ("pest_derive", &["lamp-lang", "lamp-pddl"]),
     ("parry3d-f64", &["lamp-geometry"]),
+    ("rapier3d-f64", &["lamp-physics"]),
     ("mcap", &["lamp-trajectory"]),
     ("urdf-rs", &["lamp-robot"]),
     ("libloading", &["lamp-plugin-host"]),

@@ -87,9 +87,13 @@ pub(crate) fn grab(
     Ok(())
 }
 
-/// Releases what the gripper holds and records the step where the held flag changes.
+/// Releases what the gripper holds, settled to rest by lamp-world's rule (the one the solver and
+/// its replay use), and records the step where the held flag changes.
 pub(crate) fn release(scene: &mut Scene, recorder: &mut Recorder, robot: usize) -> Attempt<()> {
-    scene.release(robot).ok_or_else(|| "the gripper holds nothing".to_string())?;
+    scene
+        .release_at_rest(robot)
+        .map_err(|error| format!("release: {error}"))?
+        .ok_or_else(|| "the gripper holds nothing".to_string())?;
     recorder.record(scene);
     Ok(())
 }

@@ -55,6 +55,11 @@ impl CollisionShape {
         }
     }
 
+    /// The parry shape and its pose in the body's frame, for the queries of this crate.
+    pub(crate) fn parts(&self) -> (&dyn parry3d_f64::shape::Shape, &Pose) {
+        (self.shape.as_ref(), &self.local)
+    }
+
     /// The world-aligned bounding box of the shape at `pose`.
     pub fn aabb(&self, pose: &Pose) -> Aabb {
         let (mins, maxs) = boundary::aabb(&self.shape, &(pose * self.local));

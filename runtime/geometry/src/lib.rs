@@ -9,10 +9,12 @@ pub mod error;
 pub mod math;
 mod parry_boundary;
 pub mod shape;
+pub mod support;
 pub mod world;
 
 pub use collision::{Aabb, CollisionShape, distance, intersects, within_margin};
 pub use error::GeometryError;
 pub use math::{Point3, Pose, Real, Rotation, Vec3};
 pub use shape::Shape;
+pub use support::{ContactPoint, contact_points, drop_distance};
 pub use world::{BodyId, CollisionWorld};

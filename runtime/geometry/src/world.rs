@@ -6,6 +6,7 @@
 
 use crate::collision::{Aabb, CollisionShape, within_margin};
 use crate::math::{Point3, Pose, Real};
+use crate::support::{ContactPoint, contact_points, drop_distance};
 
 /// A body's index in its [`CollisionWorld`], in insertion order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -114,6 +115,56 @@ impl CollisionWorld {
                 && within_margin(shape, pose, other, &entry.pose, margin);
             hit.then_some(BodyId(index))
         })
+    }
+
+    /// The enabled body `shape` at `pose` would first touch if it moved straight down, and how
+    /// far it can move before it does (0 when it touches one already), looking no further than
+    /// `max`; ties go to the lower id. Bodies `skip` names are ignored.
+    pub fn first_below(
+        &self,
+        shape: &CollisionShape,
+        pose: &Pose,
+        max: Real,
+        skip: impl Fn(BodyId) -> bool,
+    ) -> Option<(BodyId, Real)> {
+        let mut swept = shape.aabb(pose);
+        swept.mins.z -= max;
+        let mut nearest: Option<(BodyId, Real)> = None;
+        for (index, entry) in self.entries.iter().enumerate() {
+            let Some(other) = entry.shape.as_ref().filter(|_| entry.enabled) else { continue };
+            if !entry.aabb.overlaps(&swept, 0.0) || skip(BodyId(index)) {
+                continue;
+            }
+            let limit = nearest.map_or(max, |(_, drop)| drop);
+            if let Some(drop) = drop_distance(shape, pose, other, &entry.pose, limit)
+                && nearest.is_none_or(|(_, best)| drop < best)
+            {
+                nearest = Some((BodyId(index), drop));
+            }
+        }
+        nearest
+    }
+
+    /// Every contact point between `shape` at `pose` and the enabled bodies closer than
+    /// `prediction`, with the body it touches, in id order. Bodies `skip` names are ignored.
+    pub fn contact_points(
+        &self,
+        shape: &CollisionShape,
+        pose: &Pose,
+        prediction: Real,
+        skip: impl Fn(BodyId) -> bool,
+    ) -> Vec<(BodyId, ContactPoint)> {
+        let aabb = shape.aabb(pose);
+        let mut points = Vec::new();
+        for (index, entry) in self.entries.iter().enumerate() {
+            let Some(other) = entry.shape.as_ref().filter(|_| entry.enabled) else { continue };
+            if !entry.aabb.overlaps(&aabb, prediction) || skip(BodyId(index)) {
+                continue;
+            }
+            let found = contact_points(shape, pose, other, &entry.pose, prediction);
+            points.extend(found.into_iter().map(|point| (BodyId(index), point)));
+        }
+        points
     }
 
     /// Every pair of enabled bodies closer than `margin`, sorted (for checking a scene itself).

@@ -70,7 +70,7 @@ pub fn execute(
                 change.robot, change.object
             )));
         }
-        scene.release(robot);
+        scene.release_at_rest(robot).map_err(|error| Rejection::Candidate(error.to_string()))?;
         recorder.record(scene);
     }
     for (offset, target) in candidate.targets.iter().enumerate() {

@@ -7,11 +7,13 @@
 //! that the rest of the plan still runs from there to the goal. When no plan refines, the next of the k plans is tried, then all of them again with
 //! fresh samples; when the planner proves the goal unreachable, the goal is relaxed (the relation
 //! used least in action preconditions dropped first) and the summary says so. The finished
-//! trajectory is replayed from the initial scene ([`validate`]) before it is returned.
+//! trajectory is replayed from the initial scene ([`validate`]), and its final scene simulated
+//! under gravity ([`at_rest`]), before it is returned.
 //!
 //! Pure: values in, values out. Plugins arrive as trait objects; files, terminals and libraries
 //! are `lampc`'s.
 
+pub mod at_rest;
 pub mod error;
 pub mod execute;
 pub mod ground;

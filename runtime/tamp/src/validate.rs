@@ -1,8 +1,9 @@
 //! Replaying a finished trajectory from the initial scene, as an independent check before it is
 //! written: every step's grasp changes are legal, every configuration is valid (within limits,
 //! collision-free, the held object included), consecutive configurations are within the checking
-//! resolution of each other, bodies move only while held, and the goal holds at the end, every
-//! AtGoal object within its tolerance of its target in the world frame.
+//! resolution of each other, bodies move only while held (a released object settled to rest by
+//! lamp-world's rule), and the goal holds at the end, every AtGoal object within its tolerance of
+//! its target in the world frame, and every object at rest under gravity (the physics check).
 
 use std::collections::BTreeSet;
 
@@ -12,6 +13,7 @@ use lamp_spec::AtGoal;
 use lamp_trajectory::Step;
 use lamp_world::{MotionConfig, Scene, edge_steps};
 
+use crate::at_rest::check_at_rest;
 use crate::error::SolveError;
 use crate::state::abstraction;
 use crate::targets::first_miss;
@@ -57,7 +59,7 @@ pub fn replay(
             let held_next = state.held.first().copied().flatten();
             if held_now != held_next {
                 if held_now.is_some() {
-                    scene.release(robot);
+                    scene.release_at_rest(robot).map_err(|error| fail(index, error.to_string()))?;
                 }
                 if let Some(body) = held_next {
                     scene.grab(robot, body).map_err(|error| fail(index, error.to_string()))?;
@@ -103,5 +105,6 @@ pub fn replay(
     if let Some(miss) = first_miss(targets, &scene) {
         return Err(SolveError::TargetMissed(miss.to_string()));
     }
+    check_at_rest(&scene)?;
     Ok(reached)
 }

@@ -12,6 +12,7 @@ mod from_spec;
 mod ik;
 mod motion;
 mod recording;
+mod resting;
 mod scene;
 mod straight;
 mod viewing;
@@ -26,6 +27,7 @@ pub use motion::{
     MotionError, MotionPlan, RobotSpace, checked_edge_steps, densify, edge_steps, plan_motion,
 };
 pub use recording::{Recorder, STEP_NANOSECONDS, trajectory_header};
+pub use resting::{MAX_SETTLE_DROP, RESTING_GAP, RestError, SUPPORT_TOLERANCE};
 pub use scene::{Body, Gripper, Held, Scene, SceneRobot};
 pub use straight::{StraightLineError, straight_line};
 pub use viewing::{WORLD_FRAME, label_plan_steps, standard_channels};

@@ -30,7 +30,7 @@ pub fn replay(world: &SpecWorld, trajectory: &Trajectory) {
         if state.held[0] != held {
             match state.held[0] {
                 Some(body) => scene.grab(robot, body).expect("a movable body"),
-                None => assert!(scene.release(robot).is_some()),
+                None => assert!(scene.release_at_rest(robot).expect("it rests").is_some()),
             }
             held = state.held[0];
         }

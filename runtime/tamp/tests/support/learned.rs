@@ -71,7 +71,7 @@ pub fn replay_collision_free(learned: &Learned, name: &str, solution: &Solution)
     for (index, step) in solution.trajectory.steps.iter().enumerate() {
         let held = step.robots[0].held.first().copied().flatten();
         if scene.held(0).map(|h| h.body) != held {
-            scene.release(0);
+            scene.release_at_rest(0).expect("the released object rests");
             if let Some(body) = held {
                 scene.grab(0, body).expect("a legal grab");
             }

@@ -1,0 +1,105 @@
+//! The physics check: does a scene stay put under gravity?
+//!
+//! The bodies of a final scene are simulated for [`SIMULATED_SECONDS`] with a real rigid-body
+//! engine (rapier3d, of the same family as the parry that lamp-geometry uses), fixed bodies
+//! held in place, and each free body's drift measured: how far it moved and how far it turned.
+//! A body that moves more than [`MAX_SHIFT`] or turns more than [`MAX_TURN`] was not at rest.
+//!
+//! Rapier is used only inside the private `rapier_boundary` module; the public API speaks
+//! lamp-geometry's shapes and nalgebra poses. The simulation runs a fixed number of fixed
+//! steps, reads no clock and is single-threaded, so the same scene gives the same drifts.
+
+mod rapier_boundary;
+
+use lamp_geometry::{Pose, Real, Shape};
+
+/// How long a scene is simulated (seconds): long enough for a body that tips over an edge, or
+/// slides off a slope, to move well beyond the thresholds.
+pub const SIMULATED_SECONDS: Real = 2.0;
+
+/// The simulation's time step (seconds): about 4 ms, short enough for contacts between
+/// centimetre-sized bodies to settle without jitter.
+pub const STEP_SECONDS: Real = 1.0 / 240.0;
+
+/// The farthest a body may move (metres) and still count as at rest: 5 mm, the settling a
+/// release is allowed.
+pub const MAX_SHIFT: Real = 0.005;
+
+/// The largest rotation a body may make (radians) and still count as at rest: 3°.
+pub const MAX_TURN: Real = 3.0 * std::f64::consts::PI / 180.0;
+
+/// Gravity, along −z (m/s²).
+pub const GRAVITY: Real = 9.81;
+
+/// The coefficient of friction of every contact: 0.5, between wood and wood or a can on a
+/// table; the check asks whether things stay where they are put, not whether they grip.
+pub const FRICTION: Real = 0.5;
+
+/// A body to simulate.
+#[derive(Clone, Copy, Debug)]
+pub struct PhysicsBody<'a> {
+    pub name: &'a str,
+    /// The body's shapes, each placed in its frame (at uniform density).
+    pub parts: &'a [(Pose, Shape)],
+    /// Where the body is.
+    pub pose: Pose,
+    /// Fixed bodies never move (the floor, tables, walls).
+    pub fixed: bool,
+}
+
+/// How far a free body drifted over the simulation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Drift {
+    pub name: String,
+    /// Distance its frame's origin moved (metres).
+    pub shift: Real,
+    /// Angle of the rotation it made (radians).
+    pub turn: Real,
+}
+
+impl Drift {
+    /// Whether the body stayed within [`MAX_SHIFT`] and [`MAX_TURN`].
+    pub fn at_rest(&self) -> bool {
+        self.shift <= MAX_SHIFT && self.turn <= MAX_TURN
+    }
+}
+
+/// A scene the physics engine cannot simulate.
+#[derive(Clone, Debug, PartialEq, thiserror::Error, miette::Diagnostic)]
+pub enum PhysicsError {
+    /// A shape the engine refuses.
+    #[error("body `{body}` cannot be simulated: {reason}")]
+    #[diagnostic(code(lamp::physics::shape), help("check the body type's shapes and mesh files"))]
+    Shape { body: String, reason: String },
+}
+
+/// Simulates `bodies` under gravity for [`SIMULATED_SECONDS`]; returns the drift of every body
+/// that is not fixed, in the order given.
+///
+/// Bodies closer than `resting_gap` (metres) touch: the scenes' convention is that a body at
+/// rest floats that far above its support (touching would be a collision), and a stack of such
+/// bodies must not fall a gap per level before it stands. Each collider gets a contact skin of
+/// half the gap.
+pub fn simulate(bodies: &[PhysicsBody<'_>], resting_gap: Real) -> Result<Vec<Drift>, PhysicsError> {
+    let steps = (SIMULATED_SECONDS / STEP_SECONDS).round() as usize;
+    let finals = rapier_boundary::simulate(bodies, steps, 0.5 * resting_gap.max(0.0))?;
+    Ok(bodies
+        .iter()
+        .zip(finals)
+        .filter(|(body, _)| !body.fixed)
+        .map(|(body, end)| Drift {
+            name: body.name.to_string(),
+            shift: (end.translation.vector - body.pose.translation.vector).norm(),
+            turn: body.pose.rotation.angle_to(&end.rotation),
+        })
+        .collect())
+}
+
+/// The first free body (in the order given) that does not stay at rest, with its drift
+/// ([`simulate`] says what `resting_gap` is).
+pub fn first_unsettled(
+    bodies: &[PhysicsBody<'_>],
+    resting_gap: Real,
+) -> Result<Option<Drift>, PhysicsError> {
+    Ok(simulate(bodies, resting_gap)?.into_iter().find(|drift| !drift.at_rest()))
+}

@@ -1,0 +1,256 @@
+//! Letting go of an object: it is settled straight down to rest on what is below it, and kept
+//! only if it is statically supported there. One rule for the demonstrators, the solver and the
+//! final replay, written down in `docs/world.md`.
+//!
+//! "At rest" follows the scenes' convention that touching counts as a collision: a resting body
+//! floats [`RESTING_GAP`] above its support, the way the bundled scenes place their objects.
+
+use lamp_geometry::{BodyId, ContactPoint, Pose, Real, Vec3};
+use nalgebra::Translation3;
+
+use crate::scene::Scene;
+
+/// The clearance a body at rest keeps above what supports it (metres): 1 mm, as every bundled
+/// scene places its objects, so that a resting body can be grabbed again without touching.
+pub const RESTING_GAP: Real = 0.001;
+
+/// The farthest a released body may be settled down (metres): what a robot may drop an object
+/// by without it bouncing or tipping, and what the physics check lets a body move. A body
+/// released higher above its support than this is refused, not dropped.
+pub const MAX_SETTLE_DROP: Real = 0.005;
+
+/// A drop shorter than this (metres) is rounding: the body is left where it is, so that a
+/// placement made exactly at rest is not rewritten by a micrometre.
+const AT_REST: Real = 1e-6;
+
+/// How far beyond [`RESTING_GAP`] (metres) a point still counts as a contact that supports.
+const CONTACT_BAND: Real = 0.0005;
+
+/// The least upward component of a supporting contact's normal: a face tilted more than 45°
+/// from level does not hold a body up (friction would have to, which the rule does not count on).
+const LEVEL_ENOUGH: Real = std::f64::consts::FRAC_1_SQRT_2;
+
+/// How far (metres) the centre of mass may lie outside the support polygon and still count as
+/// inside: the rounding of contact points, and a round body's line of contact.
+pub const SUPPORT_TOLERANCE: Real = 0.0005;
+
+/// How far down a release looks for a support (metres): far enough to name what is below a
+/// body released much too high.
+const LOOK_DOWN: Real = 100.0;
+
+/// Why a released body cannot be left at rest where it is.
+#[derive(Clone, Debug, PartialEq, thiserror::Error, miette::Diagnostic)]
+pub enum RestError {
+    /// Nothing at all below the body.
+    #[error("`{object}` would fall: there is nothing below it")]
+    #[diagnostic(
+        code(lamp::world::nothing_below),
+        help("an object must be put down on a surface or on another object")
+    )]
+    NothingBelow { object: String },
+    /// The body is let go of too high above its support.
+    #[error(
+        "`{object}` would drop {:.1} mm onto `{below}`, more than the {:.0} mm a release may settle",
+        drop * 1000.0,
+        MAX_SETTLE_DROP * 1000.0
+    )]
+    #[diagnostic(
+        code(lamp::world::released_too_high),
+        help("lower the object to within a few millimetres of its support before letting go")
+    )]
+    TooHigh { object: String, below: String, drop: Real },
+    /// The body touches or overlaps another where it is let go of.
+    #[error("`{object}` touches `{body}` where it is let go of")]
+    #[diagnostic(
+        code(lamp::world::released_touching),
+        help("a released object must clear what is under it; it is settled down, never lifted")
+    )]
+    Touching { object: String, body: String },
+    /// The body's centre of mass is outside the polygon of its supporting contacts.
+    #[error(
+        "`{object}` is not supported: its centre of mass is {:.1} mm outside the contacts that hold it up{}",
+        outside * 1000.0,
+        on_list(supports)
+    )]
+    #[diagnostic(
+        code(lamp::world::unsupported),
+        help(
+            "put the object down with its centre of mass over what it rests on, not hanging over an edge"
+        )
+    )]
+    Unsupported { object: String, outside: Real, supports: Vec<String> },
+}
+
+fn on_list(supports: &[String]) -> String {
+    if supports.is_empty() {
+        " (no level contact)".to_string()
+    } else {
+        format!(
+            " (on {})",
+            supports.iter().map(|name| format!("`{name}`")).collect::<Vec<_>>().join(", ")
+        )
+    }
+}
+
+impl Scene {
+    /// Lets go of what `robot` holds and settles it to rest: straight down to [`RESTING_GAP`]
+    /// above what is below it, if that is at most [`MAX_SETTLE_DROP`] away, and only if it is
+    /// statically supported there. Returns the released body (`None` when the gripper is
+    /// empty); on an error the scene is unchanged and the body still held.
+    pub fn release_at_rest(&mut self, robot: usize) -> Result<Option<usize>, RestError> {
+        let Some(held) = self.held(robot) else { return Ok(None) };
+        let rest = self.resting_pose(held.body)?;
+        self.release(robot);
+        self.set_body_pose(held.body, rest);
+        Ok(Some(held.body))
+    }
+
+    /// Where `body` comes to rest if let go of now, or why it cannot (the rule of
+    /// [`Scene::release_at_rest`]). Held objects and markers are not supports.
+    pub fn resting_pose(&self, body: usize) -> Result<Pose, RestError> {
+        let name = || self.bodies[body].name.clone();
+        let Some(shape) = self.collision.shape(BodyId(body)) else {
+            // A marker has no geometry: nothing to settle.
+            return Ok(self.body_pose(body));
+        };
+        let pose = self.body_pose(body);
+        let skip = |id: BodyId| id.0 == body;
+        let Some((below, gap)) = self.collision.first_below(shape, &pose, LOOK_DOWN, skip) else {
+            return Err(RestError::NothingBelow { object: name() });
+        };
+        let below_name = self.bodies[below.0].name.clone();
+        if gap <= 0.0 {
+            return Err(RestError::Touching { object: name(), body: below_name });
+        }
+        let drop = gap - RESTING_GAP;
+        if drop > MAX_SETTLE_DROP {
+            return Err(RestError::TooHigh { object: name(), below: below_name, drop });
+        }
+        let rest = if drop > AT_REST {
+            Translation3::from(Vec3::new(0.0, 0.0, -drop)) * pose
+        } else {
+            pose
+        };
+        self.check_support(body, &rest)?;
+        Ok(rest)
+    }
+
+    /// Whether `body` at `pose` is statically supported: its centre of mass, projected straight
+    /// down, lies within [`SUPPORT_TOLERANCE`] of the convex hull of its level contacts.
+    fn check_support(&self, body: usize, pose: &Pose) -> Result<(), RestError> {
+        let Some(shape) = self.collision.shape(BodyId(body)) else { return Ok(()) };
+        let reach = RESTING_GAP + CONTACT_BAND;
+        let contacts: Vec<(BodyId, ContactPoint)> = self
+            .collision
+            .contact_points(shape, pose, reach, |id| id.0 == body)
+            .into_iter()
+            .filter(|(_, contact)| contact.normal.z >= LEVEL_ENOUGH && contact.gap <= reach)
+            .collect();
+        let centre = pose * shape.centre_of_mass();
+        let footprint: Vec<[Real; 2]> =
+            contacts.iter().map(|(_, contact)| [contact.point.x, contact.point.y]).collect();
+        let outside = distance_outside_hull([centre.x, centre.y], &footprint);
+        if outside <= SUPPORT_TOLERANCE {
+            return Ok(());
+        }
+        let mut supports: Vec<String> =
+            contacts.iter().map(|(id, _)| self.bodies[id.0].name.clone()).collect();
+        supports.sort();
+        supports.dedup();
+        Err(RestError::Unsupported { object: self.bodies[body].name.clone(), outside, supports })
+    }
+}
+
+/// How far `point` lies outside the convex hull of `points` in the plane (0 inside; infinite
+/// when there are no points).
+fn distance_outside_hull(point: [Real; 2], points: &[[Real; 2]]) -> Real {
+    let hull = convex_hull(points);
+    match hull.as_slice() {
+        [] => Real::INFINITY,
+        [only] => length(sub(point, *only)),
+        _ => {
+            let edges = hull.iter().zip(hull.iter().cycle().skip(1));
+            let inside = hull.len() > 2
+                && edges.clone().all(|(a, b)| cross(sub(*b, *a), sub(point, *a)) >= 0.0);
+            if inside {
+                0.0
+            } else {
+                edges.map(|(a, b)| segment_distance(point, *a, *b)).fold(Real::INFINITY, Real::min)
+            }
+        }
+    }
+}
+
+/// The convex hull, counter-clockwise, without collinear points (Andrew's monotone chain).
+fn convex_hull(points: &[[Real; 2]]) -> Vec<[Real; 2]> {
+    let mut sorted = points.to_vec();
+    sorted.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    sorted.dedup();
+    if sorted.len() < 3 {
+        return sorted;
+    }
+    let mut hull: Vec<[Real; 2]> = Vec::with_capacity(2 * sorted.len());
+    for pass in 0..2 {
+        let start = hull.len();
+        let sweep: Box<dyn Iterator<Item = &[Real; 2]>> =
+            if pass == 0 { Box::new(sorted.iter()) } else { Box::new(sorted.iter().rev()) };
+        for &p in sweep {
+            while hull.len() >= start + 2
+                && cross(
+                    sub(hull[hull.len() - 1], hull[hull.len() - 2]),
+                    sub(p, hull[hull.len() - 2]),
+                ) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+fn sub(a: [Real; 2], b: [Real; 2]) -> [Real; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+fn cross(a: [Real; 2], b: [Real; 2]) -> Real {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+fn length(a: [Real; 2]) -> Real {
+    a[0].hypot(a[1])
+}
+
+fn segment_distance(point: [Real; 2], a: [Real; 2], b: [Real; 2]) -> Real {
+    let along = sub(b, a);
+    let squared = along[0] * along[0] + along[1] * along[1];
+    let t = if squared > 0.0 {
+        ((sub(point, a)[0] * along[0] + sub(point, a)[1] * along[1]) / squared).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    length(sub(point, [a[0] + t * along[0], a[1] + t * along[1]]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_point_inside_a_square_is_zero_outside_and_one_beyond_is_measured() {
+        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]];
+        assert_eq!(distance_outside_hull([0.5, 0.5], &square), 0.0);
+        assert_eq!(distance_outside_hull([1.0, 0.5], &square), 0.0);
+        assert!((distance_outside_hull([2.0, 0.5], &square) - 1.0).abs() < 1e-12);
+        assert!((distance_outside_hull([-0.5, -0.5], &square) - 0.5_f64.sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_line_of_contact_holds_only_points_on_it() {
+        let line = [[0.0, 0.0], [1.0, 0.0], [0.5, 0.0]];
+        assert!(distance_outside_hull([0.5, 0.0], &line) < 1e-12);
+        assert!((distance_outside_hull([0.5, 0.2], &line) - 0.2).abs() < 1e-12);
+        assert_eq!(distance_outside_hull([0.0, 0.0], &[]), Real::INFINITY);
+    }
+}
