@@ -5,7 +5,7 @@
 //! "At rest" follows the scenes' convention that touching counts as a collision: a resting body
 //! floats [`RESTING_GAP`] above its support, the way the bundled scenes place their objects.
 
-use lamp_geometry::{BodyId, ContactPoint, Pose, Real, Vec3};
+use lamp_geometry::{BodyId, ContactPoint, Point3, Pose, Real, Rotation, Vec3};
 use nalgebra::Translation3;
 
 use crate::scene::Scene;
@@ -33,6 +33,15 @@ const LEVEL_ENOUGH: Real = std::f64::consts::FRAC_1_SQRT_2;
 /// How far (metres) the centre of mass may lie outside the support polygon and still count as
 /// inside: the rounding of contact points, and a round body's line of contact.
 pub const SUPPORT_TOLERANCE: Real = 0.0005;
+
+/// The most a released body may lean from lying level (radians) and still be set level as it
+/// lands: 5°. A robot lets go of what it carries with the small tilt its grasp and inverse
+/// kinematics leave; a box or a can that lands on a flat face seats itself on it. A body leaning
+/// further is left as it is, for the support test to judge.
+pub const MAX_SETTLE_TILT: Real = 5.0 * std::f64::consts::PI / 180.0;
+
+/// A lean under this (radians) is rounding: the orientation is left as it is.
+const LEVEL: Real = 1e-9;
 
 /// How far down a release looks for a support (metres): far enough to name what is below a
 /// body released much too high.
@@ -113,19 +122,39 @@ impl Scene {
             // A marker has no geometry: nothing to settle.
             return Ok(self.body_pose(body));
         };
-        let pose = self.body_pose(body);
+        let released = self.body_pose(body);
         let skip = |id: BodyId| id.0 == body;
-        let Some((below, gap)) = self.collision.first_below(shape, &pose, LOOK_DOWN, skip) else {
+        let Some((below, gap)) = self.collision.first_below(shape, &released, LOOK_DOWN, skip)
+        else {
             return Err(RestError::NothingBelow { object: name() });
         };
         let below_name = self.bodies[below.0].name.clone();
         if gap <= 0.0 {
             return Err(RestError::Touching { object: name(), body: below_name });
         }
-        let drop = gap - RESTING_GAP;
-        if drop > MAX_SETTLE_DROP {
+        // The first point to land falls `gap`: that is the drop the limit is about, whether or
+        // not the body then seats itself level.
+        if gap - RESTING_GAP > MAX_SETTLE_DROP {
+            let drop = gap - RESTING_GAP;
             return Err(RestError::TooHigh { object: name(), below: below_name, drop });
         }
+        let pose = leveled(&released, &shape.centre_of_mass());
+        let (below_name, gap) = if pose == released {
+            (below_name, gap)
+        } else {
+            if let Some(touched) = self.collision.first_contact(shape, &pose, 0.0, skip) {
+                let body = self.bodies[touched.0].name.clone();
+                return Err(RestError::Touching { object: name(), body });
+            }
+            match self.collision.first_below(shape, &pose, LOOK_DOWN, skip) {
+                Some((below, gap)) => (self.bodies[below.0].name.clone(), gap),
+                None => return Err(RestError::NothingBelow { object: name() }),
+            }
+        };
+        if gap <= 0.0 {
+            return Err(RestError::Touching { object: name(), body: below_name });
+        }
+        let drop = gap - RESTING_GAP;
         let rest = if drop > AT_REST {
             Translation3::from(Vec3::new(0.0, 0.0, -drop)) * pose
         } else {
@@ -159,6 +188,30 @@ impl Scene {
         supports.dedup();
         Err(RestError::Unsupported { object: self.bodies[body].name.clone(), outside, supports })
     }
+}
+
+/// `pose` turned about the body's centre of mass (`centre`, in the body's frame) so that the body
+/// axis nearest to vertical is vertical, when it leans less than [`MAX_SETTLE_TILT`]; otherwise
+/// `pose` as it is. Turning about the centre of mass lifts the low side and lowers the high side,
+/// as a body does that seats itself on a flat face.
+fn leveled(pose: &Pose, centre: &Point3) -> Pose {
+    let rotation = pose.rotation.to_rotation_matrix();
+    let axes = rotation.matrix().column_iter().map(|axis| axis.into_owned()).collect::<Vec<_>>();
+    let Some(nearest) = axes.into_iter().max_by(|a, b| a.z.abs().total_cmp(&b.z.abs())) else {
+        return *pose;
+    };
+    let lean = nearest.z.abs().min(1.0).acos();
+    if lean < LEVEL || lean > MAX_SETTLE_TILT {
+        return *pose;
+    }
+    let vertical = Vec3::new(0.0, 0.0, nearest.z.signum());
+    let Some(turn) = Rotation::rotation_between(&nearest, &vertical) else {
+        return *pose;
+    };
+    let centre_in_world = pose * centre;
+    let rotation = turn * pose.rotation;
+    let translation = centre_in_world.coords - rotation * centre.coords;
+    Pose::from_parts(Translation3::from(translation), rotation)
 }
 
 /// How far `point` lies outside the convex hull of `points` in the plane (0 inside; infinite

@@ -75,6 +75,44 @@ fn a_can_released_3_cm_up_is_refused_with_the_drop_and_what_is_below() {
     assert!(scene.resting_pose(can).is_ok());
 }
 
+/// A can whose lowest rim point is `height` above the table, tilted `lean` radians about x.
+fn tilted_can(lean: f64, height: f64) -> (Scene, usize) {
+    let (mut scene, can) = can_over_table(0.0, 0.0);
+    // Turned about its bottom centre, the low rim point drops by radius · sin(lean).
+    let drop = CAN_RADIUS * lean.sin();
+    let pose = pose(0.0, 0.0, TABLE_TOP + height + drop, lean, 0.0, 0.0);
+    scene.set_body_pose(can, pose);
+    (scene, can)
+}
+
+#[test]
+fn a_can_let_go_of_slightly_tilted_seats_itself_level_on_its_base() {
+    let lean = 3.7_f64.to_radians();
+    let (scene, can) = tilted_can(lean, 0.002);
+    let released = scene.body_pose(can);
+    let rest = scene.resting_pose(can).unwrap();
+    assert!(rest.rotation.angle() < 1e-9, "level: {}", rest.rotation.angle());
+    assert!((bottom(&rest) - RESTING_GAP).abs() < 1e-9, "{rest}");
+    // Turned about its centre of mass, which settles straight down.
+    let centre =
+        |pose: &lamp_geometry::Pose| pose * lamp_geometry::Point3::new(0.0, 0.0, CAN_HEIGHT / 2.0);
+    let moved = centre(&rest) - centre(&released);
+    assert!(moved.xy().norm() < 1e-9, "{moved}");
+}
+
+#[test]
+fn a_can_let_go_of_leaning_far_is_not_set_level_and_falls_over() {
+    let (scene, can) = tilted_can(10_f64.to_radians(), 0.002);
+    assert!(matches!(scene.resting_pose(can), Err(RestError::Unsupported { .. })));
+}
+
+#[test]
+fn a_tilted_drop_is_measured_at_the_first_point_to_land() {
+    // The low rim 5.5 mm up: too high, though the seated can's base would drop less.
+    let (scene, can) = tilted_can(4_f64.to_radians(), RESTING_GAP + MAX_SETTLE_DROP + 0.0005);
+    assert!(matches!(scene.resting_pose(can), Err(RestError::TooHigh { .. })));
+}
+
 #[test]
 fn a_can_beside_the_table_has_nothing_below() {
     let (scene, can) = can_over_table(TABLE_EDGE + 0.1, 0.002);
