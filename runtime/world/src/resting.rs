@@ -201,7 +201,7 @@ fn leveled(pose: &Pose, centre: &Point3) -> Pose {
         return *pose;
     };
     let lean = nearest.z.abs().min(1.0).acos();
-    if lean < LEVEL || lean > MAX_SETTLE_TILT {
+    if !(LEVEL..=MAX_SETTLE_TILT).contains(&lean) {
         return *pose;
     }
     let vertical = Vec3::new(0.0, 0.0, nearest.z.signum());
