@@ -81,9 +81,6 @@ pub fn replay(
                 ));
             }
             scene.set_configuration(robot, &state.positions);
-            if let Some(contact) = scene.first_contact(robot, &state.positions) {
-                return Err(fail(index, contact.to_string()));
-            }
         }
         for (body, pose) in step.body_poses.iter().enumerate() {
             let here = scene.body_pose(body);
@@ -95,6 +92,11 @@ pub fn replay(
                     index,
                     format!("body `{}` moves without being held", scene.bodies()[body].name),
                 ));
+            }
+        }
+        for (robot, state) in step.robots.iter().enumerate() {
+            if let Some(contact) = scene.first_contact(robot, &state.positions) {
+                return Err(fail(index, contact.to_string()));
             }
         }
     }

@@ -133,6 +133,27 @@ impl Scene {
         None
     }
 
+    /// The first robot link (in robot, then link order) closer than the scene's margin to body
+    /// `body` if it stood at `pose`, named `link` of `robot`; held objects are not looked at.
+    pub(crate) fn link_near_body(&self, body: usize, pose: &Pose) -> Option<String> {
+        let shape = self.collision.shape(BodyId(body))?;
+        let body_box = shape.aabb(pose);
+        for state in &self.robots {
+            let model = &state.robot;
+            let mut poses = vec![Pose::identity(); model.link_count()];
+            model.forward_kinematics(&state.q, &mut poses);
+            for (link, link_shape) in &state.links {
+                let link_pose = poses[*link];
+                if link_shape.aabb(&link_pose).overlaps(&body_box, self.margin.max(0.0))
+                    && within_margin(shape, pose, link_shape, &link_pose, self.margin)
+                {
+                    return Some(format!("`{}` of `{}`", model.link_name(*link), state.name));
+                }
+            }
+        }
+        None
+    }
+
     /// One flag per link with geometry (in the robot's internal order): whether changing the
     /// coordinates `coordinates` can move it.
     pub(crate) fn moving_links(&self, robot: usize, coordinates: &[usize]) -> Vec<bool> {

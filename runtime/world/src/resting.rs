@@ -75,6 +75,13 @@ pub enum RestError {
         help("a released object must clear what is under it; it is settled down, never lifted")
     )]
     Touching { object: String, body: String },
+    /// At rest, the body would touch a robot (the gripper that let go of it).
+    #[error("`{object}` would touch {link} as it comes to rest")]
+    #[diagnostic(
+        code(lamp::world::released_into_robot),
+        help("let go of the object level, or with the fingers clear of where it will rest")
+    )]
+    TouchingRobot { object: String, link: String },
     /// The body's centre of mass is outside the polygon of its supporting contacts.
     #[error(
         "`{object}` is not supported: its centre of mass is {:.1} mm outside the contacts that hold it up{}",
@@ -109,6 +116,12 @@ impl Scene {
     pub fn release_at_rest(&mut self, robot: usize) -> Result<Option<usize>, RestError> {
         let Some(held) = self.held(robot) else { return Ok(None) };
         let rest = self.resting_pose(held.body)?;
+        // Seating itself level turns the object about its centre, which may swing it into the
+        // fingers that just let go of it.
+        if let Some(link) = self.link_near_body(held.body, &rest) {
+            let object = self.bodies[held.body].name.clone();
+            return Err(RestError::TouchingRobot { object, link });
+        }
         self.release(robot);
         self.set_body_pose(held.body, rest);
         Ok(Some(held.body))
