@@ -75,6 +75,26 @@ impl RegionModel {
             .sum()
     }
 
+    /// How widely the region spreads in position: the generalized variance (the determinant)
+    /// of the mixture's position covariance as a whole, in m⁶. An action that makes several
+    /// regions true at once is realised by sampling the narrowest and testing the others, the
+    /// way one samples an intersection: draws from a wide region rarely land in a narrow one.
+    pub fn position_spread(&self) -> f64 {
+        let dimension = self.mixture.dimension();
+        let mut mean = nalgebra::Vector3::<f64>::zeros();
+        let mut second = nalgebra::Matrix3::<f64>::zeros();
+        for ((weight, centre), covariance) in
+            self.mixture.weights().iter().zip(self.mixture.means()).zip(self.mixture.covariances())
+        {
+            let centre = nalgebra::Vector3::new(centre[0], centre[1], centre[2]);
+            let within =
+                nalgebra::Matrix3::from_fn(|row, column| covariance[row * dimension + column]);
+            mean += *weight * centre;
+            second += *weight * (within + centre * centre.transpose());
+        }
+        (second - mean * mean.transpose()).determinant().max(0.0)
+    }
+
     /// The number of mixture components BIC chose.
     pub fn component_count(&self) -> usize {
         self.mixture.component_count()

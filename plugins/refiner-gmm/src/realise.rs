@@ -6,7 +6,9 @@
 //! (`<t1>_<t2>_0`). The link that moves is the primary when the primary is a robot part (the
 //! gripper approaches a can, the base drives to a table), the secondary when both are links of
 //! one robot (the arm tucks relative to the base), or the gripper holding the secondary when the
-//! primary is an object (a held can is carried into the box).
+//! primary is an object (a held can is carried into the box), or the gripper holding the primary
+//! when the secondary is an object (a held block is put on one below it, in a pair whose primary
+//! is the block above). Of several added regions, the narrowest is sampled.
 //!
 //! Grasp changes follow the held flag of the regions: an added held region (g = 1) whose gripper
 //! does not hold its object yet is a grab, done after the motion; a deleted held region whose
@@ -50,6 +52,9 @@ pub(crate) enum Anchor {
     HeldSecondary { primary: String, grasp: Pose },
     /// The secondary is the moving link, of the same robot as the primary: target = primary · X.
     SecondaryLink { primary: String },
+    /// The primary is held by the moving link with `grasp` (a held block placed relative to one
+    /// below it, in a pair whose primary is the upper): target = secondary · X⁻¹ · grasp⁻¹.
+    HeldPrimary { secondary: String, grasp: Pose },
 }
 
 /// The motion that realises the driving effect.
@@ -139,22 +144,159 @@ pub(crate) fn realisation(
                 region,
             });
         }
-        let (robot, link, grasp) = held_by(secondary).filter(|_| !released(secondary))?;
+        if let Some((robot, link, grasp)) = held_by(secondary).filter(|_| !released(secondary)) {
+            return Some(Mover {
+                robot: robot.clone(),
+                link: link.clone(),
+                anchor: Anchor::HeldSecondary { primary: primary.clone(), grasp: *grasp },
+                region,
+            });
+        }
+        if view.parts.contains_key(secondary) {
+            // A robot part is always the primary of its pairs; a held primary with a part as
+            // secondary does not occur.
+            return None;
+        }
+        let (robot, link, grasp) = held_by(primary).filter(|_| !released(primary))?;
         Some(Mover {
             robot: robot.clone(),
             link: link.clone(),
-            anchor: Anchor::HeldSecondary { primary: primary.clone(), grasp: *grasp },
+            anchor: Anchor::HeldPrimary { secondary: secondary.clone(), grasp: *grasp },
             region,
         })
     };
-    let regions = add.iter().filter_map(|atom| match relation_kind(artifact, &atom.predicate) {
-        Some(RelationKind::Region { pair, region, .. }) => mover_for(atom, Some((pair, region))),
-        _ => None,
-    });
+    // Of the regions the action adds, the narrowest is sampled and the others are tested (the
+    // stream keeps a candidate only when every effect holds): an intersection is sampled best
+    // from its narrowest member. Ties keep the effects' order.
+    let spread = |(pair, region): (usize, usize)| {
+        artifact.pairs[pair].regions[region].model.position_spread()
+    };
+    let mut regions: Vec<(f64, Mover)> = add
+        .iter()
+        .filter_map(|atom| match relation_kind(artifact, &atom.predicate) {
+            Some(RelationKind::Region { pair, region, .. }) => {
+                mover_for(atom, Some((pair, region))).map(|mover| (spread((pair, region)), mover))
+            }
+            _ => None,
+        })
+        .collect();
+    regions.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let regions = regions.into_iter().map(|(_, mover)| mover);
     let outside = add.iter().filter_map(|atom| match relation_kind(artifact, &atom.predicate) {
         Some(RelationKind::Outside { .. }) => mover_for(atom, None),
         _ => None,
     });
     let mover = regions.chain(outside).next();
     Realisation { mover, releases, grabs }
+}
+
+#[cfg(test)]
+mod tests {
+    use lamp_plugin_api::{
+        HeldObject, IDENTITY_POSE, ObjectState, RobotPart, RobotState, WorldState,
+    };
+
+    use super::*;
+
+    /// A region of `relation` whose mixture is one Gaussian at `centre` with standard deviation
+    /// `sigma` in every feature.
+    fn region(relation: &str, g: u8, centre: [f64; 3], sigma: f64) -> String {
+        let mean = [centre[0], centre[1], centre[2], 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+        let covariance: Vec<f64> =
+            (0..81).map(|index| if index % 10 == 0 { sigma * sigma } else { 0.0 }).collect();
+        format!(
+            r#"{{"relation": "{relation}", "g": {g}, "clear": true, "nowhere": true, "model": {{"g": {g}, "mixture": {{"dimension": 9, "weights": [1.0], "means": [{mean:?}], "covariances": [{covariance:?}]}}, "threshold": -100.0, "extent": [[-1.0, 1.0], [-1.0, 1.0], [-1.0, 1.0]]}}}}"#
+        )
+    }
+
+    /// Blocks above blocks (a wide and a narrow region), blocks on markers, and a grasp.
+    fn artifact() -> SamplerArtifact {
+        let pair = |primary: &str, secondary: &str, regions: Vec<String>| {
+            format!(
+                r#"{{"primary": "{primary}", "secondary": "{secondary}", "regions": [{}]}}"#,
+                regions.join(", ")
+            )
+        };
+        let json = format!(
+            r#"{{"version": {}, "seed": 1, "pairs": [{}, {}, {}]}}"#,
+            lamp_abstraction::SAMPLER_ARTIFACT_VERSION,
+            pair(
+                "block",
+                "block",
+                vec![
+                    region("block_block_1", 0, [0.0, 0.0, 0.03], 0.03),
+                    region("block_block_2", 0, [0.0, 0.05, 0.03], 0.002),
+                ]
+            ),
+            pair("gripper", "block", vec![region("gripper_block_1", 1, [0.0, 0.0, 0.1], 0.002)]),
+            pair("loc", "block", vec![region("loc_block_1", 0, [0.0, 0.0, 0.0], 0.001)]),
+        );
+        let artifact: SamplerArtifact = serde_json::from_str(&json).unwrap();
+        artifact.validate().unwrap();
+        artifact
+    }
+
+    /// A gripper holding `b2` above `b1`, with marker `m2`.
+    fn view() -> WorldView {
+        let object = |name: &str, object_type: &str| ObjectState {
+            name: name.into(),
+            object_type: object_type.into(),
+            pose: IDENTITY_POSE,
+        };
+        let world = WorldState {
+            robots: vec![RobotState {
+                name: "arm".into(),
+                configuration: vec![0.0; 3],
+                held: vec![HeldObject {
+                    object: "b2".into(),
+                    link: "hand".into(),
+                    grasp: IDENTITY_POSE,
+                }],
+                parts: vec![RobotPart {
+                    object: "arm_gripper".into(),
+                    object_type: "gripper".into(),
+                    link: "hand".into(),
+                    gripper: true,
+                }],
+            }],
+            objects: vec![object("b1", "block"), object("b2", "block"), object("m2", "loc")],
+        };
+        WorldView::new(&world).unwrap()
+    }
+
+    fn atom(predicate: &str, arguments: &[&str]) -> GroundAtom {
+        GroundAtom {
+            predicate: predicate.into(),
+            arguments: arguments.iter().map(|argument| (*argument).to_string()).collect(),
+        }
+    }
+
+    /// The mover of a carry that adds `add` (letting go is an action of its own).
+    fn placement(add: &[GroundAtom]) -> Mover {
+        let realisation = realisation(&artifact(), &view(), add, &[]);
+        assert!(realisation.releases.is_empty() && realisation.grabs.is_empty());
+        realisation.mover.unwrap()
+    }
+
+    #[test]
+    fn of_the_regions_a_placement_adds_the_narrowest_is_sampled() {
+        let wide = atom("block_block_1", &["b1", "b2"]);
+        let on_marker = atom("loc_block_1", &["m2", "b2"]);
+        let narrow = atom("block_block_2", &["b1", "b2"]);
+        let mover = placement(&[wide.clone(), narrow.clone(), on_marker.clone()]);
+        assert_eq!(mover.region, Some((2, 0)), "the marker's region is the narrowest");
+        assert!(matches!(&mover.anchor, Anchor::HeldSecondary { primary, .. } if primary == "m2"));
+        let mover = placement(&[wide, narrow]);
+        assert_eq!(mover.region, Some((0, 1)));
+    }
+
+    #[test]
+    fn a_held_block_that_is_the_primary_is_placed_relative_to_the_secondary() {
+        let mover = placement(&[atom("block_block_2", &["b2", "b1"])]);
+        assert_eq!(mover.region, Some((0, 1)));
+        match &mover.anchor {
+            Anchor::HeldPrimary { secondary, .. } => assert_eq!(secondary, "b1"),
+            other => panic!("expected the held primary to move, got {other:?}"),
+        }
+    }
 }

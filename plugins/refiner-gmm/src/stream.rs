@@ -92,7 +92,8 @@ impl CandidateStream for GmmStream {
         }
         let Some(mover) = self.realisation.mover.clone() else { return Ok(None) };
         let placing =
-            matches!(mover.anchor, Anchor::HeldSecondary { .. }) && mover.region.is_some();
+            matches!(mover.anchor, Anchor::HeldSecondary { .. } | Anchor::HeldPrimary { .. })
+                && mover.region.is_some();
         // A region that holds several objects (no clear relation: a box, a table top) is packed
         // from its edges, each object snug; one that holds one at a time (an object on its
         // marker) is filled at its most typical pose, its centre.
@@ -279,6 +280,9 @@ impl GmmStream {
             }
             Anchor::SecondaryLink { primary } => {
                 self.view.pose_in(current, primary, host)? * relative
+            }
+            Anchor::HeldPrimary { secondary, grasp } => {
+                self.view.pose_in(current, secondary, host)? * relative.inverse() * grasp.inverse()
             }
         };
         Ok((target, spread, relative))
