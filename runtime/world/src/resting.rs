@@ -5,7 +5,7 @@
 //! "At rest" follows the scenes' convention that touching counts as a collision: a resting body
 //! floats [`RESTING_GAP`] above its support, the way the bundled scenes place their objects.
 
-use lamp_geometry::{BodyId, ContactPoint, Point3, Pose, Real, Rotation, Vec3};
+use lamp_geometry::{BodyId, ContactPoint, Pose, Real, Rotation, Vec3};
 use nalgebra::Translation3;
 
 use crate::scene::Scene;
@@ -116,8 +116,8 @@ impl Scene {
     pub fn release_at_rest(&mut self, robot: usize) -> Result<Option<usize>, RestError> {
         let Some(held) = self.held(robot) else { return Ok(None) };
         let rest = self.resting_pose(held.body)?;
-        // Seating itself level turns the object about its centre, which may swing it into the
-        // fingers that just let go of it.
+        // Seating itself level turns the object about the point it lands on, which may swing
+        // its top into the fingers that just let go of it.
         if let Some(link) = self.link_near_body(held.body, &rest) {
             let object = self.bodies[held.body].name.clone();
             return Err(RestError::TouchingRobot { object, link });
@@ -147,31 +147,49 @@ impl Scene {
         }
         // The first point to land falls `gap`: that is the drop the limit is about, whether or
         // not the body then seats itself level.
-        if gap - RESTING_GAP > MAX_SETTLE_DROP {
-            let drop = gap - RESTING_GAP;
+        let drop = gap - RESTING_GAP;
+        if drop > MAX_SETTLE_DROP {
             return Err(RestError::TooHigh { object: name(), below: below_name, drop });
         }
-        let pose = leveled(&released, &shape.centre_of_mass());
-        let (below_name, gap) = if pose == released {
-            (below_name, gap)
+        let landed = if drop > AT_REST {
+            Translation3::from(Vec3::new(0.0, 0.0, -drop)) * released
         } else {
-            if let Some(touched) = self.collision.first_contact(shape, &pose, 0.0, skip) {
-                let body = self.bodies[touched.0].name.clone();
-                return Err(RestError::Touching { object: name(), body });
-            }
-            match self.collision.first_below(shape, &pose, LOOK_DOWN, skip) {
-                Some((below, gap)) => (self.bodies[below.0].name.clone(), gap),
-                None => return Err(RestError::NothingBelow { object: name() }),
-            }
+            released
         };
-        if gap <= 0.0 {
-            return Err(RestError::Touching { object: name(), body: below_name });
+        let Some(turn) = leveling_turn(&landed) else {
+            self.check_support(body, &landed)?;
+            return Ok(landed);
+        };
+        // It seats itself by turning about the point it landed on (the low edge of its base),
+        // which stays where it is, as friction holds it.
+        let reach = RESTING_GAP + CONTACT_BAND;
+        let pivot = self
+            .collision
+            .contact_points(shape, &landed, reach, skip)
+            .into_iter()
+            .map(|(_, contact)| contact.point)
+            .min_by(|a, b| a.z.total_cmp(&b.z))
+            .unwrap_or_else(|| landed * shape.centre_of_mass());
+        let seated =
+            Translation3::from(pivot.coords) * turn * Translation3::from(-pivot.coords) * landed;
+        if let Some(touched) = self.collision.first_contact(shape, &seated, 0.0, skip) {
+            let body = self.bodies[touched.0].name.clone();
+            return Err(RestError::Touching { object: name(), body });
         }
+        // Level now, its base lies at the pivot's height, 1 mm above what was below the pivot;
+        // what is below the rest of the base may be nearer (a step) or farther (an edge).
+        let Some((below, gap)) = self.collision.first_below(shape, &seated, LOOK_DOWN, skip) else {
+            return Err(RestError::NothingBelow { object: name() });
+        };
         let drop = gap - RESTING_GAP;
-        let rest = if drop > AT_REST {
-            Translation3::from(Vec3::new(0.0, 0.0, -drop)) * pose
+        if drop > MAX_SETTLE_DROP {
+            let below = self.bodies[below.0].name.clone();
+            return Err(RestError::TooHigh { object: name(), below, drop });
+        }
+        let rest = if drop.abs() > AT_REST {
+            Translation3::from(Vec3::new(0.0, 0.0, -drop)) * seated
         } else {
-            pose
+            seated
         };
         self.check_support(body, &rest)?;
         Ok(rest)
@@ -203,28 +221,21 @@ impl Scene {
     }
 }
 
-/// `pose` turned about the body's centre of mass (`centre`, in the body's frame) so that the body
-/// axis nearest to vertical is vertical, when it leans less than [`MAX_SETTLE_TILT`]; otherwise
-/// `pose` as it is. Turning about the centre of mass lifts the low side and lowers the high side,
-/// as a body does that seats itself on a flat face.
-fn leveled(pose: &Pose, centre: &Point3) -> Pose {
+/// The turn that makes the body axis nearest to vertical vertical, when it leans by more than
+/// rounding and less than [`MAX_SETTLE_TILT`]; `None` otherwise.
+fn leveling_turn(pose: &Pose) -> Option<Rotation> {
     let rotation = pose.rotation.to_rotation_matrix();
-    let axes = rotation.matrix().column_iter().map(|axis| axis.into_owned()).collect::<Vec<_>>();
-    let Some(nearest) = axes.into_iter().max_by(|a, b| a.z.abs().total_cmp(&b.z.abs())) else {
-        return *pose;
-    };
+    let nearest = rotation
+        .matrix()
+        .column_iter()
+        .map(|axis| axis.into_owned())
+        .max_by(|a, b| a.z.abs().total_cmp(&b.z.abs()))?;
     let lean = nearest.z.abs().min(1.0).acos();
     if !(LEVEL..=MAX_SETTLE_TILT).contains(&lean) {
-        return *pose;
+        return None;
     }
     let vertical = Vec3::new(0.0, 0.0, nearest.z.signum());
-    let Some(turn) = Rotation::rotation_between(&nearest, &vertical) else {
-        return *pose;
-    };
-    let centre_in_world = pose * centre;
-    let rotation = turn * pose.rotation;
-    let translation = centre_in_world.coords - rotation * centre.coords;
-    Pose::from_parts(Translation3::from(translation), rotation)
+    Rotation::rotation_between(&nearest, &vertical)
 }
 
 /// How far `point` lies outside the convex hull of `points` in the plane (0 inside; infinite
