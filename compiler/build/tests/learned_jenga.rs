@@ -7,10 +7,12 @@
 
 mod support;
 
+use std::collections::{BTreeMap, BTreeSet};
 use std::sync::LazyLock;
 
 use lamp_build::Artifacts;
-use lamp_learn::{Action, Model};
+use lamp_learn::{Action, GroundAtom, Model, Participant, Pose, Role, Snapshot, abstract_state};
+use nalgebra::{Translation3, UnitQuaternion};
 
 use support::{artifact, has, regions};
 
@@ -132,6 +134,152 @@ fn putting_a_block_across_two_needs_it_held_and_both_below_on_their_markers() {
             );
         }
         assert!(!has(&action.preconditions, "clear_block_block_1"), "{}", action.name);
+    }
+}
+
+/// A pose at (x, y, z) turned by `yaw` about the vertical.
+fn at(x: f64, y: f64, z: f64, yaw: f64) -> Pose {
+    Pose::from_parts(Translation3::new(x, y, z), UnitQuaternion::from_euler_angles(0.0, 0.0, yaw))
+}
+
+/// The blocks of a tower of `layers` layers anchored at `anchor`, layer by layer: two blocks at
+/// one width either side of the centre line, layers alternately at yaw 0 and `turn`, resting 1 mm
+/// above the one below (the table top is z = 0 of the anchor).
+fn tower(anchor: &Pose, layers: usize, turn: f64) -> Vec<Pose> {
+    (0..layers)
+        .flat_map(|layer| {
+            let yaw = if layer % 2 == 0 { 0.0 } else { turn };
+            let z = 0.001 + 0.03048 / 2.0 + layer as f64 * LAYER;
+            [1.0, -1.0].map(|side| {
+                let (sin, cos) = yaw.sin_cos();
+                anchor * at(-sin * side * WIDTH, cos * side * WIDTH, z, yaw)
+            })
+        })
+        .collect()
+}
+
+/// The learned atoms of a tower with its first `placed` blocks at their poses and the others
+/// lying far apart on the floor, a marker at every block's tower pose, the gripper far above.
+fn tower_state(model: &Model, poses: &[Pose], placed: usize) -> BTreeSet<GroundAtom> {
+    let mut participants = vec![Participant {
+        name: "gripper".into(),
+        type_name: "gripper".into(),
+        role: Role::RobotPart { gripper: true },
+    }];
+    let mut snapshot = Snapshot { poses: vec![at(0.0, 0.0, 3.0, 0.0)], held: Vec::new() };
+    for (index, pose) in poses.iter().enumerate() {
+        participants.push(Participant {
+            name: format!("b{index}"),
+            type_name: "block".into(),
+            role: Role::Object { movable: true },
+        });
+        let away = at(-1.0 - 0.5 * index as f64, 2.0, 0.0, 0.0);
+        snapshot.poses.push(if index < placed { *pose } else { away });
+    }
+    for (index, pose) in poses.iter().enumerate() {
+        participants.push(Participant {
+            name: format!("loc{index}"),
+            type_name: "loc".into(),
+            role: Role::Object { movable: false },
+        });
+        snapshot.poses.push(*pose);
+    }
+    abstract_state(model, &participants, &snapshot).expect("the tower abstracts")
+}
+
+/// The block–block atoms of a state that put a block in a region (not `_0`).
+fn block_atoms(state: &BTreeSet<GroundAtom>) -> BTreeSet<GroundAtom> {
+    state
+        .iter()
+        .filter(|atom| {
+            atom.predicate.starts_with("block_block_") && atom.predicate != "block_block_0"
+        })
+        .cloned()
+        .collect()
+}
+
+/// Whether `action`, with its parameters bound by `binding`, adds exactly the block–block atoms
+/// `added`, and its other preconditions (all but the gripper's) hold in `before`.
+fn explains(
+    action: &Action,
+    binding: &BTreeMap<String, String>,
+    before: &BTreeSet<GroundAtom>,
+    added: &BTreeSet<GroundAtom>,
+) -> bool {
+    let ground = |atom: &lamp_learn::LiftedAtom| {
+        let arguments: Option<Vec<String>> =
+            atom.arguments.iter().map(|argument| binding.get(argument).cloned()).collect();
+        arguments.map(|arguments| GroundAtom { predicate: atom.predicate.clone(), arguments })
+    };
+    let adds: Option<BTreeSet<GroundAtom>> = across_added(action).into_iter().map(ground).collect();
+    if adds.as_ref() != Some(added) {
+        return false;
+    }
+    action
+        .preconditions
+        .iter()
+        .filter(|atom| {
+            atom.predicate.starts_with("block_block_") || atom.predicate == "loc_block_1"
+        })
+        .filter(|atom| atom.arguments.iter().all(|argument| binding.contains_key(argument)))
+        .all(|atom| ground(atom).is_some_and(|atom| before.contains(&atom)))
+}
+
+#[test]
+fn every_placement_of_an_eighteen_block_tower_is_one_learned_action() {
+    let (model, _) = &*JENGA_BUILD;
+    let across: Vec<&Action> =
+        model.actions.iter().filter(|action| !across_added(action).is_empty()).collect();
+    let held_region = regions(model, "gripper", "block")
+        .into_iter()
+        .find(|region| region.summary.g == 1)
+        .map(|region| region.relation.clone())
+        .expect("a held region");
+    // Layers 0°, 90°, 0°, … and 0°, −90°, 0°, …, at an anchor turned by an arbitrary yaw.
+    for turn in [std::f64::consts::FRAC_PI_2, -std::f64::consts::FRAC_PI_2] {
+        let poses = tower(&at(0.7, 0.05, 0.459, 0.7), 9, turn);
+        let mut before = tower_state(model, &poses, 0);
+        for moved in 0..poses.len() {
+            let after = tower_state(model, &poses, moved + 1);
+            let on_marker = GroundAtom {
+                predicate: "loc_block_1".into(),
+                arguments: vec![format!("loc{moved}"), format!("b{moved}")],
+            };
+            assert!(after.contains(&on_marker), "b{moved} is not on its marker");
+            let added: BTreeSet<GroundAtom> =
+                block_atoms(&after).difference(&block_atoms(&before)).cloned().collect();
+            assert!(block_atoms(&before).is_subset(&block_atoms(&after)), "b{moved} removes");
+            if moved < 2 {
+                assert!(added.is_empty(), "b{moved} on the table relates: {added:?}");
+            } else {
+                // The two blocks of the layer below, in either role.
+                let layer_below = 2 * (moved / 2) - 2;
+                let below = [format!("b{layer_below}"), format!("b{}", layer_below + 1)];
+                let explained = across.iter().any(|action| {
+                    let held = action
+                        .preconditions
+                        .iter()
+                        .find(|atom| atom.predicate == held_region)
+                        .map(|atom| atom.arguments[1].clone());
+                    let others: Vec<String> = ["?block_p1", "?block_p2", "?block_p3"]
+                        .into_iter()
+                        .filter(|p| Some(p.to_string()) != held)
+                        .map(String::from)
+                        .collect();
+                    let Some(held) = held else { return false };
+                    [(0, 1), (1, 0)].into_iter().any(|(first, second)| {
+                        let binding = BTreeMap::from([
+                            (held.clone(), format!("b{moved}")),
+                            (others[0].clone(), below[first].clone()),
+                            (others[1].clone(), below[second].clone()),
+                        ]);
+                        explains(action, &binding, &before, &added)
+                    })
+                });
+                assert!(explained, "turn {turn}: no learned action places b{moved}: {added:?}");
+            }
+            before = after;
+        }
     }
 }
 
