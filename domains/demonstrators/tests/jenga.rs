@@ -8,6 +8,7 @@ use std::sync::LazyLock;
 
 use lamp_demonstrators::{Demonstration, Demonstrator, Simulation, generate, generate_all};
 use lamp_geometry::{Pose, Rotation, Vec3};
+use lamp_physics::{PhysicsBody, first_unsettled};
 use lamp_robot::{ARM_GROUP, IkConfig};
 use lamp_spec::Spec;
 use lamp_world::{RESTING_GAP, Scene, SpecWorld, reach};
@@ -140,4 +141,49 @@ fn the_same_seed_gives_the_same_bytes() {
     let (_, world) = &*JENGA;
     let again = generate(world, &simulation(4, 0.5), 1).expect("seed 7 generates");
     assert_eq!(again.to_bytes().unwrap(), DEMOS[1].to_bytes().unwrap());
+}
+
+/// The first free body that does not stay put under gravity among the table of the spec's first
+/// problem (fixed) and blocks at `blocks`.
+fn unsettled_blocks(blocks: &[(String, Pose)]) -> Option<lamp_physics::Drift> {
+    let (spec, world) = &*JENGA;
+    let table = spec.problems[0]
+        .scene
+        .objects
+        .iter()
+        .find(|o| o.type_name == "table")
+        .expect("a table in the first problem");
+    let table_body = world.body(&table.name, "table").expect("the table type");
+    let block_body = world.body("block", "block").expect("the block type");
+    let mut bodies = vec![PhysicsBody {
+        name: "table",
+        parts: &table_body.parts,
+        pose: table.pose,
+        fixed: true,
+    }];
+    for (name, pose) in blocks {
+        bodies.push(PhysicsBody { name, parts: &block_body.parts, pose: *pose, fixed: false });
+    }
+    first_unsettled(&bodies, RESTING_GAP).expect("blocks simulate")
+}
+
+#[test]
+fn what_every_full_demonstration_builds_stands_under_gravity() {
+    let (_, world) = &*JENGA;
+    for demo in DEMOS.iter() {
+        let whole = match demo.cut_at {
+            None => demo.clone(),
+            Some(_) => generate(world, &simulation(4, 0.0), demo.index).expect("seed 7 generates"),
+        };
+        let header = &whole.trajectory.header;
+        let last = whole.trajectory.steps.last().expect("steps");
+        let blocks: Vec<(String, Pose)> = header
+            .bodies
+            .iter()
+            .zip(&last.body_poses)
+            .filter(|(body, _)| body.type_name == "block")
+            .map(|(body, pose)| (body.name.clone(), *pose))
+            .collect();
+        assert_eq!(unsettled_blocks(&blocks), None, "demonstration {}", demo.index);
+    }
 }
