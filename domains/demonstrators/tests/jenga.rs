@@ -187,3 +187,21 @@ fn what_every_full_demonstration_builds_stands_under_gravity() {
         assert_eq!(unsettled_blocks(&blocks), None, "demonstration {}", demo.index);
     }
 }
+
+#[test]
+fn more_blocks_than_the_table_holds_or_a_spec_without_markers_is_refused() {
+    let (_, world) = &*JENGA;
+    let five = Simulation { objects: 5, ..simulation(1, 0.5) };
+    assert!(matches!(
+        generate(world, &five, 0),
+        Err(lamp_demonstrators::DemoError::Unsupported { .. })
+    ));
+    // Packing has no fixed arm (nor markers): named, not a panic.
+    let (_, packing) = support::domain("packing");
+    match generate(&packing, &simulation(1, 0.5), 0) {
+        Err(lamp_demonstrators::DemoError::SpecMismatch { what, .. }) => {
+            assert!(what.contains("fixed-arm"), "{what}");
+        }
+        other => panic!("expected a spec mismatch, got {other:?}"),
+    }
+}
