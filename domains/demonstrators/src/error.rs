@@ -14,7 +14,10 @@ pub enum DemoError {
     NoSimulator,
     /// The demonstrator name is not one lamp ships.
     #[error("unknown demonstrator `{name}`")]
-    #[diagnostic(code(lamp::demos::unknown_demonstrator), help("lamp ships `packing` and `cafe`"))]
+    #[diagnostic(
+        code(lamp::demos::unknown_demonstrator),
+        help("lamp ships `packing`, `cafe`, `dinner` and `jenga`")
+    )]
     UnknownDemonstrator { name: String },
     /// The spec lacks something the demonstrator needs (a type, a robot, a part, a problem).
     #[error("demonstrator `{demonstrator}` needs {what}")]

@@ -9,8 +9,10 @@
 
 mod cafe;
 mod error;
+mod jenga;
 mod packing;
 mod skills;
+mod tower;
 
 use std::collections::BTreeMap;
 
@@ -27,6 +29,10 @@ pub use lamp_world::STEP_NANOSECONDS;
 /// Attempts per demonstration before giving up (each with fresh random choices).
 pub const MAX_ATTEMPTS: u32 = 25;
 
+/// Most blocks in a Jenga demonstration's scene: the spare ones lie on the table, which has room
+/// for a few.
+pub const MAX_JENGA_BLOCKS: u32 = 4;
+
 /// The demonstrators lamp ships.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Demonstrator {
@@ -37,6 +43,9 @@ pub enum Demonstrator {
     /// The Café script with every movable type (glasses, bowls), one object per demonstration,
     /// and a marker recorded where the object is put.
     Dinner,
+    /// A Fetch arm on a fixed base places one Jenga block of a small tower, the blocks below it
+    /// already placed; a marker recorded at each placed block.
+    Jenga,
 }
 
 impl Demonstrator {
@@ -46,6 +55,7 @@ impl Demonstrator {
             "packing" => Ok(Demonstrator::Packing),
             "cafe" => Ok(Demonstrator::Cafe),
             "dinner" => Ok(Demonstrator::Dinner),
+            "jenga" => Ok(Demonstrator::Jenga),
             _ => Err(DemoError::UnknownDemonstrator { name: name.to_string() }),
         }
     }
@@ -56,6 +66,7 @@ impl Demonstrator {
             Demonstrator::Packing => "packing",
             Demonstrator::Cafe => "cafe",
             Demonstrator::Dinner => "dinner",
+            Demonstrator::Jenga => "jenga",
         }
     }
 }
@@ -67,7 +78,8 @@ pub struct Simulation {
     pub count: u32,
     /// Fraction of demonstrations cut short at a random step.
     pub cut_fraction: f64,
-    /// Objects of the manipulated type per demonstration (the demonstrators support 1).
+    /// Objects of the manipulated type per demonstration (1, except for Jenga: blocks in the
+    /// scene, the training structures using up to three).
     pub objects: u32,
     pub seed: u64,
 }
@@ -136,6 +148,7 @@ enum Prepared<'a> {
     Packing(packing::Packing<'a>),
     // Boxed: the Café demonstrator keeps its furniture and configurations, Packing very little.
     Cafe(Box<cafe::Cafe<'a>>),
+    Jenga(Box<jenga::Jenga<'a>>),
 }
 
 impl Prepared<'_> {
@@ -143,16 +156,21 @@ impl Prepared<'_> {
         match self {
             Prepared::Packing(packing) => packing.attempt(seed, rng),
             Prepared::Cafe(cafe) => cafe.attempt(seed, rng),
+            Prepared::Jenga(jenga) => jenga.attempt(seed, rng),
         }
     }
 }
 
 fn prepare<'a>(world: &'a SpecWorld, simulation: &Simulation) -> Result<Prepared<'a>, DemoError> {
-    if simulation.objects != 1 {
+    let objects_ok = match simulation.demonstrator {
+        Demonstrator::Jenga => (1..=MAX_JENGA_BLOCKS).contains(&simulation.objects),
+        _ => simulation.objects == 1,
+    };
+    if !objects_ok {
         return Err(DemoError::Unsupported {
             demonstrator: simulation.demonstrator.name().to_string(),
             reason: format!(
-                "`objects {}`: the demonstrators move exactly one object",
+                "`objects {}`: this demonstrator moves exactly one object (Jenga: 1 to {MAX_JENGA_BLOCKS} blocks in the scene)",
                 simulation.objects
             ),
         });
@@ -167,6 +185,9 @@ fn prepare<'a>(world: &'a SpecWorld, simulation: &Simulation) -> Result<Prepared
         Demonstrator::Packing => Prepared::Packing(packing::Packing::new(world)?),
         Demonstrator::Cafe | Demonstrator::Dinner => {
             Prepared::Cafe(Box::new(cafe::Cafe::new(world)?))
+        }
+        Demonstrator::Jenga => {
+            Prepared::Jenga(Box::new(jenga::Jenga::new(world, simulation.objects)?))
         }
     })
 }

@@ -431,3 +431,8 @@ fn a_packing_demonstration_decodes_with_every_standard_channel_consistent() {
 fn a_cafe_demonstration_decodes_with_every_standard_channel_consistent() {
     check_domain(Demonstrator::Cafe, 3);
 }
+
+#[test]
+fn a_jenga_demonstration_decodes_with_every_standard_channel_consistent() {
+    check_domain(Demonstrator::Jenga, 7);
+}
