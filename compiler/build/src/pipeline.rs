@@ -122,6 +122,8 @@ pub fn artifacts(
         ..Summary::default()
     };
     let mut files = vec![ArtifactFile { path: DOMAIN_FILE.into(), contents: domain_text }];
+    let mut structure_issues = Vec::new();
+    let mut refused = 0;
     for problem in &spec.problems {
         match problem_pddl(&problem_context, problem)? {
             ProblemOutcome::Written { name, text, notes, warnings } => {
@@ -136,7 +138,14 @@ pub fn artifacts(
             ProblemOutcome::Skipped { name, reason } => {
                 summary.problems_skipped.push((name, reason))
             }
+            ProblemOutcome::Refused { issues, .. } => {
+                refused += 1;
+                structure_issues.extend(issues);
+            }
         }
+    }
+    if !structure_issues.is_empty() {
+        return Err(BuildError::Structures { problems: refused, issues: structure_issues });
     }
     let samplers = SamplersFile::new(provenance.clone(), model.sampler_artifact());
     files.push(ArtifactFile { path: SAMPLERS_FILE.into(), contents: samplers.to_json()? });

@@ -1,0 +1,270 @@
+//! Structure goals as learned relations: `structure NAME at ANCHOR offset POSE` becomes the
+//! relations that hold among the structure's objects, and between each and its marker, once the
+//! structure stands at its place.
+//!
+//! Each structure object is the scene object of the same name (the checker makes sure there is
+//! one, of the same type). Its target is the anchor's pose · the offset · its pose in the
+//! structure (`SpecWorld::structure_targets`), where `SpecWorld::problem_scene` puts its marker
+//! `goal_<object>`. The placed structure is checked first, with the static world as it is and
+//! nothing else: no two of its objects touch, and each rests by lamp-world's resting rule. Then
+//! the goal state is made by moving every structure object of the problem scene to its target,
+//! and abstracted with the learned classifiers as the initial state is; the goal is every region
+//! relation (no `_0`, clear or nowhere relation) true there between two structure objects or a
+//! structure object and its own target marker. Each object must get one, and each must be added by a
+//! learned action, or the solver could never make it true.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use lamp_geometry::Pose;
+use lamp_learn::{GroundAtom, Model, abstract_state};
+use lamp_participants::scene_snapshot;
+use lamp_pddl::Atom;
+use lamp_spec::Problem;
+use lamp_world::{Scene, SpecWorld};
+
+use crate::adapter::Adapter;
+use crate::error::BuildError;
+use crate::initial_scene::CONTACT_TOLERANCE;
+use crate::structure_issue::StructureIssue;
+
+/// The goal atoms of a problem's structure goal, or why it cannot be written; no atoms and no
+/// findings for a problem without one.
+pub fn structure_goal_atoms(
+    model: &Model,
+    world: &SpecWorld,
+    adapter: &Adapter,
+    problem: &Problem,
+) -> Result<(Vec<Atom>, Vec<StructureIssue>), BuildError> {
+    let Some(goal) = &problem.goal.structure else { return Ok((Vec::new(), Vec::new())) };
+    let scene_error = |reason: String| BuildError::Scene { problem: problem.name.clone(), reason };
+    let targets =
+        world.structure_targets(problem).map_err(|error| scene_error(error.to_string()))?;
+    let issue_context = IssueContext { problem: &problem.name, structure: &goal.structure };
+    let issues = placed_structure_issues(world, problem, &targets, &issue_context)
+        .map_err(|error| scene_error(error.to_string()))?;
+    if !issues.is_empty() {
+        return Ok((Vec::new(), issues));
+    }
+    let mut scene = world.problem_scene(problem).map_err(|error| scene_error(error.to_string()))?;
+    for (object, pose) in &targets {
+        let body = scene.body_index(object).ok_or_else(|| {
+            scene_error(format!("the structure's `{object}` is not in the scene"))
+        })?;
+        scene.set_body_pose(body, *pose);
+    }
+    let (participants, snapshot) =
+        scene_snapshot(adapter.participants(), &scene).map_err(scene_error)?;
+    let state = abstract_state(model, &participants, &snapshot)?;
+    let objects: BTreeSet<String> = targets.iter().map(|(object, _)| object.clone()).collect();
+    let markers: BTreeSet<String> = match world.goal_marker_type(problem) {
+        Some(_) => objects.iter().map(|object| lamp_spec::marker_name(object)).collect(),
+        None => BTreeSet::new(),
+    };
+    let atoms = goal_relations(model, &state, &objects, &markers);
+    let mut issues = Vec::new();
+    for (object, _) in &targets {
+        if !atoms.iter().any(|atom| atom.arguments.contains(object)) {
+            let type_name = participant_type(&participants, object);
+            let partners = match markers.is_empty() {
+                true => "the other objects of the structure (the spec declares no marker type, so \
+                         none marks its place)"
+                    .to_string(),
+                false => format!(
+                    "its marker `{}` or the other objects of the structure",
+                    lamp_spec::marker_name(object)
+                ),
+            };
+            issues.push(issue_context.no_goal_atom(object, type_name, partners));
+        }
+    }
+    let added: BTreeSet<&str> = model
+        .actions
+        .iter()
+        .flat_map(|action| &action.add)
+        .map(|atom| atom.predicate.as_str())
+        .collect();
+    for atom in atoms.iter().filter(|atom| !added.contains(atom.predicate.as_str())) {
+        let [primary, secondary] = [&atom.arguments[0], &atom.arguments[1]];
+        let pose_of = |name: &str| scene.body_index(name).map(|body| scene.body_pose(body));
+        let relative = match (pose_of(primary), pose_of(secondary)) {
+            (Some(primary), Some(secondary)) => primary.inverse() * secondary,
+            _ => Pose::identity(),
+        };
+        let object = if objects.contains(secondary) { secondary } else { primary };
+        issues.push(StructureIssue::Unlearned {
+            problem: problem.name.clone(),
+            structure: goal.structure.clone(),
+            object: object.clone(),
+            atom: atom.to_string(),
+            primary_type: participant_type(&participants, primary),
+            secondary_type: participant_type(&participants, secondary),
+            pose: spec_pose(&relative),
+        });
+    }
+    if !issues.is_empty() {
+        return Ok((Vec::new(), issues));
+    }
+    let atoms = atoms
+        .iter()
+        .map(|atom| {
+            let names: Vec<&str> = atom.arguments.iter().map(String::as_str).collect();
+            Atom::ground(atom.predicate.clone(), &names)
+        })
+        .collect();
+    Ok((atoms, Vec::new()))
+}
+
+/// The region relations of `state` between two structure objects, or between a structure object
+/// and its own target marker, in the state's (sorted) order.
+///
+/// A marker is related to its own object only: a marker says where its object goes, and what
+/// holds between it and a neighbour of its object (the block below) restates an object–object
+/// relation through a stand-in, often one no action makes (the block below never moves while a
+/// marker is set on it in a demonstration).
+fn goal_relations(
+    model: &Model,
+    state: &BTreeSet<GroundAtom>,
+    objects: &BTreeSet<String>,
+    markers: &BTreeSet<String>,
+) -> Vec<GroundAtom> {
+    let regions: BTreeSet<&str> = model
+        .pairs
+        .iter()
+        .flat_map(|pair| &pair.regions)
+        .map(|region| region.relation.as_str())
+        .collect();
+    let in_goal = |atom: &&GroundAtom| match atom.arguments.as_slice() {
+        [first, second] if objects.contains(first) && objects.contains(second) => true,
+        [first, second] => [(first, second), (second, first)].iter().any(|(marker, object)| {
+            markers.contains(*marker)
+                && objects.contains(*object)
+                && **marker == lamp_spec::marker_name(object)
+        }),
+        _ => false,
+    };
+    state
+        .iter()
+        .filter(|atom| regions.contains(atom.predicate.as_str()))
+        .filter(in_goal)
+        .cloned()
+        .collect()
+}
+
+/// Where the problem and the structure are named in findings.
+struct IssueContext<'a> {
+    problem: &'a str,
+    structure: &'a str,
+}
+
+impl IssueContext<'_> {
+    fn no_goal_atom(&self, object: &str, type_name: String, partners: String) -> StructureIssue {
+        StructureIssue::NoGoalAtom {
+            problem: self.problem.to_string(),
+            structure: self.structure.to_string(),
+            object: object.to_string(),
+            type_name,
+            partners,
+        }
+    }
+}
+
+/// The structure standing alone on the problem's static bodies: objects that touch one another
+/// or a static body, then objects that do not rest by the resting rule (an object already
+/// reported as touching is not judged again: the rule would only say it touches).
+fn placed_structure_issues(
+    world: &SpecWorld,
+    problem: &Problem,
+    targets: &[(String, Pose)],
+    context: &IssueContext<'_>,
+) -> Result<Vec<StructureIssue>, lamp_world::WorldError> {
+    let mut scene = Scene::new();
+    let objects: BTreeMap<&str, &str> = problem
+        .scene
+        .objects
+        .iter()
+        .map(|object| (object.name.as_str(), object.type_name.as_str()))
+        .collect();
+    let structure: BTreeSet<&str> = targets.iter().map(|(object, _)| object.as_str()).collect();
+    for object in &problem.scene.objects {
+        if structure.contains(object.name.as_str()) {
+            continue;
+        }
+        if let Some(body) = world.body(&object.name, &object.type_name)
+            && !body.movable
+            && !body.is_marker()
+        {
+            scene.add_body(body, object.pose)?;
+        }
+    }
+    for (object, pose) in targets {
+        let type_name = objects.get(object.as_str()).copied().unwrap_or_default();
+        let body =
+            world.body(object, type_name).ok_or_else(|| lamp_world::WorldError::Undeclared {
+                problem: problem.name.clone(),
+                name: type_name.to_string(),
+            })?;
+        scene.add_body(body, *pose)?;
+    }
+    scene.set_margin(CONTACT_TOLERANCE);
+    let mut issues = Vec::new();
+    let mut touching = BTreeSet::new();
+    for (first, second) in scene.body_contacts() {
+        let (object, other) =
+            if structure.contains(first.as_str()) { (first, second) } else { (second, first) };
+        touching.insert(object.clone());
+        touching.insert(other.clone());
+        issues.push(StructureIssue::Contact {
+            problem: context.problem.to_string(),
+            structure: context.structure.to_string(),
+            object,
+            other,
+        });
+    }
+    for (object, _) in targets {
+        if touching.contains(object) {
+            continue;
+        }
+        let Some(body) = scene.body_index(object) else { continue };
+        if let Err(reason) = scene.resting_pose(body) {
+            issues.push(StructureIssue::Unsupported {
+                problem: context.problem.to_string(),
+                structure: context.structure.to_string(),
+                object: object.clone(),
+                reason: reason.to_string(),
+            });
+        }
+    }
+    Ok(issues)
+}
+
+fn participant_type(participants: &[lamp_learn::Participant], name: &str) -> String {
+    participants
+        .iter()
+        .find(|participant| participant.name == name)
+        .map(|participant| participant.type_name.clone())
+        .unwrap_or_default()
+}
+
+/// A pose as a spec writes one: `(x, y, z) m rpy (r, p, y) deg`, millimetres and tenths of a
+/// degree.
+fn spec_pose(pose: &Pose) -> String {
+    let position = pose.translation.vector;
+    let (roll, pitch, yaw) = pose.rotation.euler_angles();
+    let degrees = |angle: f64| {
+        let value = (angle.to_degrees() * 10.0).round() / 10.0;
+        if value == 0.0 { 0.0 } else { value }
+    };
+    let metres = |value: f64| {
+        let value = (value * 1000.0).round() / 1000.0;
+        if value == 0.0 { 0.0 } else { value }
+    };
+    format!(
+        "({}, {}, {}) m rpy ({}, {}, {}) deg",
+        metres(position.x),
+        metres(position.y),
+        metres(position.z),
+        degrees(roll),
+        degrees(pitch),
+        degrees(yaw)
+    )
+}
