@@ -40,8 +40,7 @@ pub fn structure_goal_atoms(
     let targets =
         world.structure_targets(problem).map_err(|error| scene_error(error.to_string()))?;
     let issue_context = IssueContext { problem: &problem.name, structure: &goal.structure };
-    let issues = placed_structure_issues(world, problem, &targets, &issue_context)
-        .map_err(|error| scene_error(error.to_string()))?;
+    let issues = placed_structure_issues(world, problem)?;
     if !issues.is_empty() {
         return Ok((Vec::new(), issues));
     }
@@ -168,15 +167,31 @@ impl IssueContext<'_> {
     }
 }
 
-/// The structure standing alone on the problem's static bodies: objects that touch one another
-/// or a static body, then objects that do not rest by the resting rule (an object already
-/// reported as touching is not judged again: the rule would only say it touches).
-fn placed_structure_issues(
+/// The findings of a problem's structure standing alone at its anchor on the problem's static
+/// bodies: objects that touch one another or a static body, then objects that do not rest by the
+/// resting rule (an object already reported as touching is not judged again: the rule would only
+/// say it touches). Empty without a structure goal.
+pub fn placed_structure_issues(
+    world: &SpecWorld,
+    problem: &Problem,
+) -> Result<Vec<StructureIssue>, BuildError> {
+    let Some(goal) = &problem.goal.structure else { return Ok(Vec::new()) };
+    let scene_error = |error: lamp_world::WorldError| BuildError::Scene {
+        problem: problem.name.clone(),
+        reason: error.to_string(),
+    };
+    let targets = world.structure_targets(problem).map_err(scene_error)?;
+    let context = IssueContext { problem: &problem.name, structure: &goal.structure };
+    let scene = placed_structure(world, problem, &targets).map_err(scene_error)?;
+    Ok(structure_scene_issues(&scene, &targets, &context))
+}
+
+/// The structure's objects at their targets, with the problem's static bodies and nothing else.
+fn placed_structure(
     world: &SpecWorld,
     problem: &Problem,
     targets: &[(String, Pose)],
-    context: &IssueContext<'_>,
-) -> Result<Vec<StructureIssue>, lamp_world::WorldError> {
+) -> Result<Scene, lamp_world::WorldError> {
     let mut scene = Scene::new();
     let objects: BTreeMap<&str, &str> = problem
         .scene
@@ -206,6 +221,15 @@ fn placed_structure_issues(
         scene.add_body(body, *pose)?;
     }
     scene.set_margin(CONTACT_TOLERANCE);
+    Ok(scene)
+}
+
+fn structure_scene_issues(
+    scene: &Scene,
+    targets: &[(String, Pose)],
+    context: &IssueContext<'_>,
+) -> Vec<StructureIssue> {
+    let structure: BTreeSet<&str> = targets.iter().map(|(object, _)| object.as_str()).collect();
     let mut issues = Vec::new();
     let mut touching = BTreeSet::new();
     for (first, second) in scene.body_contacts() {
@@ -234,7 +258,7 @@ fn placed_structure_issues(
             });
         }
     }
-    Ok(issues)
+    issues
 }
 
 fn participant_type(participants: &[lamp_learn::Participant], name: &str) -> String {

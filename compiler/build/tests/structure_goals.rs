@@ -366,3 +366,20 @@ fn issue_pose(issue: &StructureIssue) -> &str {
         _ => "",
     }
 }
+
+/// Every bundled structure stands at its problem's anchor: no two of its objects touch, none
+/// touches the table, and each rests by the resting rule, as the build checks it.
+#[test]
+fn every_bundled_structure_stands_at_its_anchor() {
+    for domain in ["keva", "jenga"] {
+        let (spec, world) = lamp_test_support::domain(domain);
+        let mut checked = 0;
+        for problem in spec.problems.iter().filter(|problem| problem.goal.structure.is_some()) {
+            let issues = lamp_build::placed_structure_issues(&world, problem)
+                .unwrap_or_else(|error| panic!("{domain} {}: {error}", problem.name));
+            assert_eq!(issues, [], "{domain} {}", problem.name);
+            checked += 1;
+        }
+        assert!(checked >= 12, "{domain}: {checked} structure problems");
+    }
+}
