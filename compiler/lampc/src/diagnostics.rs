@@ -61,7 +61,7 @@ struct Located<'a> {
 
 impl std::fmt::Display for Located<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        self.inner.fmt(f)
+        std::fmt::Display::fmt(self.inner, f)
     }
 }
 
@@ -140,4 +140,63 @@ pub(crate) fn render_structure_issue(
         spans.push(("in this goal", span));
     }
     render_located(issue, &spans, sources, colour)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SPEC: &str = "domain d
+type table { static world  box size (1, 1, 0.05) m at (0, 0, -0.025) m }
+type block { movable  box size (0.06, 0.04, 0.03) m }
+structure stack {
+  block b1 at (0, 0, 0.016) m
+  block b2 at (0, 0, 0.067) m
+}
+problem p {
+  scene {
+    table t1 at (0, 0, 0) m
+    block b1 at (0.2, 0, 0.016) m
+    block b2 at (0.3, 0, 0.016) m
+  }
+  goal {
+    structure stack at t1
+  }
+}
+";
+
+    #[test]
+    fn a_structure_finding_points_at_the_object_and_at_the_goal() {
+        let loader = lamp_lang::MemoryLoader::new([("spec.lamp", SPEC)]);
+        let outcome = lamp_lang::check_source("spec.lamp", SPEC, std::path::Path::new(""), &loader);
+        let issue = lamp_build::StructureIssue::Unsupported {
+            problem: "p".into(),
+            structure: "stack".into(),
+            object: "b2".into(),
+            reason: "`b2` would drop 20.0 mm onto `b1`, more than the 5 mm a release may settle"
+                .into(),
+        };
+        let rendered = render_structure_issue(&issue, &outcome.places, &outcome.sources, false);
+        for expected in [
+            "lamp::build::structure_unsupported",
+            "structure `stack` does not stand: `b2` would drop 20.0 mm onto `b1`",
+            "  block b2 at (0, 0, 0.067) m",
+            "`b2` is placed here",
+            "    structure stack at t1",
+            "in this goal",
+            "help: Every object must rest 1 mm above the table",
+        ] {
+            assert!(rendered.contains(expected), "`{expected}` in:\n{rendered}");
+        }
+        // A finding of a problem the spec does not locate is still rendered, without source.
+        let elsewhere = lamp_build::StructureIssue::Contact {
+            problem: "q".into(),
+            structure: "tower".into(),
+            object: "b1".into(),
+            other: "b2".into(),
+        };
+        let rendered = render_structure_issue(&elsewhere, &outcome.places, &outcome.sources, false);
+        assert!(rendered.contains("lamp::build::structure_contact"), "{rendered}");
+        assert!(!rendered.contains("placed here"), "{rendered}");
+    }
 }
