@@ -142,6 +142,26 @@ fn goal_structure_object_of_another_type() {
 }
 
 #[test]
+fn goal_structure_object_with_an_at_goal_too() {
+    let source = with_structure(
+        "    structure stack at box1\n    at c1 (0.3, 0, 0.001) m within 0.01 m 10 deg",
+    )
+    .replacen("type can {", "type spot { marker }\ntype can {", 1)
+    .replacen(
+        "    can c1 at (-0.2, 0, 0) m\n",
+        "    can c1 at (-0.2, 0, 0) m\n    can c2 at (-0.3, 0, 0) m\n",
+        1,
+    );
+    let outcome = check(&source);
+    assert_eq!(codes(&outcome), ["lamp::goal::structure_object"], "{}", render(&outcome));
+    assert!(
+        render(&outcome).contains("and an `at` goal gives `c1` another target"),
+        "{}",
+        render(&outcome)
+    );
+}
+
+#[test]
 fn a_structure_goal_binds_its_objects_by_name() {
     let source = with_structure("    structure stack at box1 offset (0, 0, 0.01) m").replacen(
         "    can c1 at (-0.2, 0, 0) m\n",
