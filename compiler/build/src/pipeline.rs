@@ -50,8 +50,6 @@ pub struct Summary {
     pub problems_written: Vec<String>,
     /// Problems not written, with the reason, in spec order.
     pub problems_skipped: Vec<(String, String)>,
-    /// What was left out of written problems, per problem, in spec order.
-    pub notes: Vec<(String, String)>,
     /// Warnings about the goals of written problems, in spec order.
     pub warnings: Vec<GoalWarning>,
     /// The demonstration digest.
@@ -126,12 +124,11 @@ pub fn artifacts(
     let mut refused = 0;
     for problem in &spec.problems {
         match problem_pddl(&problem_context, problem)? {
-            ProblemOutcome::Written { name, text, notes, warnings } => {
+            ProblemOutcome::Written { name, text, warnings } => {
                 files.push(ArtifactFile {
                     path: PathBuf::from(PROBLEMS_DIR).join(format!("{name}.pddl")),
                     contents: text,
                 });
-                summary.notes.extend(notes.into_iter().map(|note| (name.clone(), note)));
                 summary.warnings.extend(warnings);
                 summary.problems_written.push(name);
             }

@@ -26,8 +26,8 @@ use crate::structure_issue::StructureIssue;
 /// What became of one spec problem.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ProblemOutcome {
-    /// Written; `notes` say what of its goal was left out, `warnings` what may make it hard.
-    Written { name: String, text: String, notes: Vec<String>, warnings: Vec<GoalWarning> },
+    /// Written; `warnings` say what may make it hard.
+    Written { name: String, text: String, warnings: Vec<GoalWarning> },
     /// Not written, and why.
     Skipped { name: String, reason: String },
     /// Its structure goal cannot be transcribed: every finding.
@@ -100,7 +100,7 @@ pub fn problem_pddl(
         text.push_str(&format!("; {line}\n"));
     }
     text.push_str(&lamp_pddl::write_problem(&pddl));
-    Ok(ProblemOutcome::Written { name, text, notes: Vec::new(), warnings })
+    Ok(ProblemOutcome::Written { name, text, warnings })
 }
 
 /// The clear relations of held regions (g = 1) true in `init`: grippers that start empty must end

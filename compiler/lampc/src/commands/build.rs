@@ -303,9 +303,6 @@ fn print_summary(spec_file: &str, model: &Path, artifacts: &Artifacts, timings: 
         summary.problems_written.len(),
         summary.problems_skipped.len()
     );
-    for (problem, note) in &summary.notes {
-        println!("  note            {problem}: {note}");
-    }
     for (problem, reason) in &summary.problems_skipped {
         println!("  skipped         {problem}: {reason}");
     }
