@@ -60,46 +60,9 @@ pub fn structure_goal_atoms(
         None => BTreeSet::new(),
     };
     let atoms = goal_relations(model, &state, &objects, &markers);
-    let mut issues = Vec::new();
-    for (object, _) in &targets {
-        if !atoms.iter().any(|atom| atom.arguments.contains(object)) {
-            let type_name = participant_type(&participants, object);
-            let partners = match markers.is_empty() {
-                true => "the other objects of the structure (the spec declares no marker type, so \
-                         none marks its place)"
-                    .to_string(),
-                false => format!(
-                    "its marker `{}` or the other objects of the structure",
-                    lamp_spec::marker_name(object)
-                ),
-            };
-            issues.push(issue_context.no_goal_atom(object, type_name, partners));
-        }
-    }
-    let added: BTreeSet<&str> = model
-        .actions
-        .iter()
-        .flat_map(|action| &action.add)
-        .map(|atom| atom.predicate.as_str())
-        .collect();
-    for atom in atoms.iter().filter(|atom| !added.contains(atom.predicate.as_str())) {
-        let [primary, secondary] = [&atom.arguments[0], &atom.arguments[1]];
-        let pose_of = |name: &str| scene.body_index(name).map(|body| scene.body_pose(body));
-        let relative = match (pose_of(primary), pose_of(secondary)) {
-            (Some(primary), Some(secondary)) => primary.inverse() * secondary,
-            _ => Pose::identity(),
-        };
-        let object = if objects.contains(secondary) { secondary } else { primary };
-        issues.push(StructureIssue::Unlearned {
-            problem: problem.name.clone(),
-            structure: goal.structure.clone(),
-            object: object.clone(),
-            atom: atom.to_string(),
-            primary_type: participant_type(&participants, primary),
-            secondary_type: participant_type(&participants, secondary),
-            pose: spec_pose(&relative),
-        });
-    }
+    let found = Found { context: &issue_context, participants: &participants, scene: &scene };
+    let mut issues = found.objects_without_atoms(&targets, &atoms, !markers.is_empty());
+    issues.extend(found.unlearned(model, &atoms, &objects));
     if !issues.is_empty() {
         return Ok((Vec::new(), issues));
     }
@@ -155,15 +118,89 @@ struct IssueContext<'a> {
     structure: &'a str,
 }
 
-impl IssueContext<'_> {
-    fn no_goal_atom(&self, object: &str, type_name: String, partners: String) -> StructureIssue {
-        StructureIssue::NoGoalAtom {
-            problem: self.problem.to_string(),
-            structure: self.structure.to_string(),
-            object: object.to_string(),
-            type_name,
-            partners,
-        }
+/// The goal state, for the findings about its relations.
+struct Found<'a> {
+    context: &'a IssueContext<'a>,
+    participants: &'a [lamp_learn::Participant],
+    scene: &'a Scene,
+}
+
+impl Found<'_> {
+    /// Each structure object that is in none of `atoms`.
+    fn objects_without_atoms(
+        &self,
+        targets: &[(String, Pose)],
+        atoms: &[GroundAtom],
+        marked: bool,
+    ) -> Vec<StructureIssue> {
+        targets
+            .iter()
+            .map(|(object, _)| object)
+            .filter(|object| !atoms.iter().any(|atom| atom.arguments.contains(object)))
+            .map(|object| {
+                let partners = if marked {
+                    format!(
+                        "its marker `{}` or the other objects of the structure",
+                        lamp_spec::marker_name(object)
+                    )
+                } else {
+                    "the other objects of the structure (the spec declares no marker type, so \
+                     none marks its place)"
+                        .to_string()
+                };
+                StructureIssue::NoGoalAtom {
+                    problem: self.context.problem.to_string(),
+                    structure: self.context.structure.to_string(),
+                    object: object.clone(),
+                    type_name: self.type_of(object),
+                    partners,
+                }
+            })
+            .collect()
+    }
+
+    /// Each of `atoms` that no learned action adds, with the secondary's pose in the primary's
+    /// frame; it is about its structure object (the secondary, or the primary of a marker).
+    fn unlearned(
+        &self,
+        model: &Model,
+        atoms: &[GroundAtom],
+        objects: &BTreeSet<String>,
+    ) -> Vec<StructureIssue> {
+        let added: BTreeSet<&str> = model
+            .actions
+            .iter()
+            .flat_map(|action| &action.add)
+            .map(|atom| atom.predicate.as_str())
+            .collect();
+        let pose_of =
+            |name: &str| self.scene.body_index(name).map(|body| self.scene.body_pose(body));
+        atoms
+            .iter()
+            .filter(|atom| !added.contains(atom.predicate.as_str()))
+            .filter_map(|atom| {
+                let [primary, secondary] = atom.arguments.as_slice() else { return None };
+                let relative = pose_of(primary)?.inverse() * pose_of(secondary)?;
+                let object = if objects.contains(secondary) { secondary } else { primary };
+                Some(StructureIssue::Unlearned {
+                    problem: self.context.problem.to_string(),
+                    structure: self.context.structure.to_string(),
+                    object: object.clone(),
+                    atom: atom.to_string(),
+                    primary_type: self.type_of(primary),
+                    secondary_type: self.type_of(secondary),
+                    pose: spec_pose(&relative),
+                })
+            })
+            .collect()
+    }
+
+    fn type_of(&self, name: &str) -> String {
+        self.participants
+            .iter()
+            .find(|participant| participant.name == name)
+            .map(|participant| participant.type_name.clone())
+            .unwrap_or_default()
     }
 }
 
@@ -259,14 +296,6 @@ fn structure_scene_issues(
         }
     }
     issues
-}
-
-fn participant_type(participants: &[lamp_learn::Participant], name: &str) -> String {
-    participants
-        .iter()
-        .find(|participant| participant.name == name)
-        .map(|participant| participant.type_name.clone())
-        .unwrap_or_default()
 }
 
 /// A pose as a spec writes one: `(x, y, z) m rpy (r, p, y) deg`, millimetres and tenths of a
