@@ -300,3 +300,84 @@ fn dinner_has_twelve_sound_table_settings_whose_targets_rest_on_dining_tables() 
         }
     }
 }
+
+/// Keva and Jenga: the promised structure problems (names carry the object count), each scene
+/// sound, every object of the spec's structure in the scene, and the finished structure clear of
+/// the objects that are not part of it. That each structure stands at its anchor is checked with
+/// the build's own structure check (compiler/build/tests/structure_goals.rs).
+#[test]
+fn keva_and_jenga_have_the_promised_structure_problems() {
+    let expected: [(&str, &str, Vec<&str>); 2] = [
+        (
+            "keva",
+            "plank",
+            vec![
+                "pi_tower_3",
+                "flat_tower_4",
+                "two_pi_6",
+                "house_2d_6",
+                "pi_tower_6",
+                "pi_tower_9",
+                "pi_row_9",
+                "flat_tower_12",
+                "flat_twin_16",
+                "stonehenge_18",
+                "three_tower_24",
+                "twin_stacked_pi_30",
+            ],
+        ),
+        (
+            "jenga",
+            "block",
+            vec![
+                "tower_2",
+                "tower_3",
+                "tower_4",
+                "tower_6",
+                "tower_6_b",
+                "tower_8",
+                "tower_10",
+                "tower_12",
+                "tower_12_b",
+                "tower_14",
+                "tower_16",
+                "tower_18",
+                "tower_24",
+                "tower_30",
+            ],
+        ),
+    ];
+    for (domain, kind, names) in expected {
+        let (spec, world) = bundled(domain);
+        let found: Vec<&str> = spec.problems.iter().map(|p| p.name.as_str()).collect();
+        assert_eq!(found, names, "{domain}");
+        let mut anchors = Vec::new();
+        for problem in &spec.problems {
+            let goal = problem.goal.structure.as_ref().expect("a structure goal");
+            let structure = spec.structure(&goal.structure).expect("the structure");
+            let count: usize = problem.name.rsplit('_').find_map(|part| part.parse().ok()).unwrap();
+            assert_eq!(structure.placements.len(), count, "{}", problem.name);
+            assert_eq!(objects_of(problem, kind).len(), count, "{}", problem.name);
+            let scene = world.problem_scene(problem).expect("the scene builds");
+            assert_sound(problem, &scene);
+            let mut built = scene.clone();
+            for (object, pose) in world.structure_targets(problem).expect("the targets") {
+                let body = built.body_index(&object).expect("the object is in the scene");
+                built.set_body_pose(body, pose);
+            }
+            assert_eq!(built.body_contacts(), Vec::<(String, String)>::new(), "{}", problem.name);
+            let anchor = problem.scene.objects.iter().find(|o| o.name == goal.anchor).unwrap();
+            anchors.push(anchor.pose);
+        }
+        if domain == "jenga" {
+            // Different anchors: no two problems build at the same place and turn.
+            for (index, a) in anchors.iter().enumerate() {
+                for b in &anchors[..index] {
+                    let apart = (a.translation.vector - b.translation.vector).norm() > 1e-6
+                        || a.rotation.angle_to(&b.rotation) > 1e-6;
+                    assert!(apart, "two Jenga problems share an anchor");
+                }
+            }
+        }
+    }
+}

@@ -1,6 +1,6 @@
-"""Generates the bundled test problems of the Packing, Café and Dinner specs.
+"""Generates the bundled test problems of the Packing, Café, Dinner, Keva and Jenga specs.
 
-Run `python3 domains/tools/make_problems.py packing` (or `cafe`, `dinner`) and paste the printed
+Run `python3 domains/tools/make_problems.py packing` (or `cafe`, `dinner`, `keva`, `jenga`) and paste the printed
 problem blocks into domains/packing/packing.lamp (domains/cafe/cafe.lamp,
 domains/dinner/dinner.lamp) in place of the old ones;
 `cafe-layouts` prints the Café problems on the other furniture layouts, which follow the `cafe`
@@ -35,7 +35,29 @@ tables (a bowl near the edge, a glass behind it and to the right; a third glass 
 beside the bowl), each target 1 mm above the top and at least 3 cm from the others, and the
 objects on the other tops as Café cans are; every goal an AtGoal within 2 cm at any yaw.
 
-The bundled tests (tests/domains.rs) check the result with lamp's own collision checker.
+Keva, `keva` (12 structures and problems named <structure>_<planks>): planks 0.117 m × 0.023 m ×
+0.007 m, frame at the centre of the bottom face. A pi is two planks standing upright (long axis
+vertical, 23 mm wide across the lintel) 7.75 cm apart and a third lying flat across their tops;
+structures are pis (side by side, stacked, in a ring), log-cabin towers of flat planks (two per
+layer, each layer turned 90°) and a small house. Every plank rests 1 mm (RESTING_GAP) above the
+table or the planks below it. The table stands at x = 0.17 m, clear of the YuMi's body. The
+anchor `area1` is a `droparea`, an area drawn on the table top
+(its box lies in the table, so the anchor frame is the table's top face). The planks start lying
+flat on the table in a grid (0.2 m along a plank, 0.13 m across: the plank–plank bins reach 0.2 m,
+and a table of 1.2 m holds no more than 36 planks 0.2 m apart either way, fewer beside a structure),
+the spots nearest the YuMi's shoulder first, none within 0.12 m of a plank of the structure.
+
+Jenga, `jenga` (14 towers tower_<blocks>, 2 … 18 blocks, then 24 and 30): blocks 0.1524 m ×
+0.0508 m × 0.03048 m, frame at the centre; layers of two blocks at the outer positions (±0.0508 m
+across, a gap in the middle), each layer turned 90° from the one below, 1 mm between layers and
+above the table; an odd count leaves one block on the top layer, at the + position. Anchors
+(`build_area`, drawn on the table top) differ per problem, some turned; blocks start lying flat on
+the table in a grid of 0.07 m × 0.16 m with their long axis along y (each outside the others'
+block–block bins, ±0.1 m along a block and ±0.06 m across), none closer than that to a block of the
+bottom four layers of the tower, the spots nearest the Fetch's shoulder first.
+
+The bundled tests (tests/domains.rs) check the result with lamp's own collision checker, and
+every structure at its problem's anchor with the resting rule.
 """
 
 import math
@@ -477,6 +499,271 @@ def print_dinner():
         print()
 
 
+# --- Keva and Jenga: structures and their problems ----------------------------------------------
+
+RESTING_GAP = 0.001
+
+
+def yawed(x, y, yaw_deg):
+    c, s = math.cos(math.radians(yaw_deg)), math.sin(math.radians(yaw_deg))
+    return c * x - s * y, s * x + c * y
+
+
+def exact(value):
+    """A coordinate to the hundredth of a millimetre, without trailing zeros: structures are
+    built from millimetre gaps, which three decimals would round away."""
+    text = f"{value:.5f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+def pose_text(x, y, z, roll=0.0, pitch=0.0, yaw=0.0):
+    text = f"({exact(x)}, {exact(y)}, {exact(z)}) m"
+    if roll or pitch or yaw:
+        text += f" rpy ({exact(roll)}, {exact(pitch)}, {exact(yaw)}) deg"
+    return text
+
+
+# A placement: (x, y, z, roll, pitch, yaw) in the anchor's frame, plus its box for the checks:
+# (centre x, y, z, half sizes along the world axes after the yaw, as an axis-aligned box when the
+# yaw is a multiple of 90 degrees, and the yaw).
+
+PLANK_L, PLANK_W, PLANK_T = 0.117, 0.023, 0.007
+PI_SPAN = 0.0775
+PI_HEIGHT = RESTING_GAP + PLANK_L + RESTING_GAP + PLANK_T
+
+
+def flat_plank(x, y, base, yaw):
+    """A plank lying flat, long axis along `yaw`, on a support whose top is at `base`."""
+    return (x, y, base + RESTING_GAP, 0.0, 0.0, yaw)
+
+
+def upright_plank(x, y, base, yaw):
+    """A plank standing on its end, 23 mm along `yaw` and 7 mm thick across it, centred at
+    (x, y): rpy (0, -90, yaw + 90) turns its long axis up and its thickness (the frame's z, the
+    frame at the bottom face) to -(across), so the frame sits 3.5 mm to the other side."""
+    ox, oy = yawed(0.0, PLANK_T / 2, yaw)
+    return (x + ox, y + oy, base + RESTING_GAP + PLANK_L / 2, 0.0, -90.0, yaw + 90.0)
+
+
+def pi(cx, cy, base, yaw):
+    """Two upright legs 7.75 cm apart along the lintel, which lies along `yaw` + 90 degrees; each
+    leg is 23 mm wide across the lintel, so that the pi stands on a 23 mm × 85 mm footprint."""
+    legs = []
+    for side in (-1, 1):
+        lx, ly = yawed(0.0, side * PI_SPAN / 2, yaw)
+        legs.append(upright_plank(cx + lx, cy + ly, base, yaw))
+    lintel = flat_plank(cx, cy, base + RESTING_GAP + PLANK_L, yaw + 90.0)
+    return legs + [lintel], base + PI_HEIGHT
+
+
+def pi_stack(cx, cy, count, yaw=0.0):
+    planks, base = [], 0.0
+    for _ in range(count):
+        more, base = pi(cx, cy, base, yaw)
+        planks += more
+    return planks
+
+
+def log_cabin(cx, cy, layers):
+    """Flat planks two per layer, 9 cm apart, each layer turned 90 degrees."""
+    planks, base = [], 0.0
+    for layer in range(layers):
+        for side in (-1, 1):
+            if layer % 2 == 0:
+                planks.append(flat_plank(cx + side * 0.045, cy, base, 90.0))
+            else:
+                planks.append(flat_plank(cx, cy + side * 0.045, base, 0.0))
+        base += RESTING_GAP + PLANK_T
+    return planks
+
+
+def house(cx, cy):
+    """A floor plank, two walls standing on its ends, a ceiling, a post and a roof."""
+    floor = flat_plank(cx, cy, 0.0, 90.0)
+    top = RESTING_GAP + PLANK_T
+    walls, ceiling_top = pi(cx, cy, top, 0.0)
+    post = upright_plank(cx, cy, ceiling_top, 90.0)
+    roof = flat_plank(cx, cy, ceiling_top + RESTING_GAP + PLANK_L, 0.0)
+    return [floor] + walls + [post, roof]
+
+
+def stonehenge(cx, cy, count, radius):
+    planks = []
+    for k in range(count):
+        angle = 360.0 * k / count
+        x, y = yawed(radius, 0.0, angle)
+        planks += pi(cx + x, cy + y, 0.0, angle)[0]
+    return planks
+
+
+KEVA_STRUCTURES = [
+    ("pi_tower", lambda: pi_stack(0, 0, 1), "A pi: two upright planks and a lintel across them."),
+    ("flat_tower", lambda: log_cabin(0, 0, 2), "Two layers of two flat planks, crossed."),
+    ("two_pi", lambda: pi_stack(-0.04, 0, 1) + pi_stack(0.04, 0, 1), "Two pis side by side."),
+    ("house_2d", lambda: house(0, 0), "A floor, two walls, a ceiling, a post and a roof."),
+    ("pi_tower", lambda: pi_stack(0, 0, 2), "Two pis, one on the other."),
+    ("pi_tower", lambda: pi_stack(0, 0, 3), "Three stacked pis."),
+    ("pi_row", lambda: sum((pi_stack(x, 0, 1) for x in (-0.08, 0.0, 0.08)), []),
+     "Three pis in a row."),
+    ("flat_tower", lambda: log_cabin(0, 0, 6), "Six crossed layers of two flat planks."),
+    ("flat_twin", lambda: log_cabin(-0.07, 0, 4) + log_cabin(0.07, 0, 4),
+     "Two towers of four crossed layers."),
+    ("stonehenge", lambda: stonehenge(0, 0, 6, 0.15), "Six pis in a ring."),
+    ("three_tower", lambda: sum((log_cabin(0, y, 4) for y in (-0.13, 0.0, 0.13)), []),
+     "Three towers of four crossed layers in a row."),
+    ("twin_stacked_pi", lambda: pi_stack(-0.04, 0, 5) + pi_stack(0.04, 0, 5),
+     "Two stacks of five pis side by side."),
+]
+
+# The table (1.2 m square) stands clear of the YuMi's body (x from -0.65 m to -0.45 m).
+KEVA_TABLE = (0.17, 0.0)
+KEVA_SHOULDER = (-0.46, 0.0)
+KEVA_ANCHORS = [(0.05, 0.10), (0.0, 0.05), (0.05, 0.0), (0.0, 0.10), (0.05, 0.05), (0.0, 0.0)]
+
+
+def footprint_corners(placement, length, width):
+    """The corners (x, y) of a flat or upright plank's footprint, from its centre and yaw."""
+    x, y, _, _, pitch, yaw = placement
+    if pitch:  # upright: 23 mm along (yaw - 90), 7 mm across; the frame is 3.5 mm off centre
+        ox, oy = yawed(0.0, -PLANK_T / 2, yaw - 90.0)
+        cx, cy, hx, hy, angle = x + ox, y + oy, PLANK_W / 2, PLANK_T / 2, yaw - 90.0
+    else:
+        cx, cy, hx, hy, angle = x, y, length / 2, width / 2, yaw
+    return [(cx + dx, cy + dy) for dx, dy in
+            (yawed(sx * hx, sy * hy, angle) for sx in (-1, 1) for sy in (-1, 1))]
+
+
+def supply(spots, count, keep_out, origin):
+    """The `count` spots nearest `origin` that are farther than their clearance from every
+    point of `keep_out`."""
+    free = [spot for spot in spots
+            if all(math.hypot(spot[0] - px, spot[1] - py) > spot[2] for px, py in keep_out)]
+    free.sort(key=lambda spot: (math.hypot(spot[0] - origin[0], spot[1] - origin[1]), spot))
+    assert len(free) >= count, (count, len(free))
+    return free[:count]
+
+
+def print_keva():
+    rng = random.Random(20255)
+    spots = []
+    for i in range(6):
+        for j in range(-4, 5):
+            spots.append((round(-0.35 + 0.2 * i, 3), round(0.13 * j, 3), 0.12 + PLANK_L / 2))
+    names = []
+    blocks = []
+    for index, (stem, make, comment) in enumerate(KEVA_STRUCTURES):
+        planks = make()
+        name = f"{stem}_{len(planks)}"
+        names.append(name)
+        lines = [f"// {comment}", f"structure {name} {{"]
+        for k, (x, y, z, roll, pitch, yaw) in enumerate(planks, start=1):
+            lines.append(f"  plank p{k} at {pose_text(x, y, z, roll, pitch, yaw % 360)}")
+        lines.append("}")
+        blocks.append("\n".join(lines))
+    print("\n\n".join(blocks))
+    print()
+    for index, (stem, make, _) in enumerate(KEVA_STRUCTURES):
+        planks = make()
+        name = names[index]
+        ax, ay = KEVA_ANCHORS[index % len(KEVA_ANCHORS)]
+        keep_out = [(ax + cx, ay + cy) for plank in planks
+                    for cx, cy in footprint_corners(plank, PLANK_L, PLANK_W)]
+        starts = supply(spots, len(planks), keep_out, KEVA_SHOULDER)
+        print(f"problem {name} {{")
+        print("  scene {")
+        print(f"    table table1 at {pose_text(*KEVA_TABLE, 0)}")
+        print(f"    droparea area1 at {pose_text(ax, ay, 0)}")
+        for k, (x, y, _) in enumerate(starts, start=1):
+            yaw = rng.choice([0, 0, 180])
+            print(f"    plank p{k} at {pose_text(x, y, RESTING_GAP, 0, 0, yaw)}")
+        print("    robot yumi config home")
+        print("  }")
+        print("  goal {")
+        print(f"    structure {name} at area1")
+        print("  }")
+        print("}")
+        print()
+
+
+BLOCK_L, BLOCK_W, BLOCK_H = 0.1524, 0.0508, 0.03048
+JENGA_TABLE = (0.7, 0.0, 0.459)  # the table's top centre; its top is 0.6 m × 0.9 m
+JENGA_SHOULDER = (0.12, 0.0)
+JENGA_COUNTS = [2, 3, 4, 6, 6, 8, 10, 12, 12, 14, 16, 18, 24, 30]
+
+
+def tower(count):
+    """Layers of two blocks at ±0.0508 m across, each turned 90 degrees from the one below."""
+    blocks = []
+    for k in range(count):
+        layer, side = divmod(k, 2)
+        z = RESTING_GAP + layer * (BLOCK_H + RESTING_GAP) + BLOCK_H / 2
+        offset = (1 - 2 * side) * BLOCK_W if not (k == count - 1 and side == 0) else BLOCK_W
+        if layer % 2 == 0:
+            blocks.append((0.0, offset, z, 0.0, 0.0, 0.0))
+        else:
+            blocks.append((offset, 0.0, z, 0.0, 0.0, 90.0))
+    return blocks
+
+
+def print_jenga():
+    rng = random.Random(20256)
+    tx, ty, tz = JENGA_TABLE
+    sizes = sorted(set(JENGA_COUNTS))
+    blocks_text = []
+    for count in sizes:
+        lines = [f"// {count} blocks: layers of two at the outer positions, each turned 90 degrees"
+                 + (", one block on top." if count % 2 else "."), f"structure tower_{count} {{"]
+        for k, (x, y, z, roll, pitch, yaw) in enumerate(tower(count), start=1):
+            lines.append(f"  block b{k} at {pose_text(x, y, z, roll, pitch, yaw)}")
+        lines.append("}")
+        blocks_text.append("\n".join(lines))
+    print("\n\n".join(blocks_text))
+    print()
+    spots = []
+    for i in range(8):
+        for j in range(-2, 3):
+            spots.append((round(tx - 0.27 + 0.07 * i, 3), round(ty + 0.16 * j, 3)))
+    seen = {}
+    for count in JENGA_COUNTS:
+        seen[count] = seen.get(count, 0) + 1
+        name = f"tower_{count}" + ("" if seen[count] == 1 else "_b")
+        while True:
+            ax = round(rng.uniform(tx - 0.12, tx + 0.12), 2)
+            ay = round(rng.uniform(ty - 0.25, ty + 0.25), 2)
+            yaw = rng.choice([0, 0, 15, 30, 45, 60, 90])
+            blocks = [(ax + x2, ay + y2, z, byaw + yaw) for (x, y, z, _, _, byaw) in tower(count)
+                      for x2, y2 in [yawed(x, y, yaw)] if z < 0.1]
+            free = [spot for spot in spots if all(
+                outside_block_bins(spot, 90.0, (bx, by), byaw) for bx, by, _, byaw in blocks)]
+            if len(free) >= count:
+                break
+        free.sort(key=lambda s: (math.hypot(s[0] - JENGA_SHOULDER[0], s[1] - JENGA_SHOULDER[1]), s))
+        print(f"problem {name} {{")
+        print("  scene {")
+        print(f"    table table1 at {pose_text(tx, ty, tz)}")
+        print(f"    build_area area1 at {pose_text(ax, ay, tz, 0, 0, yaw)}")
+        for k, (x, y) in enumerate(free[:count], start=1):
+            print(f"    block b{k} at {pose_text(x, y, tz + RESTING_GAP + BLOCK_H / 2, 0, 0, 90)}")
+        print("    robot fetch config tuck")
+        print("  }")
+        print("  goal {")
+        print(f"    structure tower_{count} at area1")
+        print("  }")
+        print("}")
+        print()
+
+
+def outside_block_bins(spot, spot_yaw, other, other_yaw):
+    """Whether two blocks on the table lie outside each other's block–block bins (±0.1 m along a
+    block, ±0.06 m across), with 1 cm to spare."""
+    for (ax, ay, ayaw), (bx, by) in (((spot[0], spot[1], spot_yaw), other),
+                                     ((other[0], other[1], other_yaw), spot)):
+        lx, ly = yawed(bx - ax, by - ay, -ayaw)
+        if abs(lx) <= 0.11 and abs(ly) <= 0.07:
+            return False
+    return True
+
+
 if __name__ == "__main__":
     which = sys.argv[1] if len(sys.argv) > 1 else ""
     if which == "packing":
@@ -487,5 +774,9 @@ if __name__ == "__main__":
         print_cafe_layouts()
     elif which == "dinner":
         print_dinner()
+    elif which == "keva":
+        print_keva()
+    elif which == "jenga":
+        print_jenga()
     else:
-        sys.exit("usage: make_problems.py packing|cafe|cafe-layouts|dinner")
+        sys.exit("usage: make_problems.py packing|cafe|cafe-layouts|dinner|keva|jenga")

@@ -128,6 +128,19 @@ pub enum BuildError {
         issues: Vec<crate::scene_issue::SceneIssue>,
     },
 
+    /// Structure goals that cannot be transcribed, with every finding.
+    #[error("{problems} problem(s) have structure goals that cannot be written")]
+    #[diagnostic(
+        code(lamp::build::structures),
+        help("Each finding below names the problem, the structure and the object.")
+    )]
+    Structures {
+        /// How many problems have findings.
+        problems: usize,
+        #[related]
+        issues: Vec<crate::structure_issue::StructureIssue>,
+    },
+
     /// A problem's initial scene could not be built.
     #[error("problem `{problem}`: the initial scene cannot be built: {reason}")]
     #[diagnostic(code(lamp::build::scene))]

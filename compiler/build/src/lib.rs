@@ -33,6 +33,8 @@ pub mod ros2;
 pub mod samplers;
 pub mod scene_issue;
 pub mod shapes;
+pub mod structure_goals;
+pub mod structure_issue;
 
 pub use adapter::Adapter;
 pub use aliases::{ResolvedAlias, resolve_alias, resolve_aliases};
@@ -61,3 +63,5 @@ pub use ros2::{
 };
 pub use samplers::{SAMPLERS_FORMAT, SAMPLERS_VERSION, SamplersFile};
 pub use shapes::SpecShapes;
+pub use structure_goals::{placed_structure_issues, structure_goal_atoms};
+pub use structure_issue::StructureIssue;

@@ -50,8 +50,6 @@ pub struct Summary {
     pub problems_written: Vec<String>,
     /// Problems not written, with the reason, in spec order.
     pub problems_skipped: Vec<(String, String)>,
-    /// What was left out of written problems, per problem, in spec order.
-    pub notes: Vec<(String, String)>,
     /// Warnings about the goals of written problems, in spec order.
     pub warnings: Vec<GoalWarning>,
     /// The demonstration digest.
@@ -122,21 +120,29 @@ pub fn artifacts(
         ..Summary::default()
     };
     let mut files = vec![ArtifactFile { path: DOMAIN_FILE.into(), contents: domain_text }];
+    let mut structure_issues = Vec::new();
+    let mut refused = 0;
     for problem in &spec.problems {
         match problem_pddl(&problem_context, problem)? {
-            ProblemOutcome::Written { name, text, notes, warnings } => {
+            ProblemOutcome::Written { name, text, warnings } => {
                 files.push(ArtifactFile {
                     path: PathBuf::from(PROBLEMS_DIR).join(format!("{name}.pddl")),
                     contents: text,
                 });
-                summary.notes.extend(notes.into_iter().map(|note| (name.clone(), note)));
                 summary.warnings.extend(warnings);
                 summary.problems_written.push(name);
             }
             ProblemOutcome::Skipped { name, reason } => {
                 summary.problems_skipped.push((name, reason))
             }
+            ProblemOutcome::Refused { issues, .. } => {
+                refused += 1;
+                structure_issues.extend(issues);
+            }
         }
+    }
+    if !structure_issues.is_empty() {
+        return Err(BuildError::Structures { problems: refused, issues: structure_issues });
     }
     let samplers = SamplersFile::new(provenance.clone(), model.sampler_artifact());
     files.push(ArtifactFile { path: SAMPLERS_FILE.into(), contents: samplers.to_json()? });

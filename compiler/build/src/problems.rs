@@ -1,12 +1,12 @@
 //! PDDL problems from spec problems: objects and initial state from the problem's scene, goal from
-//! its learned-relation and alias atoms.
+//! its learned-relation and alias atoms, its AtGoals and its structure goal.
 //!
 //! Objects are the scene's robot parts (`<robot>_<part type>`) and its bodies that are not the static
 //! world. The initial state is the learned abstraction of the scene: body poses as placed, part
-//! poses by forward kinematics of the robot's initial configuration; the markers of AtGoal targets
-//! are objects like the others. The goal: the learned-relation and alias atoms, and each AtGoal as
-//! its object on its marker (`at_goals`). Structure goals have no learned-relation form yet: a
-//! problem with only those is skipped, a problem that also has atoms is written with a note.
+//! poses by forward kinematics of the robot's initial configuration; the markers of AtGoal and
+//! structure targets are objects like the others. The goal: the learned-relation and alias atoms,
+//! each AtGoal as its object on its marker (`at_goals`), the relations of the transcribed
+//! structure (`structure_goals`), and the grippers empty as they start.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -20,14 +20,18 @@ use crate::adapter::Adapter;
 use crate::aliases::ResolvedAlias;
 use crate::at_goals::{GoalWarning, at_goal_atoms};
 use crate::error::BuildError;
+use crate::structure_goals::structure_goal_atoms;
+use crate::structure_issue::StructureIssue;
 
 /// What became of one spec problem.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ProblemOutcome {
-    /// Written; `notes` say what of its goal was left out, `warnings` what may make it hard.
-    Written { name: String, text: String, notes: Vec<String>, warnings: Vec<GoalWarning> },
+    /// Written; `warnings` say what may make it hard.
+    Written { name: String, text: String, warnings: Vec<GoalWarning> },
     /// Not written, and why.
     Skipped { name: String, reason: String },
+    /// Its structure goal cannot be transcribed: every finding.
+    Refused { name: String, issues: Vec<StructureIssue> },
 }
 
 /// Everything a problem is written against.
@@ -48,19 +52,8 @@ pub fn problem_pddl(
 ) -> Result<ProblemOutcome, BuildError> {
     let name = problem.name.clone();
     let goal = &problem.goal;
-    let mut omitted = Vec::new();
-    if let Some(structure) = &goal.structure {
-        omitted.push(format!(
-            "structure goal `{}` omitted: structure transcription is not implemented yet",
-            structure.structure
-        ));
-    }
-    if goal.atoms.is_empty() && goal.at.is_empty() {
-        let reason = if omitted.is_empty() {
-            "its goal is empty".to_string()
-        } else {
-            format!("its goal has no learned-relation atoms ({})", omitted.join("; "))
-        };
+    if goal.atoms.is_empty() && goal.at.is_empty() && goal.structure.is_none() {
+        let reason = "its goal is empty".to_string();
         return Ok(ProblemOutcome::Skipped { name, reason });
     }
     let mut goal_atoms = goal_atoms(context, problem)?;
@@ -79,6 +72,12 @@ pub fn problem_pddl(
         );
         return Ok(ProblemOutcome::Skipped { name, reason });
     }
+    let (structure_atoms, issues) =
+        structure_goal_atoms(context.model, context.world, context.adapter, problem)?;
+    if !issues.is_empty() {
+        return Ok(ProblemOutcome::Refused { name, issues });
+    }
+    goal_atoms.extend(structure_atoms);
     let init = abstract_state(context.model, &participants, &snapshot)?;
     let mut pddl = lamp_pddl::Problem::new(problem.name.clone(), context.domain.name.clone());
     pddl.objects = participants
@@ -101,7 +100,7 @@ pub fn problem_pddl(
         text.push_str(&format!("; {line}\n"));
     }
     text.push_str(&lamp_pddl::write_problem(&pddl));
-    Ok(ProblemOutcome::Written { name, text, notes: omitted, warnings })
+    Ok(ProblemOutcome::Written { name, text, warnings })
 }
 
 /// The clear relations of held regions (g = 1) true in `init`: grippers that start empty must end

@@ -40,7 +40,7 @@ fn every_artifact_is_produced_with_a_summary() {
     assert_eq!(summary.actions, model.actions.len());
     assert!(summary.actions >= 4, "pick, place and their neighbours are induced");
     assert_eq!(summary.problems_written, problems);
-    assert!(summary.problems_skipped.is_empty() && summary.notes.is_empty());
+    assert!(summary.problems_skipped.is_empty());
     assert_eq!(summary.aliases["in_box"], "surface_can_1", "the box has one region");
 }
 

@@ -50,33 +50,34 @@ pub(crate) fn render_error(error: &dyn miette::Diagnostic, colour: bool) -> Stri
     out
 }
 
-/// A build warning about a goal, pointed at where the goal is written.
+/// A build diagnostic (a goal warning, a structure finding), pointed at where the spec writes
+/// what it is about.
 #[derive(Debug)]
-struct LocatedWarning<'a> {
-    warning: &'a lamp_build::GoalWarning,
+struct Located<'a> {
+    inner: &'a dyn miette::Diagnostic,
     source: miette::NamedSource<String>,
-    at: miette::SourceSpan,
+    labels: Vec<miette::LabeledSpan>,
 }
 
-impl std::fmt::Display for LocatedWarning<'_> {
+impl std::fmt::Display for Located<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        self.warning.fmt(f)
+        std::fmt::Display::fmt(self.inner, f)
     }
 }
 
-impl std::error::Error for LocatedWarning<'_> {}
+impl std::error::Error for Located<'_> {}
 
-impl miette::Diagnostic for LocatedWarning<'_> {
+impl miette::Diagnostic for Located<'_> {
     fn code<'b>(&'b self) -> Option<Box<dyn std::fmt::Display + 'b>> {
-        self.warning.code()
+        self.inner.code()
     }
 
     fn severity(&self) -> Option<miette::Severity> {
-        self.warning.severity()
+        self.inner.severity()
     }
 
     fn help<'b>(&'b self) -> Option<Box<dyn std::fmt::Display + 'b>> {
-        self.warning.help()
+        self.inner.help()
     }
 
     fn source_code(&self) -> Option<&dyn miette::SourceCode> {
@@ -84,9 +85,28 @@ impl miette::Diagnostic for LocatedWarning<'_> {
     }
 
     fn labels(&self) -> Option<Box<dyn Iterator<Item = miette::LabeledSpan> + '_>> {
-        let label = miette::LabeledSpan::new_with_span(Some("this goal".to_string()), self.at);
-        Some(Box::new(std::iter::once(label)))
+        Some(Box::new(self.labels.iter().cloned()))
     }
+}
+
+/// `diagnostic` rendered with labels at `spans` (label, span), those in the file of the first;
+/// without spans, as it is.
+fn render_located(
+    diagnostic: &dyn miette::Diagnostic,
+    spans: &[(&str, lamp_lang::Span)],
+    sources: &lamp_lang::SourceMap,
+    colour: bool,
+) -> String {
+    let Some((_, first)) = spans.first() else { return render_error(diagnostic, colour) };
+    let labels = spans
+        .iter()
+        .filter(|(_, span)| span.file == first.file)
+        .map(|(label, span)| {
+            miette::LabeledSpan::new_with_span(Some(label.to_string()), span.source_span())
+        })
+        .collect();
+    let located = Located { inner: diagnostic, source: sources.named_source(first.file), labels };
+    render_error(&located, colour)
 }
 
 /// Renders a build warning about a goal, at the goal in the spec when it is known there.
@@ -97,15 +117,86 @@ pub(crate) fn render_goal_warning(
     colour: bool,
 ) -> String {
     let (problem, object) = warning.at_goal();
-    match places.at_goal(problem, object) {
-        Some(span) => {
-            let located = LocatedWarning {
-                warning,
-                source: sources.named_source(span.file),
-                at: span.source_span(),
-            };
-            render_error(&located, colour)
+    let spans: Vec<_> =
+        places.at_goal(problem, object).map(|span| ("this goal", span)).into_iter().collect();
+    render_located(warning, &spans, sources, colour)
+}
+
+/// Renders a structure finding at the object's line in the structure and at the problem's
+/// structure goal, where they are known.
+pub(crate) fn render_structure_issue(
+    issue: &lamp_build::StructureIssue,
+    places: &lamp_lang::GoalPlaces,
+    sources: &lamp_lang::SourceMap,
+    colour: bool,
+) -> String {
+    let (structure, object) = issue.structure_object();
+    let object_label = format!("`{object}` is placed here");
+    let mut spans = Vec::new();
+    if let Some(span) = places.structure_object(structure, object) {
+        spans.push((object_label.as_str(), span));
+    }
+    if let Some(span) = places.structure_goal(issue.problem()) {
+        spans.push(("in this goal", span));
+    }
+    render_located(issue, &spans, sources, colour)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SPEC: &str = "domain d
+type table { static world  box size (1, 1, 0.05) m at (0, 0, -0.025) m }
+type block { movable  box size (0.06, 0.04, 0.03) m }
+structure stack {
+  block b1 at (0, 0, 0.016) m
+  block b2 at (0, 0, 0.067) m
+}
+problem p {
+  scene {
+    table t1 at (0, 0, 0) m
+    block b1 at (0.2, 0, 0.016) m
+    block b2 at (0.3, 0, 0.016) m
+  }
+  goal {
+    structure stack at t1
+  }
+}
+";
+
+    #[test]
+    fn a_structure_finding_points_at_the_object_and_at_the_goal() {
+        let loader = lamp_lang::MemoryLoader::new([("spec.lamp", SPEC)]);
+        let outcome = lamp_lang::check_source("spec.lamp", SPEC, std::path::Path::new(""), &loader);
+        let issue = lamp_build::StructureIssue::Unsupported {
+            problem: "p".into(),
+            structure: "stack".into(),
+            object: "b2".into(),
+            reason: "`b2` would drop 20.0 mm onto `b1`, more than the 5 mm a release may settle"
+                .into(),
+        };
+        let rendered = render_structure_issue(&issue, &outcome.places, &outcome.sources, false);
+        for expected in [
+            "lamp::build::structure_unsupported",
+            "structure `stack` does not stand: `b2` would drop 20.0 mm onto `b1`",
+            "  block b2 at (0, 0, 0.067) m",
+            "`b2` is placed here",
+            "    structure stack at t1",
+            "in this goal",
+            "help: Every object must rest 1 mm above the table",
+        ] {
+            assert!(rendered.contains(expected), "`{expected}` in:\n{rendered}");
         }
-        None => render_error(warning, colour),
+        // A finding of a problem the spec does not locate is still rendered, without source.
+        let elsewhere = lamp_build::StructureIssue::Contact {
+            problem: "q".into(),
+            structure: "tower".into(),
+            object: "b1".into(),
+            other: "b2".into(),
+        };
+        let rendered = render_structure_issue(&elsewhere, &outcome.places, &outcome.sources, false);
+        assert!(rendered.contains("lamp::build::structure_contact"), "{rendered}");
+        assert!(!rendered.contains("placed here"), "{rendered}");
     }
 }

@@ -331,3 +331,51 @@ fn a_model_folder_without_a_manifest_is_not_replaced() {
     assert!(stderr.contains("it holds no manifest.json"), "{stderr}");
     assert_eq!(std::fs::read_to_string(out.join("model/notes.txt")).expect("kept"), "mine");
 }
+
+/// A structure goal whose structure floats is refused after learning, rendered at the object's
+/// line in the structure and at the goal, and nothing is written.
+#[test]
+fn a_floating_structure_is_named_at_its_line_in_the_spec_and_nothing_is_written() {
+    let scratch = tempfile::tempdir().expect("scratch");
+    let demos = scratch.path().join("demos");
+    fixture::write_packing_fixture(&demos, DEMOS, SEED);
+    let robots = fixture::workspace_root().join("domains/robots/");
+    let spec = scratch.path().join("packing.lamp");
+    let text_with_structure = std::fs::read_to_string(fixture::packing_spec_path())
+        .expect("the bundled spec")
+        .replace("\"../robots/", &format!("\"{}/", robots.display()))
+        + "
+structure floating {
+  can c1 at (0, 0, 0.05) m
+}
+
+problem float_1 {
+  scene {
+    table t1 at (0, 0, 0) m
+    can c1 at (-0.2, 0.2, 0.001) m
+    robot gripper at (0, 0, 0.45) m rpy (180, 0, 0) deg
+  }
+  goal {
+    structure floating at t1
+  }
+}
+";
+    std::fs::write(&spec, text_with_structure).expect("writes the spec");
+    let out = scratch.path().join("out");
+    let output = build(&spec, &demos, &out);
+    let stderr = text(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    for expected in [
+        "1 problem(s) have structure goals that cannot be written",
+        "lamp::build::structure_unsupported",
+        "problem `float_1`: structure `floating` does not stand: `c1` would drop 49.0 mm onto `t1`",
+        "  can c1 at (0, 0, 0.05) m",
+        "`c1` is placed here",
+        "    structure floating at t1",
+        "in this goal",
+        "lampc build: failed; the model folder was not changed",
+    ] {
+        assert!(stderr.contains(expected), "`{expected}` in:\n{stderr}");
+    }
+    assert_eq!(tree(&out.join("model")), BTreeMap::new(), "nothing is written");
+}

@@ -307,6 +307,19 @@ pub enum SpecError {
         #[label("a static object")]
         at: SourceSpan,
     },
+
+    #[error("structure `{structure}` places `{object}`, {problem}")]
+    #[diagnostic(code(lamp::goal::structure_object))]
+    StructureObject {
+        structure: String,
+        object: String,
+        /// What is wrong with the scene's object, in words.
+        problem: String,
+        #[label("this structure goal")]
+        at: SourceSpan,
+        #[help]
+        help: String,
+    },
 }
 
 impl SpecError {
@@ -338,7 +351,8 @@ impl SpecError {
             | SpecError::UnknownRelation { at, .. }
             | SpecError::Arity { at, .. }
             | SpecError::ArgumentType { at, .. }
-            | SpecError::NotMovable { at, .. } => *at,
+            | SpecError::NotMovable { at, .. }
+            | SpecError::StructureObject { at, .. } => *at,
         }
     }
 }

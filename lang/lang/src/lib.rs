@@ -34,12 +34,34 @@ pub struct CheckOutcome {
 pub struct GoalPlaces {
     /// Each `at` goal by (problem, object).
     at_goals: std::collections::BTreeMap<(String, String), Span>,
+    /// Each structure goal by problem.
+    structure_goals: std::collections::BTreeMap<String, Span>,
+    /// Each structure's objects by (structure, object): the whole placement line.
+    structure_objects: std::collections::BTreeMap<(String, String), Span>,
 }
 
 impl GoalPlaces {
     /// Where the `at` goal on `object` of problem `problem` is written.
     pub fn at_goal(&self, problem: &str, object: &str) -> Option<Span> {
         self.at_goals.get(&(problem.to_string(), object.to_string())).copied()
+    }
+
+    /// Where the structure goal of problem `problem` is written.
+    pub fn structure_goal(&self, problem: &str) -> Option<Span> {
+        self.structure_goals.get(problem).copied()
+    }
+
+    /// Where structure `structure` places `object`.
+    pub fn structure_object(&self, structure: &str, object: &str) -> Option<Span> {
+        self.structure_objects.get(&(structure.to_string(), object.to_string())).copied()
+    }
+
+    pub(crate) fn add_structure_goal(&mut self, problem: &str, span: Span) {
+        self.structure_goals.insert(problem.to_string(), span);
+    }
+
+    pub(crate) fn add_structure_object(&mut self, structure: &str, object: &str, span: Span) {
+        self.structure_objects.insert((structure.to_string(), object.to_string()), span);
     }
 
     pub(crate) fn add_at_goal(&mut self, problem: &str, object: &str, span: Span) {

@@ -93,6 +93,92 @@ fn resolve_unknown_structure() {
     );
 }
 
+/// `VALID` with a structure of two cans, and its goal in place of the relation goals.
+fn with_structure(goal: &str) -> String {
+    VALID
+        .replacen(
+            "relation in_box",
+            "structure stack {\n  can c1 at (0, 0, 0.001) m\n  can c2 at (0, 0, 0.152) m\n}\n\nrelation in_box",
+            1,
+        )
+        .replacen("    in_box(c1, box1)\n    surface_can_1(box1, c1)", goal, 1)
+}
+
+#[test]
+fn goal_structure_object() {
+    // `c2` is not in the scene, and the anchor `c1` is an object of the structure.
+    let source = with_structure("    structure stack at c1");
+    let outcome = check(&source);
+    assert_eq!(
+        codes(&outcome),
+        ["lamp::goal::structure_object", "lamp::goal::structure_object"],
+        "{}",
+        render(&outcome)
+    );
+    assert!(outcome.spec.is_none());
+    insta::assert_snapshot!(
+        "goal_structure_object",
+        format!(
+            "----- SOURCE (excerpt)\nstructure stack at c1\n----- DIAGNOSTICS\n{}",
+            render(&outcome)
+        )
+    );
+}
+
+#[test]
+fn goal_structure_object_of_another_type() {
+    let source = with_structure("    structure stack at box1").replacen(
+        "    can c1 at (-0.2, 0, 0) m\n",
+        "    can c1 at (-0.2, 0, 0) m\n    surface c2 at (-0.4, 0, 0) m\n",
+        1,
+    );
+    let outcome = check(&source);
+    assert_eq!(codes(&outcome), ["lamp::goal::structure_object"], "{}", render(&outcome));
+    assert!(
+        render(&outcome).contains("a can, and the scene's `c2` is a surface"),
+        "{}",
+        render(&outcome)
+    );
+}
+
+#[test]
+fn goal_structure_object_with_an_at_goal_too() {
+    let source = with_structure(
+        "    structure stack at box1\n    at c1 (0.3, 0, 0.001) m within 0.01 m 10 deg",
+    )
+    .replacen("type can {", "type spot { marker }\ntype can {", 1)
+    .replacen(
+        "    can c1 at (-0.2, 0, 0) m\n",
+        "    can c1 at (-0.2, 0, 0) m\n    can c2 at (-0.3, 0, 0) m\n",
+        1,
+    );
+    let outcome = check(&source);
+    assert_eq!(codes(&outcome), ["lamp::goal::structure_object"], "{}", render(&outcome));
+    assert!(
+        render(&outcome).contains("and an `at` goal gives `c1` another target"),
+        "{}",
+        render(&outcome)
+    );
+}
+
+#[test]
+fn a_structure_goal_binds_its_objects_by_name() {
+    let source = with_structure("    structure stack at box1 offset (0, 0, 0.01) m").replacen(
+        "    can c1 at (-0.2, 0, 0) m\n",
+        "    can c1 at (-0.2, 0, 0) m\n    can c2 at (-0.3, 0, 0) m\n",
+        1,
+    );
+    let outcome = check(&source);
+    assert!(outcome.diagnostics.is_empty(), "{}", render(&outcome));
+    let spec = outcome.spec.expect("a clean spec");
+    let goal = spec.problems[0].goal.structure.clone().expect("the structure goal");
+    assert_eq!((goal.structure.as_str(), goal.anchor.as_str()), ("stack", "box1"));
+    let places = &outcome.places;
+    assert!(places.structure_goal("p1").is_some());
+    assert!(places.structure_object("stack", "c2").is_some());
+    assert!(places.structure_object("stack", "c3").is_none());
+}
+
 #[test]
 fn resolve_unknown_configuration() {
     case(

@@ -59,6 +59,11 @@ impl Spec {
         self.object_types.iter().find(|ty| ty.name == name)
     }
 
+    /// The structure with this name.
+    pub fn structure(&self, name: &str) -> Option<&Structure> {
+        self.structures.iter().find(|structure| structure.name == name)
+    }
+
     /// The problem with this name.
     pub fn problem(&self, name: &str) -> Option<&Problem> {
         self.problems.iter().find(|problem| problem.name == name)

@@ -121,8 +121,9 @@ impl SpecWorld {
         Ok(q)
     }
 
-    /// The initial scene of a problem: its objects, the markers of its AtGoal goals (where every
-    /// movable object starts, and at each target), its robots.
+    /// The initial scene of a problem: its objects, the markers of its goal (where every
+    /// movable object starts, and at each target of an `at` goal or a structure goal), its
+    /// robots.
     pub fn problem_scene(&self, problem: &Problem) -> Result<Scene, WorldError> {
         let mut scene = Scene::new();
         for object in &problem.scene.objects {
@@ -134,11 +135,11 @@ impl SpecWorld {
             })?;
             scene.add_body(body, object.pose)?;
         }
-        // A problem with AtGoal goals is solved through markers, as the demonstrations mark
-        // theirs: every movable object gets a marker where it starts (a pick is learned as a pick
-        // from a marker, and an object no goal names may have to be moved too), and each AtGoal
-        // object one at its target. Markers collide with nothing.
-        if let Some(marker_type) = problem.goal.at.first().map(|target| &target.marker_type) {
+        // A problem with AtGoals or a structure goal is solved through markers, as the
+        // demonstrations mark theirs: every movable object gets a marker where it starts (a pick
+        // is learned as a pick from a marker, and an object no goal names may have to be moved
+        // too), and each object with a target one at it. Markers collide with nothing.
+        if let Some(marker_type) = self.goal_marker_type(problem) {
             let starts = problem
                 .scene
                 .objects
@@ -150,10 +151,14 @@ impl SpecWorld {
                 })
                 .map(|object| (lamp_spec::start_marker_name(&object.name), object.pose));
             let targets = problem.goal.at.iter().map(|target| (target.marker_name(), target.pose));
-            for (name, pose) in starts.chain(targets) {
+            let structure = self
+                .structure_targets(problem)?
+                .into_iter()
+                .map(|(object, pose)| (lamp_spec::marker_name(&object), pose));
+            for (name, pose) in starts.chain(targets).chain(structure) {
                 let body = self.body(&name, marker_type).ok_or_else(|| WorldError::Undeclared {
                     problem: problem.name.clone(),
-                    name: marker_type.clone(),
+                    name: marker_type.to_string(),
                 })?;
                 scene.add_body(body, pose)?;
             }
@@ -167,6 +172,43 @@ impl SpecWorld {
             self.add_robot(&mut scene, &placement.robot, q)?;
         }
         Ok(scene)
+    }
+}
+
+impl SpecWorld {
+    /// The marker type a problem's goal places markers of: its `at` goals', or for a structure
+    /// goal the spec's marker type (the checker allows at most one). `None` when the goal needs
+    /// no markers, or has a structure goal in a spec without a marker type.
+    pub fn goal_marker_type<'a>(&'a self, problem: &'a Problem) -> Option<&'a str> {
+        if let Some(target) = problem.goal.at.first() {
+            return Some(&target.marker_type);
+        }
+        problem.goal.structure.as_ref()?;
+        self.spec
+            .object_types
+            .iter()
+            .find(|kind| kind.mobility == Mobility::Marker)
+            .map(|kind| kind.name.as_str())
+    }
+
+    /// Where a problem's structure goal puts each of its objects, in the structure's order: the
+    /// anchor's pose in the scene · the goal's offset · the object's pose in the structure.
+    /// Empty without a structure goal.
+    pub fn structure_targets(&self, problem: &Problem) -> Result<Vec<(String, Pose)>, WorldError> {
+        let Some(goal) = &problem.goal.structure else { return Ok(Vec::new()) };
+        let structure = self.spec.structure(&goal.structure).ok_or_else(|| {
+            WorldError::UnknownName { what: "structure", name: goal.structure.clone() }
+        })?;
+        let anchor =
+            problem.scene.objects.iter().find(|object| object.name == goal.anchor).ok_or_else(
+                || WorldError::UnknownName { what: "anchor", name: goal.anchor.clone() },
+            )?;
+        let frame = anchor.pose * goal.offset;
+        Ok(structure
+            .placements
+            .iter()
+            .map(|placement| (placement.object.clone(), frame * placement.pose))
+            .collect())
     }
 }
 

@@ -128,8 +128,23 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
     let context =
         BuildContext { spec: &spec, spec_file: &spec_file, world: &world, adapter: &adapter };
     let digest = lamp_build::demonstration_digest(&files);
-    let artifacts = timings
-        .time("emit", || lamp_build::artifacts(&context, &model, &demonstrations, digest))?;
+    let emitted =
+        timings.time("emit", || lamp_build::artifacts(&context, &model, &demonstrations, digest));
+    let artifacts = match emitted {
+        Err(BuildError::Structures { problems, issues }) => {
+            eprintln!(
+                "lampc build: {problems} problem(s) have structure goals that cannot be written:\n"
+            );
+            for issue in &issues {
+                let rendered =
+                    crate::diagnostics::render_structure_issue(issue, &places, &sources, colour);
+                eprint!("{rendered}");
+            }
+            eprintln!("lampc build: failed; the model folder was not changed");
+            return Err(Failure::Spec);
+        }
+        emitted => emitted?,
+    };
     let replaced = timings.time("write", || write_all(&folder, &lock, &artifacts.files))?;
     print_summary(&spec_file, folder.path(), &artifacts, &timings);
     for warning in &artifacts.summary.warnings {
@@ -288,9 +303,6 @@ fn print_summary(spec_file: &str, model: &Path, artifacts: &Artifacts, timings: 
         summary.problems_written.len(),
         summary.problems_skipped.len()
     );
-    for (problem, note) in &summary.notes {
-        println!("  note            {problem}: {note}");
-    }
     for (problem, reason) in &summary.problems_skipped {
         println!("  skipped         {problem}: {reason}");
     }

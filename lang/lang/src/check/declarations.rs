@@ -595,6 +595,14 @@ impl Checker<'_> {
             for placement in &structure.placements {
                 let known = self.object_type(declared, &placement.type_name);
                 let new = self.declare(&mut objects, "structure object", &placement.object);
+                if known && new {
+                    let span = Span { end: placement.pose.span.end, ..placement.type_name.span };
+                    self.places.add_structure_object(
+                        &structure.name.text,
+                        &placement.object.text,
+                        span,
+                    );
+                }
                 if let (true, true, Some(pose)) = (known, new, self.pose(&placement.pose)) {
                     placements.push(lamp_spec::Placement {
                         object: placement.object.text.clone(),
@@ -603,6 +611,13 @@ impl Checker<'_> {
                     });
                 }
             }
+            declared.structure_objects.insert(
+                structure.name.text.clone(),
+                placements
+                    .iter()
+                    .map(|placement| (placement.object.clone(), placement.type_name.clone()))
+                    .collect(),
+            );
             structures.push(lamp_spec::Structure { name: structure.name.text.clone(), placements });
         }
         structures

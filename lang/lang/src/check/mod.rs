@@ -39,6 +39,8 @@ pub(crate) struct Declared {
     /// Robots declared with errors: already reported, so references to them stay silent.
     pub(crate) invalid_robots: std::collections::BTreeSet<String>,
     pub(crate) structures: BTreeMap<String, Span>,
+    /// The objects each structure places, as (object, type), in the order written.
+    pub(crate) structure_objects: BTreeMap<String, Vec<(String, String)>>,
     pub(crate) aliases: BTreeMap<String, lamp_spec::RelationAlias>,
 }
 

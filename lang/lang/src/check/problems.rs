@@ -104,6 +104,9 @@ impl Checker<'_> {
                         let span = Span { end, ..object.span };
                         self.places.add_at_goal(&problem.name.text, &object.text, span);
                     }
+                    if let GoalItem::Structure { .. } = item {
+                        self.places.add_structure_goal(&problem.name.text, item_span(item));
+                    }
                 }
                 self.goal(goal_items, declared, &scene, &objects)
             }
@@ -262,6 +265,7 @@ impl Checker<'_> {
         let errors_before = self.diagnostics.len();
         let mut goal = lamp_spec::Goal::default();
         let mut structure_span = None;
+        let mut structure_item = None;
         let mut first_at = None;
         for item in items {
             match item {
@@ -341,6 +345,7 @@ impl Checker<'_> {
                         Some(pose) => self.pose(pose),
                         None => Some(lamp_spec::Pose::identity()),
                     };
+                    structure_item = Some((name, anchor, item_span(item)));
                     if let Some(offset) = offset {
                         goal.structure = Some(lamp_spec::StructureGoal {
                             structure: name.text.clone(),
@@ -351,15 +356,97 @@ impl Checker<'_> {
                 }
             }
         }
-        if let Some(first) = first_at {
+        if let Some((name, anchor, span)) = structure_item {
+            self.structure_bound(name, anchor, span, declared, scene, &goal);
+        }
+        // Start markers are placed for `at` goals and structure goals alike; named once.
+        if let Some(first) = first_at.or(structure_item.map(|(_, _, span)| span)) {
             self.start_markers_named(first, declared, scene);
         }
         (self.diagnostics.len() == errors_before).then_some(goal)
     }
 
-    /// A problem with `at` goals places a marker where every movable object starts
-    /// (`start_<object>`), as the demonstrations mark theirs: those names must not be taken by
-    /// scene objects. Reported at the problem's first `at` goal.
+    /// A structure goal binds each structure object to the scene object of the same name and
+    /// type, which it moves to its place; the anchor stays where it is. Reported at the goal.
+    fn structure_bound(
+        &mut self,
+        name: &Name,
+        anchor: &Name,
+        span: Span,
+        declared: &Declared,
+        scene: &lamp_spec::Scene,
+        goal: &lamp_spec::Goal,
+    ) {
+        let Some(objects) = declared.structure_objects.get(&name.text) else { return };
+        let mut report = |object: &str, problem: String, help: String| {
+            self.report(at(span, |at| SpecError::StructureObject {
+                structure: name.text.clone(),
+                object: object.to_string(),
+                problem,
+                at,
+                help,
+            }));
+        };
+        for (object, type_name) in objects {
+            let found = scene.objects.iter().find(|instance| &instance.name == object);
+            match found {
+                None => report(
+                    object,
+                    "and the scene has no object of that name".to_string(),
+                    format!(
+                        "A structure goal moves the scene's objects of the structure's names into place: add `{type_name} {object} at …` to the scene where it starts."
+                    ),
+                ),
+                Some(instance) if &instance.type_name != type_name => report(
+                    object,
+                    format!(
+                        "a {type_name}, and the scene's `{object}` is a {}",
+                        instance.type_name
+                    ),
+                    format!(
+                        "Give the scene object the structure's type `{type_name}`, or rename one of them."
+                    ),
+                ),
+                Some(_) if object == &anchor.text => report(
+                    object,
+                    format!("and `{object}` is also the anchor the structure is placed at"),
+                    "The anchor stays where it is and the structure is built around it: anchor the structure at an object that is not one of its own, such as an area on the table.".to_string(),
+                ),
+                Some(_) if goal.at.iter().any(|target| &target.object == object) => report(
+                    object,
+                    format!("and an `at` goal gives `{object}` another target"),
+                    "Give each object one target: drop its `at` goal or take it out of the structure.".to_string(),
+                ),
+                Some(_) => {
+                    let marker = lamp_spec::marker_name(object);
+                    if scene.objects.iter().any(|other| other.name == marker) {
+                        report(
+                            object,
+                            format!(
+                                "whose target gets a marker named `{marker}`, and a scene object has that name"
+                            ),
+                            format!("Rename the scene object `{marker}`."),
+                        );
+                    }
+                }
+            }
+        }
+        if declared.marker_types.len() > 1 {
+            let types = declared.marker_types.keys().cloned().collect::<Vec<_>>().join(", ");
+            self.report(at(span, |at| SpecError::Conflict {
+                message: format!(
+                    "a structure goal needs one marker type, and the spec declares {} ({types})",
+                    declared.marker_types.len()
+                ),
+                at,
+                help: "A structure goal is solved by placing a marker at each object's target: keep one marker type.".to_string(),
+            }));
+        }
+    }
+
+    /// A problem with `at` goals or a structure goal places a marker where every movable object
+    /// starts (`start_<object>`), as the demonstrations mark theirs: those names must not be taken
+    /// by scene objects. Reported at the problem's first `at` goal, else at its structure goal.
     fn start_markers_named(
         &mut self,
         first_at: Span,
@@ -374,7 +461,7 @@ impl Checker<'_> {
             if scene.objects.iter().any(|other| other.name == marker) {
                 self.report(at(first_at, |at| SpecError::Conflict {
                     message: format!(
-                        "the `at` goals place a marker named `{marker}` where `{}` starts, and a scene object has that name",
+                        "the goal places a marker named `{marker}` where `{}` starts, and a scene object has that name",
                         object.name
                     ),
                     at,
@@ -497,6 +584,10 @@ fn split_pair(name: &str, declared: &Declared) -> Option<(String, String)> {
 fn item_span(item: &GoalItem) -> Span {
     match item {
         GoalItem::At { angle, .. } => angle.span,
-        GoalItem::Structure { span, .. } | GoalItem::Atom { span, .. } => *span,
+        // The item's span runs on over the space after it; the goal ends with its last word.
+        GoalItem::Structure { anchor, offset, span, .. } => {
+            Span { end: offset.as_ref().map_or(anchor.span.end, |pose| pose.span.end), ..*span }
+        }
+        GoalItem::Atom { span, .. } => *span,
     }
 }

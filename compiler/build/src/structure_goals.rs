@@ -1,0 +1,323 @@
+//! Structure goals as learned relations: `structure NAME at ANCHOR offset POSE` becomes the
+//! relations that hold among the structure's objects, and between each and its marker, once the
+//! structure stands at its place.
+//!
+//! Each structure object is the scene object of the same name (the checker makes sure there is
+//! one, of the same type). Its target is the anchor's pose · the offset · its pose in the
+//! structure (`SpecWorld::structure_targets`), where `SpecWorld::problem_scene` puts its marker
+//! `goal_<object>`. The placed structure is checked first, with the static world as it is and
+//! nothing else: no two of its objects touch, and each rests by lamp-world's resting rule. Then
+//! the goal state is made by moving every structure object of the problem scene to its target,
+//! and abstracted with the learned classifiers as the initial state is; the goal is every region
+//! relation (no `_0`, clear or nowhere relation) true there between two structure objects or a
+//! structure object and its own target marker. Each object must get one, and each must be added by a
+//! learned action, or the solver could never make it true.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use lamp_geometry::Pose;
+use lamp_learn::{GroundAtom, Model, abstract_state};
+use lamp_participants::scene_snapshot;
+use lamp_pddl::Atom;
+use lamp_spec::Problem;
+use lamp_world::{Scene, SpecWorld};
+
+use crate::adapter::Adapter;
+use crate::error::BuildError;
+use crate::initial_scene::CONTACT_TOLERANCE;
+use crate::structure_issue::StructureIssue;
+
+/// The goal atoms of a problem's structure goal, or why it cannot be written; no atoms and no
+/// findings for a problem without one.
+pub fn structure_goal_atoms(
+    model: &Model,
+    world: &SpecWorld,
+    adapter: &Adapter,
+    problem: &Problem,
+) -> Result<(Vec<Atom>, Vec<StructureIssue>), BuildError> {
+    let Some(goal) = &problem.goal.structure else { return Ok((Vec::new(), Vec::new())) };
+    let scene_error = |reason: String| BuildError::Scene { problem: problem.name.clone(), reason };
+    let targets =
+        world.structure_targets(problem).map_err(|error| scene_error(error.to_string()))?;
+    let issue_context = IssueContext { problem: &problem.name, structure: &goal.structure };
+    let issues = placed_structure_issues(world, problem)?;
+    if !issues.is_empty() {
+        return Ok((Vec::new(), issues));
+    }
+    let mut scene = world.problem_scene(problem).map_err(|error| scene_error(error.to_string()))?;
+    for (object, pose) in &targets {
+        let body = scene.body_index(object).ok_or_else(|| {
+            scene_error(format!("the structure's `{object}` is not in the scene"))
+        })?;
+        scene.set_body_pose(body, *pose);
+    }
+    let (participants, snapshot) =
+        scene_snapshot(adapter.participants(), &scene).map_err(scene_error)?;
+    let state = abstract_state(model, &participants, &snapshot)?;
+    let objects: BTreeSet<String> = targets.iter().map(|(object, _)| object.clone()).collect();
+    let markers: BTreeSet<String> = match world.goal_marker_type(problem) {
+        Some(_) => objects.iter().map(|object| lamp_spec::marker_name(object)).collect(),
+        None => BTreeSet::new(),
+    };
+    let atoms = goal_relations(model, &state, &objects, &markers);
+    let found = Found { context: &issue_context, participants: &participants, scene: &scene };
+    let mut issues = found.objects_without_atoms(&targets, &atoms, !markers.is_empty());
+    issues.extend(found.unlearned(model, &atoms, &objects));
+    if !issues.is_empty() {
+        return Ok((Vec::new(), issues));
+    }
+    let atoms = atoms
+        .iter()
+        .map(|atom| {
+            let names: Vec<&str> = atom.arguments.iter().map(String::as_str).collect();
+            Atom::ground(atom.predicate.clone(), &names)
+        })
+        .collect();
+    Ok((atoms, Vec::new()))
+}
+
+/// The region relations of `state` between two structure objects, or between a structure object
+/// and its own target marker, in the state's (sorted) order.
+///
+/// A marker is related to its own object only: a marker says where its object goes, and what
+/// holds between it and a neighbour of its object (the block below) restates an object–object
+/// relation through a stand-in, often one no action makes (the block below never moves while a
+/// marker is set on it in a demonstration).
+fn goal_relations(
+    model: &Model,
+    state: &BTreeSet<GroundAtom>,
+    objects: &BTreeSet<String>,
+    markers: &BTreeSet<String>,
+) -> Vec<GroundAtom> {
+    let regions: BTreeSet<&str> = model
+        .pairs
+        .iter()
+        .flat_map(|pair| &pair.regions)
+        .map(|region| region.relation.as_str())
+        .collect();
+    let in_goal = |atom: &&GroundAtom| match atom.arguments.as_slice() {
+        [first, second] if objects.contains(first) && objects.contains(second) => true,
+        [first, second] => [(first, second), (second, first)].iter().any(|(marker, object)| {
+            markers.contains(*marker)
+                && objects.contains(*object)
+                && **marker == lamp_spec::marker_name(object)
+        }),
+        _ => false,
+    };
+    state
+        .iter()
+        .filter(|atom| regions.contains(atom.predicate.as_str()))
+        .filter(in_goal)
+        .cloned()
+        .collect()
+}
+
+/// Where the problem and the structure are named in findings.
+struct IssueContext<'a> {
+    problem: &'a str,
+    structure: &'a str,
+}
+
+/// The goal state, for the findings about its relations.
+struct Found<'a> {
+    context: &'a IssueContext<'a>,
+    participants: &'a [lamp_learn::Participant],
+    scene: &'a Scene,
+}
+
+impl Found<'_> {
+    /// Each structure object that is in none of `atoms`.
+    fn objects_without_atoms(
+        &self,
+        targets: &[(String, Pose)],
+        atoms: &[GroundAtom],
+        marked: bool,
+    ) -> Vec<StructureIssue> {
+        targets
+            .iter()
+            .map(|(object, _)| object)
+            .filter(|object| !atoms.iter().any(|atom| atom.arguments.contains(object)))
+            .map(|object| {
+                let partners = if marked {
+                    format!(
+                        "its marker `{}` or the other objects of the structure",
+                        lamp_spec::marker_name(object)
+                    )
+                } else {
+                    "the other objects of the structure (the spec declares no marker type, so \
+                     none marks its place)"
+                        .to_string()
+                };
+                StructureIssue::NoGoalAtom {
+                    problem: self.context.problem.to_string(),
+                    structure: self.context.structure.to_string(),
+                    object: object.clone(),
+                    type_name: self.type_of(object),
+                    partners,
+                }
+            })
+            .collect()
+    }
+
+    /// Each of `atoms` that no learned action adds, with the secondary's pose in the primary's
+    /// frame; it is about its structure object (the secondary, or the primary of a marker).
+    fn unlearned(
+        &self,
+        model: &Model,
+        atoms: &[GroundAtom],
+        objects: &BTreeSet<String>,
+    ) -> Vec<StructureIssue> {
+        let added: BTreeSet<&str> = model
+            .actions
+            .iter()
+            .flat_map(|action| &action.add)
+            .map(|atom| atom.predicate.as_str())
+            .collect();
+        let pose_of =
+            |name: &str| self.scene.body_index(name).map(|body| self.scene.body_pose(body));
+        atoms
+            .iter()
+            .filter(|atom| !added.contains(atom.predicate.as_str()))
+            .filter_map(|atom| {
+                let [primary, secondary] = atom.arguments.as_slice() else { return None };
+                let relative = pose_of(primary)?.inverse() * pose_of(secondary)?;
+                let object = if objects.contains(secondary) { secondary } else { primary };
+                Some(StructureIssue::Unlearned {
+                    problem: self.context.problem.to_string(),
+                    structure: self.context.structure.to_string(),
+                    object: object.clone(),
+                    atom: atom.to_string(),
+                    primary_type: self.type_of(primary),
+                    secondary_type: self.type_of(secondary),
+                    pose: spec_pose(&relative),
+                })
+            })
+            .collect()
+    }
+
+    fn type_of(&self, name: &str) -> String {
+        self.participants
+            .iter()
+            .find(|participant| participant.name == name)
+            .map(|participant| participant.type_name.clone())
+            .unwrap_or_default()
+    }
+}
+
+/// The findings of a problem's structure standing alone at its anchor on the problem's static
+/// bodies: objects that touch one another or a static body, then objects that do not rest by the
+/// resting rule (an object already reported as touching is not judged again: the rule would only
+/// say it touches). Empty without a structure goal.
+pub fn placed_structure_issues(
+    world: &SpecWorld,
+    problem: &Problem,
+) -> Result<Vec<StructureIssue>, BuildError> {
+    let Some(goal) = &problem.goal.structure else { return Ok(Vec::new()) };
+    let scene_error = |error: lamp_world::WorldError| BuildError::Scene {
+        problem: problem.name.clone(),
+        reason: error.to_string(),
+    };
+    let targets = world.structure_targets(problem).map_err(scene_error)?;
+    let context = IssueContext { problem: &problem.name, structure: &goal.structure };
+    let scene = placed_structure(world, problem, &targets).map_err(scene_error)?;
+    Ok(structure_scene_issues(&scene, &targets, &context))
+}
+
+/// The structure's objects at their targets, with the problem's static bodies and nothing else.
+fn placed_structure(
+    world: &SpecWorld,
+    problem: &Problem,
+    targets: &[(String, Pose)],
+) -> Result<Scene, lamp_world::WorldError> {
+    let mut scene = Scene::new();
+    let objects: BTreeMap<&str, &str> = problem
+        .scene
+        .objects
+        .iter()
+        .map(|object| (object.name.as_str(), object.type_name.as_str()))
+        .collect();
+    let structure: BTreeSet<&str> = targets.iter().map(|(object, _)| object.as_str()).collect();
+    for object in &problem.scene.objects {
+        if structure.contains(object.name.as_str()) {
+            continue;
+        }
+        if let Some(body) = world.body(&object.name, &object.type_name)
+            && !body.movable
+            && !body.is_marker()
+        {
+            scene.add_body(body, object.pose)?;
+        }
+    }
+    for (object, pose) in targets {
+        let type_name = objects.get(object.as_str()).copied().unwrap_or_default();
+        let body =
+            world.body(object, type_name).ok_or_else(|| lamp_world::WorldError::Undeclared {
+                problem: problem.name.clone(),
+                name: type_name.to_string(),
+            })?;
+        scene.add_body(body, *pose)?;
+    }
+    scene.set_margin(CONTACT_TOLERANCE);
+    Ok(scene)
+}
+
+fn structure_scene_issues(
+    scene: &Scene,
+    targets: &[(String, Pose)],
+    context: &IssueContext<'_>,
+) -> Vec<StructureIssue> {
+    let structure: BTreeSet<&str> = targets.iter().map(|(object, _)| object.as_str()).collect();
+    let mut issues = Vec::new();
+    let mut touching = BTreeSet::new();
+    for (first, second) in scene.body_contacts() {
+        let (object, other) =
+            if structure.contains(first.as_str()) { (first, second) } else { (second, first) };
+        touching.insert(object.clone());
+        touching.insert(other.clone());
+        issues.push(StructureIssue::Contact {
+            problem: context.problem.to_string(),
+            structure: context.structure.to_string(),
+            object,
+            other,
+        });
+    }
+    for (object, _) in targets {
+        if touching.contains(object) {
+            continue;
+        }
+        let Some(body) = scene.body_index(object) else { continue };
+        if let Err(reason) = scene.resting_pose(body) {
+            issues.push(StructureIssue::Unsupported {
+                problem: context.problem.to_string(),
+                structure: context.structure.to_string(),
+                object: object.clone(),
+                reason: reason.to_string(),
+            });
+        }
+    }
+    issues
+}
+
+/// A pose as a spec writes one: `(x, y, z) m rpy (r, p, y) deg`, millimetres and tenths of a
+/// degree.
+fn spec_pose(pose: &Pose) -> String {
+    let position = pose.translation.vector;
+    let (roll, pitch, yaw) = pose.rotation.euler_angles();
+    let degrees = |angle: f64| {
+        let value = (angle.to_degrees() * 10.0).round() / 10.0;
+        if value == 0.0 { 0.0 } else { value }
+    };
+    let metres = |value: f64| {
+        let value = (value * 1000.0).round() / 1000.0;
+        if value == 0.0 { 0.0 } else { value }
+    };
+    format!(
+        "({}, {}, {}) m rpy ({}, {}, {}) deg",
+        metres(position.x),
+        metres(position.y),
+        metres(position.z),
+        degrees(roll),
+        degrees(pitch),
+        degrees(yaw)
+    )
+}
