@@ -5,7 +5,7 @@ use lamp_geometry::{Pose, Real, Shape, Vec3};
 use rapier3d_f64::math::{Pose as RapierPose, Rotation as RapierRotation, Vector};
 use rapier3d_f64::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder};
 
-use crate::{FRICTION, GRAVITY, PhysicsBody, PhysicsError, STEP_SECONDS};
+use crate::{CONTACT_FREQUENCY, FRICTION, GRAVITY, PhysicsBody, PhysicsError, STEP_SECONDS};
 
 fn to_rapier(pose: &Pose) -> RapierPose {
     let t = pose.translation.vector;
@@ -87,6 +87,9 @@ pub(crate) fn simulate(
     let mut world = PhysicsWorld::new();
     world.gravity = Vector::new(0.0, 0.0, -GRAVITY);
     world.integration_parameters.dt = STEP_SECONDS;
+    let contacts = &mut world.integration_parameters;
+    contacts.contact_softness.natural_frequency = CONTACT_FREQUENCY;
+    contacts.static_contact_softness.natural_frequency = 2.0 * CONTACT_FREQUENCY;
     let mut handles = Vec::with_capacity(bodies.len());
     for body in bodies {
         let builder =
