@@ -256,7 +256,7 @@ impl<'a> Jenga<'a> {
         placed.push(moved);
         let header = header(self.world.spec(), &scene, seed);
         let mut recording = Recording { header, steps: recorder.steps, retreat_at };
-        self.mark(&mut recording, &placed, &loose, rng);
+        self.mark(&mut recording, &placed, rng);
         Ok(recording)
     }
 
@@ -320,28 +320,13 @@ impl<'a> Jenga<'a> {
     /// every step: `loc_<block>`. A marker has no geometry, so markers that stood there from the
     /// start change nothing the robot did; a demonstration cut before its placement keeps its
     /// moved block's marker where the block was heading.
-    ///
-    /// Each block that started loose on the table also gets a marker where it started,
-    /// `start_<block>`, as a problem's scene marks where every movable object starts: the learned
-    /// pick is then a pick from a marker, and taking a block off its start marker is an effect
-    /// the planner knows of.
-    fn mark(
-        &self,
-        recording: &mut Recording,
-        placed: &[usize],
-        loose: &[usize],
-        rng: &mut ChaCha8Rng,
-    ) {
-        let (Some(first), Some(last)) = (recording.steps.first(), recording.steps.last()) else {
-            return;
-        };
-        let name = |block: usize| recording.header.bodies[block].name.clone();
-        let finals =
-            placed.iter().map(|&block| (format!("loc_{}", name(block)), last.body_poses[block]));
-        let starts =
-            loose.iter().map(|&block| (format!("start_{}", name(block)), first.body_poses[block]));
-        let markers: Vec<(String, Pose)> = finals.chain(starts).collect();
-        for (name, at) in markers {
+    fn mark(&self, recording: &mut Recording, placed: &[usize], rng: &mut ChaCha8Rng) {
+        let Some(last) = recording.steps.last() else { return };
+        let finals: Vec<(String, Pose)> = placed
+            .iter()
+            .map(|&block| (recording.header.bodies[block].name.clone(), last.body_poses[block]))
+            .collect();
+        for (name, at) in finals {
             let mut draw = |half: f64| rng.random_range(-half..=half);
             let noise = pose(
                 draw(MARKER_POSITION_NOISE),
@@ -352,7 +337,7 @@ impl<'a> Jenga<'a> {
                 draw(MARKER_YAW_NOISE),
             );
             recording.header.bodies.push(lamp_trajectory::BodyDescription {
-                name,
+                name: format!("loc_{name}"),
                 type_name: self.marker_type.clone(),
             });
             for step in &mut recording.steps {

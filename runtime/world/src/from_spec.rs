@@ -121,9 +121,9 @@ impl SpecWorld {
         Ok(q)
     }
 
-    /// The initial scene of a problem: its objects, the markers of its goal (where every
-    /// movable object starts, and at each target of an `at` goal or a structure goal), its
-    /// robots.
+    /// The initial scene of a problem: its objects, the markers of its goal (at each target of
+    /// an `at` goal or a structure goal, and with `at` goals where every movable object starts),
+    /// its robots.
     pub fn problem_scene(&self, problem: &Problem) -> Result<Scene, WorldError> {
         let mut scene = Scene::new();
         for object in &problem.scene.objects {
@@ -136,14 +136,19 @@ impl SpecWorld {
             scene.add_body(body, object.pose)?;
         }
         // A problem with AtGoals or a structure goal is solved through markers, as the
-        // demonstrations mark theirs: every movable object gets a marker where it starts (a pick
-        // is learned as a pick from a marker, and an object no goal names may have to be moved
-        // too), and each object with a target one at it. Markers collide with nothing.
+        // demonstrations mark theirs: each object with a target gets a marker at it. With AtGoals
+        // (the paper's Dinner: markers where objects start and where they are put), every
+        // movable object also gets one where it starts (a pick is learned as a pick from a
+        // marker, and an object no goal names may have to be moved too). A structure goal (the
+        // paper's Keva and Jenga: markers only where blocks are put) places none there: "on a
+        // marker" is then something a block becomes once, as in the demonstrations, which is
+        // what orders a tower (docs/language.md). Markers collide with nothing.
         if let Some(marker_type) = self.goal_marker_type(problem) {
             let starts = problem
                 .scene
                 .objects
                 .iter()
+                .filter(|_| !problem.goal.at.is_empty())
                 .filter(|object| {
                     self.spec
                         .object_type(&object.type_name)

@@ -359,8 +359,8 @@ impl Checker<'_> {
         if let Some((name, anchor, span)) = structure_item {
             self.structure_bound(name, anchor, span, declared, scene, &goal);
         }
-        // Start markers are placed for `at` goals and structure goals alike; named once.
-        if let Some(first) = first_at.or(structure_item.map(|(_, _, span)| span)) {
+        // Start markers are placed for `at` goals; named once.
+        if let Some(first) = first_at {
             self.start_markers_named(first, declared, scene);
         }
         (self.diagnostics.len() == errors_before).then_some(goal)
@@ -444,9 +444,9 @@ impl Checker<'_> {
         }
     }
 
-    /// A problem with `at` goals or a structure goal places a marker where every movable object
-    /// starts (`start_<object>`), as the demonstrations mark theirs: those names must not be taken
-    /// by scene objects. Reported at the problem's first `at` goal, else at its structure goal.
+    /// A problem with `at` goals places a marker where every movable object starts
+    /// (`start_<object>`), as the demonstrations mark theirs: those names must not be taken by
+    /// scene objects. Reported at the problem's first `at` goal.
     fn start_markers_named(
         &mut self,
         first_at: Span,
