@@ -1,6 +1,6 @@
 //! Structure transcription on a model learned in memory: synthetic demonstrations in which a
-//! magnetic gripper puts one block on the table or onto another (markers where each block starts
-//! and where the moved one ends) teach "on a marker" and "on a block"; a two-layer structure at an
+//! magnetic gripper puts one block on the table or onto another (a marker where it ends, none
+//! where blocks start, as a structure problem's scene has) teach "on a marker" and "on a block"; a two-layer structure at an
 //! anchor becomes those relations between its blocks and their markers, and broken structures
 //! are refused with the finding that names the object.
 
@@ -85,8 +85,6 @@ fn demonstration(index: usize) -> Demonstration {
         participant("hand_gripper", "gripper", Role::RobotPart { gripper: true }),
         participant("b1", "block", Role::Object { movable: true }),
         participant("b2", "block", Role::Object { movable: true }),
-        participant("start_b1", "loc", Role::Object { movable: false }),
-        participant("start_b2", "loc", Role::Object { movable: false }),
         participant("goal_b2", "loc", Role::Object { movable: false }),
     ];
     // The gripper points down, 10 cm above a block it holds.
@@ -100,7 +98,7 @@ fn demonstration(index: usize) -> Demonstration {
     let home = pose(0.0, 0.0, 0.5, 0.0) * above(&Pose::identity(), 0.0);
     let mut steps = Vec::new();
     let snapshot = |gripper: Pose, b2: Pose, held: bool| {
-        let poses = vec![gripper, b1, b2, b1, start, target];
+        let poses = vec![gripper, b1, b2, target];
         Snapshot { poses, held: if held { vec![(0, 2)] } else { Vec::new() } }
     };
     let lerp = |from: &Pose, to: &Pose, t: f64| {
@@ -229,7 +227,7 @@ fn a_two_layer_structure_becomes_its_blocks_on_their_markers_and_on_each_other()
         assert!(goal.contains(&atom), "{atom} is a goal:\n{goal}");
     }
     // Only region relations among the blocks and their own markers, and the hand empty as it
-    // starts: no `_0`, no clear relation of a block, no start marker, no robot relation.
+    // starts: no `_0`, no clear relation of a block, no robot relation.
     let atoms: Vec<&str> = goal
         .lines()
         .map(str::trim)
@@ -239,10 +237,8 @@ fn a_two_layer_structure_becomes_its_blocks_on_their_markers_and_on_each_other()
     for atom in atoms {
         let hands_free =
             atom.starts_with("(clear_gripper_block_") && atom.ends_with(" hand_gripper)");
-        let related = !atom.contains("_0 ")
-            && !atom.starts_with("(clear_")
-            && !atom.contains("start_")
-            && !atom.contains("hand_gripper");
+        let related =
+            !atom.contains("_0 ") && !atom.starts_with("(clear_") && !atom.contains("hand_gripper");
         assert!(hands_free || related, "{atom} belongs in the goal:\n{goal}");
     }
     // The markers are objects of the problem, the targets where the structure puts the blocks.

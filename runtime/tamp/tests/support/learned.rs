@@ -43,6 +43,11 @@ pub static DINNER: LazyLock<Learned> = LazyLock::new(|| {
     learn("dinner", Some(80), RefinerOptions { draws: 300, ..RefinerOptions::default() })
 });
 
+/// Jenga from the spec's own 160 demonstrations of at most three blocks (short ones: under a
+/// thousand steps each).
+pub static JENGA: LazyLock<Learned> =
+    LazyLock::new(|| learn("jenga", None, RefinerOptions::default()));
+
 fn learn(domain: &str, count: Option<u32>, refiner: RefinerOptions) -> Learned {
     let (spec, world) = lamp_test_support::load(&lamp_test_support::spec_path(domain));
     let mut simulation = Simulation::from_spec(&spec).expect("the spec simulates its domain");
