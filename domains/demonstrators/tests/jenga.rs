@@ -109,6 +109,14 @@ static DEMOS: LazyLock<Vec<Demonstration>> = LazyLock::new(|| {
     generate_all(world, &simulation(4, 0.5), |_| {}).expect("seed 7 generates")
 });
 
+/// `demo` as it would be had it not been cut short.
+fn uncut(world: &SpecWorld, demo: &Demonstration) -> Demonstration {
+    match demo.cut_at {
+        None => demo.clone(),
+        Some(_) => generate(world, &simulation(4, 0.0), demo.index).expect("seed 7 generates"),
+    }
+}
+
 #[test]
 fn every_recorded_state_replays_valid() {
     let (_, world) = &*JENGA;
@@ -122,10 +130,7 @@ fn every_placed_block_ends_on_its_own_marker_and_only_placed_blocks_have_one() {
     let (_, world) = &*JENGA;
     for demo in DEMOS.iter() {
         // The full demonstration: where the moved block comes to rest.
-        let whole = match demo.cut_at {
-            None => demo.clone(),
-            Some(_) => generate(world, &simulation(4, 0.0), demo.index).expect("seed 7 generates"),
-        };
+        let whole = uncut(world, demo);
         let header = &whole.trajectory.header;
         let last = whole.trajectory.steps.last().expect("steps");
         let markers: Vec<_> = header.bodies.iter().filter(|body| body.type_name == "loc").collect();
@@ -181,10 +186,7 @@ fn unsettled_blocks(blocks: &[(String, Pose)]) -> Option<lamp_physics::Drift> {
 fn what_every_full_demonstration_builds_stands_under_gravity() {
     let (_, world) = &*JENGA;
     for demo in DEMOS.iter() {
-        let whole = match demo.cut_at {
-            None => demo.clone(),
-            Some(_) => generate(world, &simulation(4, 0.0), demo.index).expect("seed 7 generates"),
-        };
+        let whole = uncut(world, demo);
         let header = &whole.trajectory.header;
         let last = whole.trajectory.steps.last().expect("steps");
         let blocks: Vec<(String, Pose)> = header
