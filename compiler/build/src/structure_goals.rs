@@ -16,6 +16,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use lamp_geometry::Pose;
+use lamp_geometry::math::relative_pose;
 use lamp_learn::{GroundAtom, Model, abstract_state};
 use lamp_participants::scene_snapshot;
 use lamp_pddl::Atom;
@@ -180,7 +181,7 @@ impl Found<'_> {
             .filter(|atom| !added.contains(atom.predicate.as_str()))
             .filter_map(|atom| {
                 let [primary, secondary] = atom.arguments.as_slice() else { return None };
-                let relative = pose_of(primary)?.inverse() * pose_of(secondary)?;
+                let relative = relative_pose(&pose_of(primary)?, &pose_of(secondary)?);
                 let object = if objects.contains(secondary) { secondary } else { primary };
                 Some(StructureIssue::Unlearned {
                     problem: self.context.problem.to_string(),

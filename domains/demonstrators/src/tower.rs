@@ -86,6 +86,8 @@ pub(crate) fn draw_training(size: &BlockSize, objects: usize, rng: &mut ChaCha8R
 
 #[cfg(test)]
 mod tests {
+    use lamp_geometry::math::relative_pose;
+
     use super::*;
 
     const JENGA: BlockSize = BlockSize { length: 0.1524, width: 0.0508, height: 0.03048 };
@@ -119,7 +121,7 @@ mod tests {
         let tower = tower(&JENGA, 2, FRAC_PI_2);
         for lower in &tower[..2] {
             for upper in &tower[2..] {
-                let relative = (lower.inverse() * upper).translation.vector;
+                let relative = relative_pose(lower, upper).translation.vector;
                 assert!((relative.x.abs() - JENGA.width).abs() < 1e-12, "{relative:?}");
                 assert!((relative.y.abs() - JENGA.width).abs() < 1e-12, "{relative:?}");
             }
