@@ -6,13 +6,15 @@
 //! or overlap, where at least one can move, closer than [`CONTACT_TOLERANCE`]; every robot's
 //! start configuration within its joint limits and free of collision with the bodies and itself,
 //! at the same tolerance; every AtGoal target finite, in range, putting its object into no
-//! static body, and over one (within [`TARGET_SUPPORT_GAP`] below it). Findings are listed in spec order of problems, then in that order.
+//! static body, and where it can rest by lamp-world's resting rule. Findings are listed in spec order of problems, then in that order.
+
+use std::collections::{BTreeMap, BTreeSet};
 
 use crate::error::BuildError;
 pub use crate::scene_issue::SceneIssue;
 use lamp_geometry::Pose;
 use lamp_spec::{Problem, RobotKind, Spec};
-use lamp_world::{Contact, SpecWorld};
+use lamp_world::{Contact, Scene, SpecWorld};
 
 /// Bodies closer than this touch (1 µm). The solver counts touching as a collision, so for an
 /// object placed exactly on its support (distance 0, up to the rounding of the pose arithmetic)
@@ -26,12 +28,6 @@ pub const CONTACT_TOLERANCE: f64 = 1e-6;
 /// are rooms (the bundled ones fit in 20 m); positions far beyond that lose the millimetres
 /// collision checking needs and make interpolation and recording take absurd numbers of steps.
 pub const MAX_DISTANCE: f64 = 1000.0;
-
-/// The most an AtGoal target may leave between its object and the static body it stands on
-/// (5 mm): the bundled specs put targets 1 mm above their tables, and a learned "on the marker"
-/// region is a few millimetres high; a target with nothing this close below it would leave its
-/// object in the air, where no solve can put it.
-pub const TARGET_SUPPORT_GAP: f64 = 0.005;
 
 /// The build step: [`BuildError::InitialScenes`] with every finding of every problem, if any.
 pub fn check_initial_scenes(spec: &Spec, world: &SpecWorld) -> Result<(), BuildError> {
@@ -69,7 +65,7 @@ pub fn problem_scene_issues(spec: &Spec, world: &SpecWorld, problem: &Problem) -
     for (first, second) in scene.body_contacts() {
         issues.push(SceneIssue::Contact { problem: name(), first, second });
     }
-    issues.extend(target_contacts(&mut scene, problem));
+    issues.extend(target_issues(world, problem));
     for (index, robot) in scene.robots().iter().enumerate() {
         let q = robot.configuration();
         let model = robot.robot();
@@ -95,58 +91,83 @@ pub fn problem_scene_issues(spec: &Spec, world: &SpecWorld, problem: &Problem) -
     issues
 }
 
-/// AtGoal targets that put their object into a static body (furniture, the floor), or over
-/// none: each object alone at its target, the rest of the scene as it starts; `placed` is left
-/// as it was.
-fn target_contacts(placed: &mut lamp_world::Scene, problem: &Problem) -> Vec<SceneIssue> {
+/// AtGoal targets that put their object into a static body (furniture, the floor), or where it
+/// cannot rest: each object alone at its target among the problem's static bodies, judged by
+/// the resting rule every release follows.
+fn target_issues(world: &SpecWorld, problem: &Problem) -> Vec<SceneIssue> {
     let mut issues = Vec::new();
     for target in &problem.goal.at {
-        let Some(body) = placed.body_index(&target.object) else { continue };
-        let start = placed.body_pose(body);
-        placed.set_body_pose(body, target.pose);
-        let touched = static_bodies_touching(placed, &target.object);
-        for other in &touched {
+        let at_target = [(target.object.clone(), target.pose)];
+        let scene = match objects_at_targets(world, problem, &at_target) {
+            Ok(scene) => scene,
+            Err(error) => {
+                let reason = error.to_string();
+                issues.push(SceneIssue::Unbuildable { problem: problem.name.clone(), reason });
+                continue;
+            }
+        };
+        let touched: Vec<String> = scene
+            .body_contacts()
+            .into_iter()
+            .map(|(first, second)| if first == target.object { second } else { first })
+            .collect();
+        for body in &touched {
             issues.push(SceneIssue::TargetContact {
                 problem: problem.name.clone(),
                 object: target.object.clone(),
-                body: other.clone(),
+                body: body.clone(),
             });
         }
-        if touched.is_empty() {
-            let mut lowered = target.pose;
-            lowered.translation.z -= TARGET_SUPPORT_GAP;
-            placed.set_body_pose(body, lowered);
-            if static_bodies_touching(placed, &target.object).is_empty() {
-                issues.push(SceneIssue::TargetUnsupported {
-                    problem: problem.name.clone(),
-                    object: target.object.clone(),
-                    gap_mm: TARGET_SUPPORT_GAP * 1000.0,
-                });
-            }
+        let Some(body) = scene.body_index(&target.object) else { continue };
+        if let (true, Err(reason)) = (touched.is_empty(), scene.resting_pose(body)) {
+            issues.push(SceneIssue::TargetUnsupported {
+                problem: problem.name.clone(),
+                object: target.object.clone(),
+                reason: reason.to_string(),
+            });
         }
-        placed.set_body_pose(body, start);
     }
     issues
 }
 
-/// The static bodies `object` touches or overlaps, in contact order.
-fn static_bodies_touching(placed: &lamp_world::Scene, object: &str) -> Vec<String> {
-    let static_body =
-        |name: &str| placed.body_index(name).is_some_and(|index| !placed.bodies()[index].movable);
-    placed
-        .body_contacts()
-        .into_iter()
-        .filter_map(|(first, second)| {
-            if first == object {
-                Some(second)
-            } else if second == object {
-                Some(first)
-            } else {
-                None
-            }
-        })
-        .filter(|other| static_body(other))
-        .collect()
+/// Objects of the problem's scene at target poses (a structure's, or one AtGoal's), with the
+/// problem's static bodies and nothing else, checked at [`CONTACT_TOLERANCE`]: where a goal
+/// would leave them, judged by the one resting rule (`Scene::resting_pose`).
+pub(crate) fn objects_at_targets(
+    world: &SpecWorld,
+    problem: &Problem,
+    targets: &[(String, Pose)],
+) -> Result<Scene, lamp_world::WorldError> {
+    let mut scene = Scene::new();
+    let objects: BTreeMap<&str, &str> = problem
+        .scene
+        .objects
+        .iter()
+        .map(|object| (object.name.as_str(), object.type_name.as_str()))
+        .collect();
+    let placed: BTreeSet<&str> = targets.iter().map(|(object, _)| object.as_str()).collect();
+    for object in &problem.scene.objects {
+        if placed.contains(object.name.as_str()) {
+            continue;
+        }
+        if let Some(body) = world.body(&object.name, &object.type_name)
+            && !body.movable
+            && !body.is_marker()
+        {
+            scene.add_body(body, object.pose)?;
+        }
+    }
+    for (object, pose) in targets {
+        let type_name = objects.get(object.as_str()).copied().unwrap_or_default();
+        let body =
+            world.body(object, type_name).ok_or_else(|| lamp_world::WorldError::Undeclared {
+                problem: problem.name.clone(),
+                name: type_name.to_string(),
+            })?;
+        scene.add_body(body, *pose)?;
+    }
+    scene.set_margin(CONTACT_TOLERANCE);
+    Ok(scene)
 }
 
 /// Placements that are not finite or too far: objects at their poses, robots at their bases

@@ -47,18 +47,15 @@ pub enum SceneIssue {
     )]
     TargetContact { problem: String, object: String, body: String },
 
-    /// An AtGoal target leaves its object in the air: nothing static lies within
-    /// [`TARGET_SUPPORT_GAP`](crate::initial_scene::TARGET_SUPPORT_GAP) below it.
-    #[error(
-        "problem `{problem}`: the `at` goal puts `{object}` where nothing supports it: no table, counter or floor lies within {gap_mm} mm below it"
-    )]
+    /// An AtGoal target leaves its object where it cannot rest: in the air, over an edge.
+    #[error("problem `{problem}`: the `at` goal puts `{object}` where it cannot rest: {reason}")]
     #[diagnostic(
         code(lamp::build::target_unsupported),
         help(
-            "An object can only be left standing on something: put the target's height 1 mm above the top of the surface it should stand on, as the bundled specs do, and its position over that surface."
+            "An object can only be left standing on something: put the target's height 1 mm above the top of the surface it should stand on, as the bundled specs do, and its centre over that surface."
         )
     )]
-    TargetUnsupported { problem: String, object: String, gap_mm: f64 },
+    TargetUnsupported { problem: String, object: String, reason: String },
 
     /// A robot starts in collision.
     #[error("problem `{problem}`: robot `{robot}` starts in collision: {contact}")]

@@ -13,7 +13,7 @@
 //! structure object and its own target marker. Each object must get one, and each must be added by a
 //! learned action, or the solver could never make it true.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeSet;
 
 use lamp_geometry::Pose;
 use lamp_geometry::math::relative_pose;
@@ -25,7 +25,7 @@ use lamp_world::{Scene, SpecWorld};
 
 use crate::adapter::Adapter;
 use crate::error::BuildError;
-use crate::initial_scene::CONTACT_TOLERANCE;
+use crate::initial_scene::objects_at_targets;
 use crate::structure_issue::StructureIssue;
 
 /// The goal atoms of a problem's structure goal, or why it cannot be written; no atoms and no
@@ -220,46 +220,8 @@ pub fn placed_structure_issues(
     };
     let targets = world.structure_targets(problem).map_err(scene_error)?;
     let context = IssueContext { problem: &problem.name, structure: &goal.structure };
-    let scene = placed_structure(world, problem, &targets).map_err(scene_error)?;
+    let scene = objects_at_targets(world, problem, &targets).map_err(scene_error)?;
     Ok(structure_scene_issues(&scene, &targets, &context))
-}
-
-/// The structure's objects at their targets, with the problem's static bodies and nothing else.
-fn placed_structure(
-    world: &SpecWorld,
-    problem: &Problem,
-    targets: &[(String, Pose)],
-) -> Result<Scene, lamp_world::WorldError> {
-    let mut scene = Scene::new();
-    let objects: BTreeMap<&str, &str> = problem
-        .scene
-        .objects
-        .iter()
-        .map(|object| (object.name.as_str(), object.type_name.as_str()))
-        .collect();
-    let structure: BTreeSet<&str> = targets.iter().map(|(object, _)| object.as_str()).collect();
-    for object in &problem.scene.objects {
-        if structure.contains(object.name.as_str()) {
-            continue;
-        }
-        if let Some(body) = world.body(&object.name, &object.type_name)
-            && !body.movable
-            && !body.is_marker()
-        {
-            scene.add_body(body, object.pose)?;
-        }
-    }
-    for (object, pose) in targets {
-        let type_name = objects.get(object.as_str()).copied().unwrap_or_default();
-        let body =
-            world.body(object, type_name).ok_or_else(|| lamp_world::WorldError::Undeclared {
-                problem: problem.name.clone(),
-                name: type_name.to_string(),
-            })?;
-        scene.add_body(body, *pose)?;
-    }
-    scene.set_margin(CONTACT_TOLERANCE);
-    Ok(scene)
 }
 
 fn structure_scene_issues(

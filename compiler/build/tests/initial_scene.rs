@@ -153,14 +153,30 @@ fn a_target_inside_the_table_names_the_object_and_the_table() {
     let (spec, world) = first_problem("dinner", |spec| {
         spec.problems[0].goal.at[0].pose.translation.z += 0.30; // 30 cm above the table
     });
-    assert_eq!(
-        initial_scene_issues(&spec, &world),
-        vec![SceneIssue::TargetUnsupported {
-            problem: "set_table_2".into(),
-            object: object.clone(),
-            gap_mm: 5.0,
-        }]
-    );
+    match &initial_scene_issues(&spec, &world)[..] {
+        [SceneIssue::TargetUnsupported { problem, object: named, reason }] => {
+            assert_eq!((problem.as_str(), named), ("set_table_2", &object));
+            // The resting rule's own words: it would drop 30 cm onto the table.
+            assert!(reason.contains("would drop 300.0 mm onto `dining1`"), "{reason}");
+        }
+        other => panic!("expected one unsupported target, got {other:?}"),
+    }
+    // Over the table's edge, its centre 1 cm beyond it: the top is within a millimetre below
+    // part of its base, but it would tip off.
+    let (spec, world) = first_problem("dinner", |spec| {
+        let dining = spec.problems[0].scene.objects.iter().find(|o| o.name == "dining1");
+        let edge =
+            dining.expect("the dining table").pose * nalgebra::Translation3::new(0.46, 0.0, 0.0);
+        let target = &mut spec.problems[0].goal.at[0].pose;
+        target.translation.x = edge.translation.x;
+        target.translation.y = edge.translation.y;
+    });
+    match &initial_scene_issues(&spec, &world)[..] {
+        [SceneIssue::TargetUnsupported { reason, .. }] => {
+            assert!(reason.contains("is not supported"), "{reason}");
+        }
+        other => panic!("expected one unsupported target, got {other:?}"),
+    }
     let (spec, world) = first_problem("dinner", |spec| {
         spec.problems[0].goal.at[0].pose.translation.x += 8.0; // beside the table, in the air
     });
