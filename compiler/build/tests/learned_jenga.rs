@@ -11,7 +11,9 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::sync::LazyLock;
 
 use lamp_build::Artifacts;
-use lamp_learn::{Action, GroundAtom, Model, Participant, Pose, Role, Snapshot, abstract_state};
+use lamp_learn::{
+    Action, GroundAtom, LiftedAtom, Model, Participant, Pose, Role, Snapshot, abstract_state,
+};
 use nalgebra::{Translation3, UnitQuaternion};
 
 use support::{artifact, has, regions};
@@ -123,16 +125,20 @@ fn putting_a_block_across_two_needs_it_held_and_both_below_on_their_markers() {
             .flat_map(|atom| &atom.arguments)
             .filter(|argument| *argument != moved)
             .collect();
+        // "On some marker", without naming it: not on no marker.
         for block in below {
+            let on_no_marker = LiftedAtom {
+                predicate: "nowhere_loc_block_1".into(),
+                arguments: vec![block.clone()],
+            };
             assert!(
-                action
-                    .preconditions
-                    .iter()
-                    .any(|atom| atom.predicate == "loc_block_1" && &atom.arguments[1] == block),
-                "{}: {block} need not be on its marker",
+                action.negative_preconditions.contains(&on_no_marker),
+                "{}: {block} need not be on a marker",
                 action.name
             );
         }
+        let markers = action.parameters.iter().filter(|p| p.type_name == "loc").count();
+        assert_eq!(markers, 1, "{}: only the moved block's marker is named", action.name);
         assert!(!has(&action.preconditions, "clear_block_block_1"), "{}", action.name);
     }
 }
@@ -215,14 +221,20 @@ fn explains(
     if adds.as_ref() != Some(added) {
         return false;
     }
-    action
-        .preconditions
-        .iter()
-        .filter(|atom| {
-            atom.predicate.starts_with("block_block_") || atom.predicate == "loc_block_1"
-        })
-        .filter(|atom| atom.arguments.iter().all(|argument| binding.contains_key(argument)))
-        .all(|atom| ground(atom).is_some_and(|atom| before.contains(&atom)))
+    let relevant = |atom: &&lamp_learn::LiftedAtom| {
+        atom.predicate.starts_with("block_block_") || atom.predicate.ends_with("loc_block_1")
+    };
+    let bound = |atom: &&lamp_learn::LiftedAtom| {
+        atom.arguments.iter().all(|argument| binding.contains_key(argument))
+    };
+    let hold = |atoms: &[lamp_learn::LiftedAtom], wanted: bool| {
+        atoms
+            .iter()
+            .filter(relevant)
+            .filter(bound)
+            .all(|atom| ground(atom).is_some_and(|atom| before.contains(&atom) == wanted))
+    };
+    hold(&action.preconditions, true) && hold(&action.negative_preconditions, false)
 }
 
 #[test]

@@ -11,6 +11,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use crate::abstraction::Fact;
 use crate::demo::{Participant, Role};
+use crate::existential::{Complements, quantify_lone_extras};
 use crate::relations::{PairVocabulary, Symbol, symbol_name};
 
 /// Above this many candidate renamings, the changed objects are renamed in name order instead.
@@ -62,6 +63,9 @@ pub struct Action {
     pub parameters: Vec<Parameter>,
     /// Positive preconditions, sorted.
     pub preconditions: Vec<LiftedAtom>,
+    /// Atoms that must be false before it, sorted: what an extra object that would only say "in
+    /// this region of some object" says without naming it (module `existential`).
+    pub negative_preconditions: Vec<LiftedAtom>,
     /// Add effects, sorted.
     pub add: Vec<LiftedAtom>,
     /// Delete effects (the change plus the pair's other relations on the same objects), sorted.
@@ -101,6 +105,8 @@ struct Cluster {
     delete: BTreeSet<LiftedAtom>,
     preconditions: Option<BTreeSet<LiftedAtom>>,
     types: BTreeMap<String, String>,
+    /// The names of the extra objects that are not robot parts.
+    extras: BTreeSet<String>,
     transitions: Vec<TransitionRef>,
     grounded: BTreeSet<(Vec<String>, Vec<String>)>,
 }
@@ -138,6 +144,7 @@ pub(crate) fn induce(
                     .collect(),
                 preconditions: None,
                 types: BTreeMap::new(),
+                extras: BTreeSet::new(),
                 transitions: Vec::new(),
                 grounded: BTreeSet::new(),
             });
@@ -146,6 +153,16 @@ pub(crate) fn induce(
                     .types
                     .insert(name.clone(), demonstration.participants[*object].type_name.clone());
             }
+            // A robot's parts are few whatever the task's size, and naming them keeps "with the
+            // arm tucked" readable; objects are what multiply an action's groundings.
+            cluster.extras.extend(
+                extras
+                    .iter()
+                    .filter(|(object, _)| {
+                        !demonstration.participants[**object].role.is_robot_part()
+                    })
+                    .map(|(_, name)| name.clone()),
+            );
             cluster.preconditions = Some(match cluster.preconditions.take() {
                 None => preconditions,
                 Some(previous) => previous.intersection(&preconditions).cloned().collect(),
@@ -163,15 +180,25 @@ pub(crate) fn induce(
             became_true.extend(added.iter().copied());
         }
     }
-    clusters.into_values().enumerate().map(|(index, cluster)| finish(index, cluster)).collect()
+    let complements = Complements::new(vocabulary);
+    clusters
+        .into_values()
+        .enumerate()
+        .map(|(index, cluster)| finish(index, cluster, &complements))
+        .collect()
 }
 
-fn finish(index: usize, cluster: Cluster) -> Action {
-    let preconditions: Vec<LiftedAtom> =
-        cluster.preconditions.unwrap_or_default().into_iter().collect();
+fn finish(index: usize, cluster: Cluster, complements: &Complements) -> Action {
+    let mut preconditions = cluster.preconditions.unwrap_or_default();
+    let mut negative = BTreeSet::new();
+    let effects: Vec<&LiftedAtom> = cluster.add.iter().chain(&cluster.delete).collect();
+    quantify_lone_extras(complements, &cluster.extras, &effects, &mut preconditions, &mut negative);
+    let preconditions: Vec<LiftedAtom> = preconditions.into_iter().collect();
+    let negative_preconditions: Vec<LiftedAtom> = negative.into_iter().collect();
     let delete: Vec<LiftedAtom> = cluster.delete.into_iter().collect();
     let used: BTreeSet<&String> = preconditions
         .iter()
+        .chain(&negative_preconditions)
         .chain(&cluster.add)
         .chain(&delete)
         .flat_map(|atom| &atom.arguments)
@@ -191,6 +218,7 @@ fn finish(index: usize, cluster: Cluster) -> Action {
         name: format!("a{}", index + 1),
         parameters,
         preconditions,
+        negative_preconditions,
         add: cluster.add,
         delete,
         transitions: cluster.transitions,

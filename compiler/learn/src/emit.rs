@@ -93,6 +93,7 @@ fn action(learned: &Action) -> lamp_pddl::Action {
         .into_iter()
         .map(|(left, right)| Condition::distinct(variable(&left), variable(&right)))
         .chain(learned.preconditions.iter().map(|atom| Condition::atom(lifted(atom))))
+        .chain(learned.negative_preconditions.iter().map(|atom| Condition::not_atom(lifted(atom))))
         .collect();
     pddl.add = learned.add.iter().map(lifted).collect();
     pddl.delete = learned.delete.iter().map(lifted).collect();
@@ -121,6 +122,7 @@ mod tests {
                 Parameter { name: "?gripper_p1".into(), type_name: "gripper".into() },
             ],
             preconditions: vec![atom("gripper_can_2", &["?gripper_p1", "?can_p1"])],
+            negative_preconditions: vec![],
             add: vec![atom("can_can_1", &["?can_p2", "?can_p1"])],
             delete: vec![atom("can_can_0", &["?can_p2", "?can_p1"])],
             transitions: vec![],

@@ -19,6 +19,7 @@ pub mod demo;
 pub mod discretise;
 pub mod emit;
 pub mod error;
+mod existential;
 pub use lamp_abstraction::features;
 mod learner;
 pub mod model;

@@ -176,6 +176,11 @@ fn action_section(out: &mut String, action: &Action) {
         }
     };
     let _ = writeln!(out, "- preconditions: {}", list(&action.preconditions));
+    if !action.negative_preconditions.is_empty() {
+        let absent: Vec<String> =
+            action.negative_preconditions.iter().map(|atom| format!("`(not {atom})`")).collect();
+        let _ = writeln!(out, "- negated preconditions: {}", absent.join(", "));
+    }
     let _ = writeln!(out, "- adds: {}", list(&action.add));
     let _ = writeln!(out, "- deletes: {}", list(&action.delete));
     let listed: Vec<String> = action

@@ -25,6 +25,10 @@ pub struct GroundedAction {
     pub arguments: Vec<String>,
     /// Ground preconditions.
     pub preconditions: Vec<GroundAtom>,
+    /// Ground atoms that must be false before it. Absent from documents written before the field
+    /// existed, which had none.
+    #[serde(default)]
+    pub negative_preconditions: Vec<GroundAtom>,
     /// Ground add effects: what must hold after the action.
     pub add_effects: Vec<GroundAtom>,
     /// Ground delete effects.
@@ -241,6 +245,7 @@ pub trait CandidateStream: Send {
 ///     name: "goto".into(),
 ///     arguments: vec!["cart".into(), "m".into()],
 ///     preconditions: Vec::new(),
+///     negative_preconditions: Vec::new(),
 ///     add_effects: Vec::new(),
 ///     delete_effects: Vec::new(),
 /// };

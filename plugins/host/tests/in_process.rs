@@ -203,6 +203,7 @@ fn reach_request(object_x: f64, seed: u64) -> RefineRequest {
         name: "reach".into(),
         arguments: vec![ROBOT.into(), "can1".into(), TOOL.into()],
         preconditions: Vec::new(),
+        negative_preconditions: Vec::new(),
         add_effects: Vec::new(),
         delete_effects: Vec::new(),
     };

@@ -11,9 +11,11 @@
 
 mod ground;
 mod heuristic;
+mod lost_goals;
 mod plan;
 mod search;
 mod state;
+mod successors;
 mod task;
 mod topk;
 mod validate;

@@ -9,6 +9,9 @@
 //! turns. Within a queue, entries with equal value leave in insertion order (FIFO), and successors
 //! are inserted in operator-id order, so the search is fully deterministic.
 //!
+//! A node is a dead end without evaluating FF when a goal literal is lost for good
+//! ([`LostGoals`]), which is much cheaper and proves the same.
+//!
 //! The trie holds plans that must not be returned again (for top-k). A search node is a state and
 //! either a trie node (the path so far equals a forbidden plan's prefix) or the trie node where the
 //! path left the trie. A path may not revisit a state, so every plan returned is loop-free, and a
@@ -21,7 +24,9 @@ use std::time::Instant;
 
 use crate::Budget;
 use crate::heuristic::{Estimate, FfHeuristic};
+use crate::lost_goals::LostGoals;
 use crate::state::{State, StateId, StateRegistry};
+use crate::successors::Successors;
 use crate::task::{GroundTask, OperatorId};
 
 /// Turns the preferred queue gains each time the search makes heuristic progress (as in Fast
@@ -88,6 +93,8 @@ pub struct SearchSpace<'a> {
     task: &'a GroundTask,
     registry: StateRegistry,
     heuristic: FfHeuristic,
+    lost_goals: LostGoals,
+    successors: Successors,
     estimates: Vec<Option<Estimate>>,
     trie: Vec<TrieNode>,
     initial: StateId,
@@ -105,6 +112,8 @@ impl<'a> SearchSpace<'a> {
             task,
             registry,
             heuristic: FfHeuristic::new(task),
+            lost_goals: LostGoals::new(task),
+            successors: Successors::new(task),
             estimates: Vec::new(),
             trie: vec![TrieNode {
                 parent: None,
@@ -157,7 +166,12 @@ impl<'a> SearchSpace<'a> {
         if let Some(estimate) = &self.estimates[index] {
             return estimate.clone();
         }
-        let estimate = self.heuristic.evaluate(self.task, self.registry.get(state));
+        let current = self.registry.get(state);
+        let estimate = if self.lost_goals.any_lost(current) {
+            Estimate::DeadEnd
+        } else {
+            self.heuristic.evaluate(self.task, current)
+        };
         self.estimates[index] = Some(estimate.clone());
         estimate
     }
@@ -257,12 +271,10 @@ impl<'a> SearchSpace<'a> {
                     queues.boost_preferred();
                 }
                 let current = self.registry.get(state);
-                for (operator, definition) in (0_u32..).zip(&self.task.operators) {
-                    if current.applicable(definition) {
-                        let is_preferred = preferred.binary_search(&operator).is_ok();
-                        queues.push(distance, id, operator, is_preferred);
-                        self.statistics.generated += 1;
-                    }
+                for operator in self.successors.applicable(self.task, current) {
+                    let is_preferred = preferred.binary_search(&operator).is_ok();
+                    queues.push(distance, id, operator, is_preferred);
+                    self.statistics.generated += 1;
                 }
             }
         }

@@ -44,18 +44,21 @@ pub fn ground_step(domain: &Domain, step: &PlanStep) -> Result<GroundedAction, S
             })
             .collect(),
     };
-    let preconditions = action
-        .precondition
-        .iter()
-        .filter_map(|condition| match condition {
-            Condition::Atom { atom, positive: true } => Some(ground(atom)),
-            _ => None,
-        })
-        .collect();
+    let literals = |wanted: bool| {
+        action
+            .precondition
+            .iter()
+            .filter_map(|condition| match condition {
+                Condition::Atom { atom, positive } if *positive == wanted => Some(ground(atom)),
+                _ => None,
+            })
+            .collect()
+    };
     Ok(GroundedAction {
         name: action.name.clone(),
         arguments: step.arguments.clone(),
-        preconditions,
+        preconditions: literals(true),
+        negative_preconditions: literals(false),
         add_effects: action.add.iter().map(ground).collect(),
         delete_effects: action.delete.iter().map(ground).collect(),
     })
@@ -78,11 +81,13 @@ pub fn effects_hold(state: &BTreeSet<GroundAtom>, action: &GroundedAction) -> bo
 }
 
 /// Where the rest of a plan breaks when run from `state`: the index in `rest` of the first
-/// action whose preconditions do not hold (`rest.len()` for the goal), with the atoms missing.
+/// action whose preconditions do not hold (`rest.len()` for the goal), with the atoms missing
+/// and the atoms that hold but must not.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Broken {
     pub index: usize,
     pub missing: Vec<GroundAtom>,
+    pub unwanted: Vec<GroundAtom>,
 }
 
 /// Where `rest` breaks when its actions are applied in order from `state` and then `goal` is
@@ -94,19 +99,18 @@ pub fn first_broken(
 ) -> Option<Broken> {
     let mut state = state.clone();
     for (index, action) in rest.iter().enumerate() {
-        let missing: Vec<GroundAtom> = action
-            .preconditions
-            .iter()
-            .map(learned_atom)
-            .filter(|atom| !state.contains(atom))
-            .collect();
-        if !missing.is_empty() {
-            return Some(Broken { index, missing });
+        let atoms_where = |atoms: &[WireAtom], held: bool| -> Vec<GroundAtom> {
+            atoms.iter().map(learned_atom).filter(|atom| state.contains(atom) == held).collect()
+        };
+        let missing = atoms_where(&action.preconditions, false);
+        let unwanted = atoms_where(&action.negative_preconditions, true);
+        if !missing.is_empty() || !unwanted.is_empty() {
+            return Some(Broken { index, missing, unwanted });
         }
         state = progress(&state, action);
     }
     let missing: Vec<GroundAtom> = goal.difference(&state).cloned().collect();
-    (!missing.is_empty()).then_some(Broken { index: rest.len(), missing })
+    (!missing.is_empty()).then_some(Broken { index: rest.len(), missing, unwanted: Vec::new() })
 }
 
 /// A ground atom of the plugin contract as the learner's.
@@ -160,6 +164,7 @@ mod tests {
             name: name.to_string(),
             arguments: Vec::new(),
             preconditions: owned(pre),
+            negative_preconditions: Vec::new(),
             add_effects: owned(add),
             delete_effects: owned(delete),
         }
@@ -179,11 +184,36 @@ mod tests {
 
         let pick = action("pick", &[&on1], &[&held], &[&on1]);
         let broken = first_broken(&reached, &[put.clone(), pick], &goal).expect("broken");
-        assert_eq!(broken, Broken { index: 1, missing: vec![learned_atom(&on1)] });
+        assert_eq!(
+            broken,
+            Broken { index: 1, missing: vec![learned_atom(&on1)], unwanted: Vec::new() }
+        );
 
         let elsewhere: BTreeSet<GroundAtom> = [learned_atom(&on1)].into_iter().collect();
         let broken = first_broken(&reached, &[put], &elsewhere).expect("the goal fails");
-        assert_eq!(broken, Broken { index: 1, missing: vec![learned_atom(&on1)] });
+        assert_eq!(
+            broken,
+            Broken { index: 1, missing: vec![learned_atom(&on1)], unwanted: Vec::new() }
+        );
         assert!(effects_hold(&reached, &action("none", &[], &[&held], &[&on1])));
+    }
+
+    /// A block placed across two that must each be on some marker ("on no marker" false): the
+    /// rest breaks when one of them is on none, and says which atom holds that must not.
+    #[test]
+    fn a_negative_precondition_that_holds_breaks_the_rest() {
+        let on_none = wire("nowhere_loc_block_1", &["b2"]);
+        let across = wire("block_block_1", &["b3", "b2"]);
+        let mut place = action("place", &[], &[&across], &[]);
+        place.negative_preconditions = vec![on_none.clone()];
+        let goal: BTreeSet<GroundAtom> = [learned_atom(&across)].into_iter().collect();
+        assert_eq!(first_broken(&BTreeSet::new(), std::slice::from_ref(&place), &goal), None);
+
+        let reached: BTreeSet<GroundAtom> = [learned_atom(&on_none)].into_iter().collect();
+        let broken = first_broken(&reached, &[place], &goal).expect("broken");
+        assert_eq!(
+            broken,
+            Broken { index: 0, missing: Vec::new(), unwanted: vec![learned_atom(&on_none)] }
+        );
     }
 }

@@ -353,7 +353,14 @@ fn broken_text(broken: &Broken, actions: &[GroundedAction], at: usize) -> String
         Some(later) => format!("step {} ({})", at + 2 + broken.index, later.name),
         None => "the goal".to_string(),
     };
-    format!("the state reached breaks {what}, which needs {}", atom_list(&broken.missing))
+    let mut needs = Vec::new();
+    if !broken.missing.is_empty() {
+        needs.push(atom_list(&broken.missing));
+    }
+    if !broken.unwanted.is_empty() {
+        needs.push(format!("the absence of {}", atom_list(&broken.unwanted)));
+    }
+    format!("the state reached breaks {what}, which needs {}", needs.join(" and "))
 }
 
 /// Atoms in one state and not the other, for messages.
