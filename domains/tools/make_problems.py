@@ -51,10 +51,13 @@ Jenga, `jenga` (14 towers tower_<blocks>, 2 … 18 blocks, then 24 and 30): bloc
 0.0508 m × 0.03048 m, frame at the centre; layers of two blocks at the outer positions (±0.0508 m
 across, a gap in the middle), each layer turned 90° from the one below, 1 mm between layers and
 above the table; an odd count leaves one block on the top layer, at the + position. Anchors
-(`build_area`, drawn on the table top) differ per problem, some turned; blocks start lying flat on
-the table in a grid of 0.07 m × 0.16 m with their long axis along y (each outside the others'
-block–block bins, ±0.1 m along a block and ±0.06 m across), none closer than that to a block of the
-bottom four layers of the tower, the spots nearest the Fetch's shoulder first.
+(`build_area`, drawn on the table top) differ per problem, some turned; blocks start lying flat
+on the table, long axis toward the Fetch, on a grid 0.2 m along it and 0.1 m across (the open
+fingers keep 2 cm from a neighbour; every block is outside the others' block–block bins, ±0.075 m),
+the spots nearest the Fetch's shoulder first, none within 4 cm or the bins of a block of the
+bottom three layers of the tower. The table holds 27 spots, at least 21 beside any tower; the
+30-block tower also uses two side tables beside the Fetch, with six spots each. Every spot is
+within the arm's reach (domains/demonstrators/tests/jenga.rs).
 
 The bundled tests (tests/domains.rs) check the result with lamp's own collision checker, and
 every structure at its problem's anchor with the resting rule.
@@ -719,31 +722,36 @@ def print_jenga():
         blocks_text.append("\n".join(lines))
     print("\n\n".join(blocks_text))
     print()
-    spots = []
-    for i in range(8):
-        for j in range(-2, 3):
-            spots.append((round(tx - 0.27 + 0.07 * i, 3), round(ty + 0.16 * j, 3)))
     seen = {}
     for count in JENGA_COUNTS:
         seen[count] = seen.get(count, 0) + 1
         name = f"tower_{count}" + ("" if seen[count] == 1 else "_b")
-        while True:
+        # The table's spots first; the side tables only when the table's free spots are too few.
+        tables = [("table", "table1", (tx, ty))]
+        for attempt in range(1000):
             ax = round(rng.uniform(tx - 0.12, tx + 0.12), 2)
             ay = round(rng.uniform(ty - 0.25, ty + 0.25), 2)
             yaw = rng.choice([0, 0, 15, 30, 45, 60, 90])
             blocks = [(ax + x2, ay + y2, z, byaw + yaw) for (x, y, z, _, _, byaw) in tower(count)
                       for x2, y2 in [yawed(x, y, yaw)] if z < 0.1]
-            free = [spot for spot in spots if all(
-                outside_block_bins(spot, 90.0, (bx, by), byaw) for bx, by, _, byaw in blocks)]
-            if len(free) >= count:
+            free = [spot for spot in JENGA_TABLE_SPOTS if all(
+                supply_clear(spot, (bx, by), byaw) for bx, by, _, byaw in blocks)]
+            if len(free) >= count or (len(free) + len(JENGA_SIDE_SPOTS) >= count and attempt > 200):
                 break
+        else:
+            raise AssertionError(f"no anchor leaves {count} spots free")
+        if len(free) < count:
+            free += JENGA_SIDE_SPOTS
+            tables += [("side_table", f"side{k}", pose) for k, pose in
+                       enumerate(JENGA_SIDE_TABLES, start=1)]
         free.sort(key=lambda s: (math.hypot(s[0] - JENGA_SHOULDER[0], s[1] - JENGA_SHOULDER[1]), s))
         print(f"problem {name} {{")
         print("  scene {")
-        print(f"    table table1 at {pose_text(tx, ty, tz)}")
+        for kind, table, (x, y) in tables:
+            print(f"    {kind} {table} at {pose_text(x, y, tz)}")
         print(f"    build_area area1 at {pose_text(ax, ay, tz, 0, 0, yaw)}")
         for k, (x, y) in enumerate(free[:count], start=1):
-            print(f"    block b{k} at {pose_text(x, y, tz + RESTING_GAP + BLOCK_H / 2, 0, 0, 90)}")
+            print(f"    block b{k} at {pose_text(x, y, tz + RESTING_GAP + BLOCK_H / 2)}")
         print("    robot fetch config tuck")
         print("  }")
         print("  goal {")
@@ -753,13 +761,43 @@ def print_jenga():
         print()
 
 
+# Supply spots for blocks lying flat, long axis along x (toward the Fetch), so that its fingers
+# close across y: 0.2 m apart along x (4.8 cm between block ends) and 0.1 m across (4.9 cm
+# between neighbours: an open pad, 1.4 cm outside the block it grasps and 1.4 cm thick, keeps
+# 2.1 cm from the next block). Every spot is outside every other's block–block bins (±0.075 m).
+# The arm reaches a top grasp everywhere on the table within ±0.21 m along and ±0.4 m across.
+JENGA_TABLE_SPOTS = [(round(0.7 + 0.2 * i, 3), round(0.1 * j, 3))
+                     for i in (-1, 0, 1) for j in range(-4, 5)]
+# Side tables (0.5 m × 0.3 m, the table's height) either side of the Fetch, for towers with more
+# blocks than the table holds beside them; their spots are within the arm's reach too.
+JENGA_SIDE_TABLES = [(0.45, 0.64), (0.45, -0.64)]
+JENGA_SIDE_SPOTS = [(x, round(sy * y, 3)) for sy in (1, -1)
+                    for x in (0.285, 0.45, 0.615) for y in (0.59, 0.69)]
+
+
+def supply_clear(spot, block, block_yaw):
+    """Whether a supply block at `spot` (yaw 0) lies outside the block–block bins of a tower block
+    and its bins outside the tower block's, with 1 cm to spare, and 4 cm clear of its footprint
+    (an open finger reaches 2.8 cm beside the block it grasps)."""
+    if not outside_block_bins(spot, 0.0, block, block_yaw):
+        return False
+    ours = (spot[0], spot[1], 0.0)
+    theirs = (block[0], block[1], block_yaw)
+    for (ax, ay, ayaw), (bx, by, byaw) in ((ours, theirs), (theirs, ours)):
+        points = footprint_corners((bx, by, 0, 0, 0, byaw), BLOCK_L, BLOCK_W) + [(bx, by)]
+        if any(rectangle_distance(px, py, ax, ay, ayaw, BLOCK_L / 2, BLOCK_W / 2) <= 0.04
+               for px, py in points):
+            return False
+    return True
+
+
 def outside_block_bins(spot, spot_yaw, other, other_yaw):
-    """Whether two blocks on the table lie outside each other's block–block bins (±0.1 m along a
-    block, ±0.06 m across), with 1 cm to spare."""
+    """Whether two blocks on the table lie outside each other's block–block bins (±0.075 m along
+    and across a block), with 1 cm to spare."""
     for (ax, ay, ayaw), (bx, by) in (((spot[0], spot[1], spot_yaw), other),
                                      ((other[0], other[1], other_yaw), spot)):
         lx, ly = yawed(bx - ax, by - ay, -ayaw)
-        if abs(lx) <= 0.11 and abs(ly) <= 0.07:
+        if abs(lx) <= 0.085 and abs(ly) <= 0.085:
             return False
     return True
 

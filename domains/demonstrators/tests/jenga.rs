@@ -25,23 +25,25 @@ fn pose(x: f64, y: f64, z: f64, yaw: f64) -> Pose {
     Pose::from_parts(Vec3::new(x, y, z).into(), Rotation::from_euler_angles(0.0, 0.0, yaw))
 }
 
-/// The table of the spec's first problem, alone with the Fetch in `tuck`, and the table top's
-/// pose (the table's frame is the centre of its top face).
+/// The tables of the spec's largest problem (the table and the side tables beside the Fetch),
+/// alone with the Fetch in `tuck`, and the table top's pose (the table's frame is the centre of its
+/// top face).
 fn table_scene() -> (Scene, usize, Pose) {
     let (spec, world) = &*JENGA;
-    let table = spec.problems[0]
-        .scene
-        .objects
-        .iter()
-        .find(|o| o.type_name == "table")
-        .expect("a table in the first problem");
+    let largest = spec.problems.last().expect("problems");
     let mut scene = Scene::new();
-    let body = world.body(&table.name, "table").expect("the table type");
-    scene.add_body(body, table.pose).expect("an empty scene");
+    let mut top = None;
+    for table in largest.scene.objects.iter().filter(|o| o.type_name.ends_with("table")) {
+        let body = world.body(&table.name, &table.type_name).expect("the table types");
+        scene.add_body(body, table.pose).expect("tables apart");
+        if table.type_name == "table" {
+            top = Some(table.pose);
+        }
+    }
     let q = world.placement_configuration("fetch", None, Some("tuck")).expect("`tuck`");
     let robot = world.add_robot(&mut scene, "fetch", q.clone()).expect("the Fetch");
     assert!(scene.is_valid(robot, &q), "{:?}", scene.first_contact(robot, &q));
-    (scene, robot, table.pose)
+    (scene, robot, top.expect("a table"))
 }
 
 /// Whether the arm reaches a top grasp of a block at `block` (the gripper 1.8 cm above its
@@ -59,40 +61,49 @@ fn reaches_top_grasp(scene: &Scene, robot: usize, block: &Pose) -> bool {
 }
 
 #[test]
-fn the_fixed_arm_reaches_the_top_of_an_eighteen_block_tower_and_the_table_where_blocks_lie() {
+fn the_fixed_arm_reaches_the_top_of_a_thirty_block_tower_and_every_supply_spot() {
     let (scene, robot, top) = table_scene();
-    // The top layer (the ninth) of a tower anchored anywhere the demonstrator anchors one (8 cm
+    // The top layer of nine (18 blocks) anchored anywhere the demonstrator anchors one (8 cm
     // along the table's depth, 12 cm across), and 22 cm across, where problems may anchor one;
-    // at any yaw, both slots.
-    let top_layer = RESTING_GAP + HEIGHT / 2.0 + 8.0 * (HEIGHT + RESTING_GAP);
+    // and of fifteen (30 blocks) near the middle; at any yaw, both slots.
+    let layer = |k: f64| RESTING_GAP + HEIGHT / 2.0 + k * (HEIGHT + RESTING_GAP);
     let mut missed = Vec::new();
-    for (x, y) in [
-        (-0.08, -0.12),
-        (-0.08, 0.12),
-        (0.08, -0.12),
-        (0.08, 0.12),
-        (0.0, 0.0),
-        (0.05, -0.22),
-        (0.05, 0.22),
-        (-0.1, 0.22),
-    ] {
+    let anchors = [
+        (-0.08, -0.12, 8.0),
+        (-0.08, 0.12, 8.0),
+        (0.08, -0.12, 8.0),
+        (0.08, 0.12, 8.0),
+        (0.0, 0.0, 8.0),
+        (0.05, -0.22, 8.0),
+        (0.05, 0.22, 8.0),
+        (-0.1, 0.22, 8.0),
+        (-0.04, -0.09, 14.0),
+        (0.04, 0.09, 14.0),
+    ];
+    for (x, y, k) in anchors {
         for yaw in [0.0, FRAC_PI_2, PI / 4.0, -PI / 3.0] {
             for side in [1.0, -1.0] {
-                let block = top * pose(x, y, 0.0, yaw) * pose(0.0, side * WIDTH, top_layer, 0.0);
+                let block = top * pose(x, y, 0.0, yaw) * pose(0.0, side * WIDTH, layer(k), 0.0);
                 if !reaches_top_grasp(&scene, robot, &block) {
-                    missed.push(format!("the top layer at ({x}, {y}) yaw {yaw:.2}, side {side}"));
+                    missed.push(format!("layer {k} at ({x}, {y}) yaw {yaw:.2}, side {side}"));
                 }
             }
         }
     }
-    // Blocks lying on the table within ±0.3 m across it and ±0.21 m along its depth.
-    for x in [-0.21, 0.0, 0.21] {
-        for y in [-0.30, -0.15, 0.15, 0.30] {
-            for yaw in [0.0, FRAC_PI_2, 2.5] {
-                let block = top * pose(x, y, RESTING_GAP + HEIGHT / 2.0, yaw);
-                if !reaches_top_grasp(&scene, robot, &block) {
-                    missed.push(format!("on the table at ({x}, {y}) yaw {yaw:.2}"));
-                }
+    // Blocks lying on the table within ±0.2 m along its depth and ±0.4 m across (the supply
+    // grid of the bundled problems), and on the side tables.
+    let mut lying: Vec<(f64, f64)> = Vec::new();
+    for x in [-0.2, 0.0, 0.2] {
+        lying.extend([-0.4, -0.3, -0.15, 0.15, 0.3, 0.4].map(|y| (x, y)));
+    }
+    for x in [-0.415, -0.25, -0.085] {
+        lying.extend([-0.69, -0.59, 0.59, 0.69].map(|y| (x, y)));
+    }
+    for (x, y) in lying {
+        for yaw in [0.0, FRAC_PI_2] {
+            let block = top * pose(x, y, layer(0.0), yaw);
+            if !reaches_top_grasp(&scene, robot, &block) {
+                missed.push(format!("lying at ({x}, {y}) yaw {yaw:.2}"));
             }
         }
     }
