@@ -12,38 +12,11 @@ use std::collections::{BTreeMap, BTreeSet};
 use crate::abstraction::Fact;
 use crate::demo::{Participant, Role};
 use crate::existential::{Complements, quantify_lone_extras};
+pub use crate::lifted::{LiftedAtom, Parameter};
 use crate::relations::{PairVocabulary, Symbol, symbol_name};
 
 /// Above this many candidate renamings, the changed objects are renamed in name order instead.
 const MAX_CANONICAL_RENAMINGS: usize = 5040;
-
-/// An atom over action parameters.
-#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct LiftedAtom {
-    /// The predicate name.
-    pub predicate: String,
-    /// Parameter names, each starting with `?`.
-    pub arguments: Vec<String>,
-}
-
-impl std::fmt::Display for LiftedAtom {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "({}", self.predicate)?;
-        for argument in &self.arguments {
-            write!(f, " {argument}")?;
-        }
-        write!(f, ")")
-    }
-}
-
-/// A typed action parameter.
-#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
-pub struct Parameter {
-    /// The name, starting with `?`.
-    pub name: String,
-    /// The type name.
-    pub type_name: String,
-}
 
 /// Where a transition was observed: the demonstration and the index of its pre-state.
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]

@@ -12,7 +12,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use crate::actions::LiftedAtom;
+use crate::lifted::LiftedAtom;
 use crate::relations::{PairVocabulary, Symbol, symbol_name, symbols};
 
 /// The clear and nowhere relations that say "in region k of no object", by the region relation's

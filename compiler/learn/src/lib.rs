@@ -22,6 +22,7 @@ pub mod error;
 mod existential;
 pub use lamp_abstraction::features;
 mod learner;
+mod lifted;
 pub mod model;
 pub mod occupancy;
 pub mod pairs;

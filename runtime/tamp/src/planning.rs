@@ -68,20 +68,25 @@ pub fn plan_from(
 }
 
 /// Drops the goal atom whose predicate appears least often in action preconditions (ties: the
-/// last in goal order); returns it, or `None` when at most one atom is left.
+/// last in goal order); returns it, or `None` when at most one atom is left. A negated
+/// `nowhere_R` or `clear_R` precondition counts as a use of `R`: it is how the learner writes "`R`
+/// with some object" (docs/learning.md).
 pub fn relax(domain: &Domain, problem: &mut Problem) -> Option<String> {
     if problem.goal.len() <= 1 {
         return None;
     }
     let uses = |predicate: &str| {
-        domain
-            .actions
-            .iter()
-            .flat_map(|action| &action.precondition)
-            .filter(|condition| {
-                matches!(condition, Condition::Atom { atom, .. } if atom.predicate == predicate)
-            })
-            .count()
+        let mentions = |condition: &&Condition| match condition {
+            Condition::Atom { atom, positive: true } => atom.predicate == predicate,
+            Condition::Atom { atom, positive: false } => {
+                let name = atom.predicate.as_str();
+                name == predicate
+                    || [name.strip_prefix("nowhere_"), name.strip_prefix("clear_")]
+                        .contains(&Some(predicate))
+            }
+            Condition::Equality { .. } => false,
+        };
+        domain.actions.iter().flat_map(|action| &action.precondition).filter(mentions).count()
     };
     let (index, _) = problem
         .goal
