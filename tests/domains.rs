@@ -360,6 +360,12 @@ fn keva_and_jenga_have_the_promised_structure_problems() {
             assert_eq!(objects_of(problem, kind).len(), count, "{}", problem.name);
             let scene = world.problem_scene(problem).expect("the scene builds");
             assert_sound(problem, &scene);
+            // A solve holds each object to its structure pose, within 5 mm and 3°.
+            let targets = world.placement_targets(problem).expect("the targets");
+            assert_eq!(targets.len(), count, "{}", problem.name);
+            assert!(targets.iter().all(|t| t.position_tolerance == 0.005
+                && (t.angle_tolerance.to_degrees() - 3.0).abs() < 1e-9
+                && (t.marker_type.is_empty() || scene.body_index(&t.marker_name()).is_some())));
             let mut built = scene.clone();
             for (object, pose) in world.structure_targets(problem).expect("the targets") {
                 let body = built.body_index(&object).expect("the object is in the scene");

@@ -79,13 +79,14 @@ pub enum SolveError {
         help("raise the refiner's `samples` or the motion budget, or try `--planner topk`")
     )]
     RefinementFailed(Progress),
-    /// The final trajectory leaves an AtGoal object outside its tolerance: the learned region of
-    /// the object on its marker let a placement through that the goal does not accept.
-    #[error("the solution misses an `at` goal: {0}")]
+    /// The final trajectory leaves an object outside the tolerance of its `at` goal or structure
+    /// pose: the learned region of the object on its marker let a placement through that the goal
+    /// does not accept.
+    #[error("the solution misses a target: {0}")]
     #[diagnostic(
         code(lamp::solve::target_missed),
         help(
-            "Loosen the goal's tolerance to what the demonstrations place (`lampc build` warns when the learned region is wider), or record more precise demonstrations."
+            "Loosen an `at` goal's tolerance to what the demonstrations place (`lampc build` warns when the learned region is wider), or record more precise demonstrations (a structure is built within 5 mm and 3°)."
         )
     )]
     TargetMissed(String),

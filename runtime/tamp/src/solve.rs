@@ -34,8 +34,9 @@ pub struct SolveInput<'a> {
     pub artifact: &'a SamplerArtifact,
     /// How scenes map to participants.
     pub participants: &'a ParticipantMap,
-    /// The problem's AtGoal targets: their markers are in `scene`, their goal atoms in
-    /// `problem`; their tolerances are checked in the world frame.
+    /// Where the problem wants objects, with tolerances: its AtGoal targets and its structure's
+    /// poses (`SpecWorld::placement_targets`). Their markers are in `scene`, their goal atoms in
+    /// `problem`; the tolerances are checked in the world frame.
     pub targets: &'a [lamp_spec::AtGoal],
     /// The header of the trajectory to write.
     pub header: TrajectoryHeader,

@@ -1,4 +1,5 @@
-//! AtGoal targets in the world frame.
+//! Targets in the world frame: AtGoals, and the poses of a structure goal's objects (each an
+//! AtGoal with the structure tolerance, `SpecWorld::placement_targets`).
 //!
 //! An AtGoal reaches the planner as the learned relation of its object on the marker at its
 //! target; the region of that relation may be wider than the goal's tolerance. A step that makes

@@ -9,7 +9,9 @@ use std::sync::Arc;
 
 use lamp_geometry::{Pose, Shape, Vec3};
 use lamp_robot::{Mount, Robot};
-use lamp_spec::{MeshMode, Mobility, ObjectType, Problem, RobotKind, RobotNames, ShapeSpec, Spec};
+use lamp_spec::{
+    AtGoal, MeshMode, Mobility, ObjectType, Problem, RobotKind, RobotNames, ShapeSpec, Spec,
+};
 
 use crate::error::WorldError;
 use crate::scene::{Body, Scene};
@@ -215,7 +217,32 @@ impl SpecWorld {
             .map(|placement| (placement.object.clone(), frame * placement.pose))
             .collect())
     }
+
+    /// Every pose a solution must leave an object at, with its tolerance: the problem's `at`
+    /// goals, then each object of its structure goal at its structure pose within
+    /// [`STRUCTURE_POSITION_TOLERANCE`] and [`STRUCTURE_ANGLE_TOLERANCE`]. A structure target's
+    /// marker type is empty when the spec has none (the structure is then held to its poses at
+    /// the end only, with no marker relation to watch while it is built).
+    pub fn placement_targets(&self, problem: &Problem) -> Result<Vec<AtGoal>, WorldError> {
+        let mut targets = problem.goal.at.clone();
+        let marker_type = self.goal_marker_type(problem).unwrap_or_default().to_string();
+        targets.extend(self.structure_targets(problem)?.into_iter().map(|(object, pose)| AtGoal {
+            object,
+            pose,
+            position_tolerance: STRUCTURE_POSITION_TOLERANCE,
+            angle_tolerance: STRUCTURE_ANGLE_TOLERANCE,
+            marker_type: marker_type.clone(),
+        }));
+        Ok(targets)
+    }
 }
+
+/// How far an object of a built structure may be from its structure pose: a structure is built
+/// to what a careful hand achieves, and the physics check then proves it stands.
+pub const STRUCTURE_POSITION_TOLERANCE: f64 = 0.005;
+
+/// How far an object of a built structure may be turned from its structure pose (3°).
+pub const STRUCTURE_ANGLE_TOLERANCE: f64 = 3.0 * std::f64::consts::PI / 180.0;
 
 fn robot_error(robot: &lamp_spec::Robot, source: lamp_robot::RobotError) -> WorldError {
     WorldError::Robot {

@@ -19,7 +19,10 @@ mod viewing;
 
 pub use checking::Contact;
 pub use error::WorldError;
-pub use from_spec::{SpecWorld, load_robot, mount_of, robot_names, type_parts_of};
+pub use from_spec::{
+    STRUCTURE_ANGLE_TOLERANCE, STRUCTURE_POSITION_TOLERANCE, SpecWorld, load_robot, mount_of,
+    robot_names, type_parts_of,
+};
 pub use ik::{ReachError, reach};
 pub use lamp_rrt::{MAX_EDGE_STEPS, RrtConfig, RrtError, RrtStats, Space, rrt_connect, shortcut};
 pub use motion::{

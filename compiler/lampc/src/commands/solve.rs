@@ -166,6 +166,9 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
     let scene = world
         .problem_scene(problem)
         .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
+    let targets = world
+        .placement_targets(problem)
+        .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
 
     let overrides = Overrides {
         planner: args.planner.as_deref(),
@@ -199,7 +202,7 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
         problem: &problem_text,
         artifact: &samplers.artifact,
         participants: &participants,
-        targets: &problem.goal.at,
+        targets: &targets,
         header,
     };
     let spinner = crate::terminal::spinner();

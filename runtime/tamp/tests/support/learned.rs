@@ -159,7 +159,7 @@ fn solve_texts(
         problem: problem_text,
         artifact: &samplers.artifact,
         participants: &participants,
-        targets: &problem.goal.at,
+        targets: &world.placement_targets(problem).expect("the targets"),
         header: trajectory_header(spec, &scene, seed),
     };
     let mut refiner = GmmRefiner::new(samplers.artifact.clone(), *refiner).expect("valid");

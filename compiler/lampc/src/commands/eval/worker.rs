@@ -118,6 +118,10 @@ fn solve(job: &Job) -> SolveResult {
         Ok(scene) => scene,
         Err(failure) => return error(failure),
     };
+    let targets = match world.placement_targets(problem) {
+        Ok(targets) => targets,
+        Err(failure) => return error(failure),
+    };
     let overrides = Overrides { seed: Some(job.seed), ..Overrides::default() };
     let mut plugins =
         match solve_setup::plugins(&spec, &spec_dir, &spec_file, &overrides, &samplers.artifact) {
@@ -135,7 +139,7 @@ fn solve(job: &Job) -> SolveResult {
         problem: &job.problem_pddl,
         artifact: &samplers.artifact,
         participants: &participants,
-        targets: &problem.goal.at,
+        targets: &targets,
         header,
     };
     match lamp_tamp::solve(&input, &mut plugins.as_plugins(), &settings, &|_| {}) {
