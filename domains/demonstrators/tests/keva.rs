@@ -1,16 +1,20 @@
 //! The Keva demonstrator: every recorded state replays valid, placed planks sit on their
 //! markers, what a demonstration builds stands under gravity, the grasp lies in the spec's grab
-//! distance, and the bytes depend only on the seed.
+//! distance, the YuMi takes the same grasp of every plank a bundled problem supplies, and the
+//! bytes depend only on the seed.
 
 mod support;
 
 use std::sync::LazyLock;
 
 use lamp_demonstrators::{Demonstration, Demonstrator, Simulation, generate, generate_all};
-use lamp_geometry::Pose;
+use lamp_geometry::{Pose, Rotation, Vec3};
 use lamp_physics::{PhysicsBody, first_unsettled};
+use lamp_robot::{ARM_GROUP, IkConfig};
 use lamp_spec::Spec;
-use lamp_world::{RESTING_GAP, SpecWorld};
+use lamp_world::{RESTING_GAP, SpecWorld, reach};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
 
 static KEVA: LazyLock<(Spec, SpecWorld)> = LazyLock::new(|| support::domain("keva"));
 
@@ -174,4 +178,34 @@ fn more_planks_than_the_table_holds_or_a_spec_without_a_free_gripper_is_refused(
         }
         other => panic!("expected a spec mismatch, got {other:?}"),
     }
+}
+
+#[test]
+fn the_yumi_takes_the_demonstrated_top_grasp_of_every_plank_a_bundled_problem_supplies() {
+    let (spec, world) = &*KEVA;
+    // The demonstrator's grasp: 13.5 cm above the plank's bottom face, pointing down, the
+    // fingers across the plank's width.
+    let grasp = Pose::from_parts(
+        Vec3::new(0.0, 0.0, 0.135).into(),
+        Rotation::from_euler_angles(std::f64::consts::PI, 0.0, std::f64::consts::FRAC_PI_2),
+    );
+    let mut config = IkConfig::new();
+    config.restarts = 60;
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let mut missed = Vec::new();
+    for problem in &spec.problems {
+        let scene = world.problem_scene(problem).expect("the problem's scene");
+        let robot = scene.robot_index("yumi").expect("the YuMi");
+        let home = scene.robots()[robot].configuration().to_vec();
+        for (index, body) in scene.bodies().iter().enumerate() {
+            if !body.movable {
+                continue;
+            }
+            let target = scene.body_pose(index) * grasp;
+            if reach(&scene, robot, ARM_GROUP, None, &target, &home, &config, &mut rng).is_err() {
+                missed.push(format!("{}: {}", problem.name, body.name));
+            }
+        }
+    }
+    assert!(missed.is_empty(), "{} missed:\n{}", missed.len(), missed.join("\n"));
 }
