@@ -43,9 +43,10 @@ layer, each layer turned 90°) and a small house. Every plank rests 1 mm (RESTIN
 table or the planks below it. The table stands at x = 0.17 m, clear of the YuMi's body. The
 anchor `area1` is a `droparea`, an area drawn on the table top
 (its box lies in the table, so the anchor frame is the table's top face). The planks start lying
-flat on the table in a grid (0.2 m along a plank, 0.13 m across: the plank–plank bins reach 0.2 m,
-and a table of 1.2 m holds no more than 36 planks 0.2 m apart either way, fewer beside a structure),
-the spots nearest the YuMi's shoulder first, none within 0.12 m of a plank of the structure.
+flat on the table in a grid (0.13 m along a plank, 0.065 m across: lying flat side by side, planks
+are in no learned plank–plank region, and the fingers straddling one clear its neighbours) where the
+YuMi's left arm takes a top grasp (within 0.55 m of (-0.46, 0.1), measured with lamp's IK), the
+spots nearest the YuMi's shoulder first, none within 0.12 m of a plank of the structure.
 
 Jenga, `jenga` (14 towers tower_<blocks>, 2 … 18 blocks, then 24 and 30): blocks 0.1524 m ×
 0.0508 m × 0.03048 m, frame at the centre; layers of two blocks at the outer positions (±0.0508 m
@@ -621,7 +622,13 @@ KEVA_STRUCTURES = [
 # The table (1.2 m square) stands clear of the YuMi's body (x from -0.65 m to -0.45 m).
 KEVA_TABLE = (0.17, 0.0)
 KEVA_SHOULDER = (-0.46, 0.0)
-KEVA_ANCHORS = [(0.05, 0.10), (0.0, 0.05), (0.05, 0.0), (0.0, 0.10), (0.05, 0.05), (0.0, 0.0)]
+# Anchors nearest the YuMi first: from these, it reaches every placement of the bundled structures
+# but the ring (measured with lamp's IK, the demonstrated grasp: an upright is held level, by its
+# face, which the arm reaches low and far only with difficulty); farther out (x ≥ 0) it misses
+# legs of the pis on the far side. A structure takes the first anchor, in its rotation of the
+# list, that leaves room within reach for its supply; the last two always do.
+KEVA_ANCHORS = [(-0.05, 0.10), (-0.10, 0.05), (-0.05, 0.0), (-0.10, 0.10), (-0.05, 0.05), (-0.10, 0.0)]
+KEVA_FAR_ANCHORS = [(0.0, 0.10), (0.05, 0.05)]
 
 
 def footprint_corners(placement, length, width):
@@ -638,20 +645,32 @@ def footprint_corners(placement, length, width):
 
 def supply(spots, count, keep_out, origin):
     """The `count` spots nearest `origin` that are farther than their clearance from every
-    point of `keep_out`."""
+    point of `keep_out`, or None if there are not so many."""
     free = [spot for spot in spots
             if all(math.hypot(spot[0] - px, spot[1] - py) > spot[2] for px, py in keep_out)]
     free.sort(key=lambda spot: (math.hypot(spot[0] - origin[0], spot[1] - origin[1]), spot))
-    assert len(free) >= count, (count, len(free))
-    return free[:count]
+    return free[:count] if len(free) >= count else None
+
+
+# Where the YuMi's left arm takes a top grasp of a plank lying flat on the table: within this of
+# a point beside its shoulder. Measured with lamp's IK (collision-free, from `home`) on a 5 cm grid,
+# both yaws: every spot this close is reached, and some farther ones (towards +y and along x = 0).
+KEVA_REACH_CENTRE = (-0.46, 0.1)
+KEVA_REACH = 0.55
+# The supply grid: 13 cm along a plank (11.7 cm and a gap), 6.5 cm across it (the fingers straddle
+# a plank 2.4 to 3.4 cm from its centre line, clear of a neighbour's edge 5.35 cm away).
+KEVA_SUPPLY_ALONG = 0.13
+KEVA_SUPPLY_ACROSS = 0.065
 
 
 def print_keva():
     rng = random.Random(20255)
     spots = []
-    for i in range(6):
-        for j in range(-4, 5):
-            spots.append((round(-0.35 + 0.2 * i, 3), round(0.13 * j, 3), 0.12 + PLANK_L / 2))
+    for i in range(8):
+        for j in range(-12, 13):
+            x, y = round(-0.35 + KEVA_SUPPLY_ALONG * i, 3), round(KEVA_SUPPLY_ACROSS * j, 3)
+            if math.hypot(x - KEVA_REACH_CENTRE[0], y - KEVA_REACH_CENTRE[1]) <= KEVA_REACH:
+                spots.append((x, y, 0.12 + PLANK_L / 2))
     names = []
     blocks = []
     for index, (stem, make, comment) in enumerate(KEVA_STRUCTURES):
@@ -668,10 +687,14 @@ def print_keva():
     for index, (stem, make, _) in enumerate(KEVA_STRUCTURES):
         planks = make()
         name = names[index]
-        ax, ay = KEVA_ANCHORS[index % len(KEVA_ANCHORS)]
-        keep_out = [(ax + cx, ay + cy) for plank in planks
-                    for cx, cy in footprint_corners(plank, PLANK_L, PLANK_W)]
-        starts = supply(spots, len(planks), keep_out, KEVA_SHOULDER)
+        first = index % len(KEVA_ANCHORS)
+        for ax, ay in KEVA_ANCHORS[first:] + KEVA_ANCHORS[:first] + KEVA_FAR_ANCHORS:
+            keep_out = [(ax + cx, ay + cy) for plank in planks
+                        for cx, cy in footprint_corners(plank, PLANK_L, PLANK_W)]
+            starts = supply(spots, len(planks), keep_out, KEVA_SHOULDER)
+            if starts is not None:
+                break
+        assert starts is not None, name
         print(f"problem {name} {{")
         print("  scene {")
         print(f"    table table1 at {pose_text(*KEVA_TABLE, 0)}")

@@ -23,7 +23,9 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::Recording;
 use crate::error::DemoError;
-use crate::skills::{Attempt, SurfaceTop, grab, move_straight, move_to, pose, release};
+use crate::skills::{
+    Attempt, SurfaceTop, grab, mark_placed, move_straight, move_to, pose, release,
+};
 use crate::tower::{BlockSize, draw_training};
 use lamp_world::{Recorder, trajectory_header as header};
 
@@ -61,11 +63,6 @@ const GRASP_YAW_NOISE: f64 = 0.02;
 /// The gripper comes down to a grasp and a placement, and leaves them, straight along the
 /// vertical over this distance.
 const APPROACH: f64 = 0.10;
-/// Noise of a recorded marker about the block's final pose: 1.5 mm along the top, 0.5 mm in
-/// height, 1° of yaw. Without it "on the marker" would be as thin as the resting rule's rounding.
-const MARKER_POSITION_NOISE: f64 = 0.0015;
-const MARKER_HEIGHT_NOISE: f64 = 0.0005;
-const MARKER_YAW_NOISE: f64 = PI / 180.0;
 /// IK tolerances: tight, so that a placed block is let go of within 0.1 mm of its target.
 const IK_POSITION_TOLERANCE: f64 = 1e-4;
 const IK_ORIENTATION_TOLERANCE: f64 = 1e-3;
@@ -256,7 +253,7 @@ impl<'a> Jenga<'a> {
         placed.push(moved);
         let header = header(self.world.spec(), &scene, seed);
         let mut recording = Recording { header, steps: recorder.steps, retreat_at };
-        self.mark(&mut recording, &placed, rng);
+        mark_placed(&mut recording, &placed, &self.marker_type, rng);
         Ok(recording)
     }
 
@@ -314,36 +311,6 @@ impl<'a> Jenga<'a> {
             return Err("no room on the table for the spare blocks".to_string());
         }
         Ok(spares)
-    }
-
-    /// Records a marker at each placed block's final pose, give or take a marker's noise, in
-    /// every step: `loc_<block>`. A marker has no geometry, so markers that stood there from the
-    /// start change nothing the robot did; a demonstration cut before its placement keeps its
-    /// moved block's marker where the block was heading.
-    fn mark(&self, recording: &mut Recording, placed: &[usize], rng: &mut ChaCha8Rng) {
-        let Some(last) = recording.steps.last() else { return };
-        let finals: Vec<(String, Pose)> = placed
-            .iter()
-            .map(|&block| (recording.header.bodies[block].name.clone(), last.body_poses[block]))
-            .collect();
-        for (name, at) in finals {
-            let mut draw = |half: f64| rng.random_range(-half..=half);
-            let noise = pose(
-                draw(MARKER_POSITION_NOISE),
-                draw(MARKER_POSITION_NOISE),
-                draw(MARKER_HEIGHT_NOISE),
-                0.0,
-                0.0,
-                draw(MARKER_YAW_NOISE),
-            );
-            recording.header.bodies.push(lamp_trajectory::BodyDescription {
-                name: format!("loc_{name}"),
-                type_name: self.marker_type.clone(),
-            });
-            for step in &mut recording.steps {
-                step.body_poses.push(at * noise);
-            }
-        }
     }
 
     /// A collision-free arm configuration putting the gripper at `target`, searched from `tuck`.

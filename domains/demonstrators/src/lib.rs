@@ -10,7 +10,9 @@
 mod cafe;
 mod error;
 mod jenga;
+mod keva;
 mod packing;
+mod planks;
 mod skills;
 mod tower;
 
@@ -33,6 +35,10 @@ pub const MAX_ATTEMPTS: u32 = 25;
 /// for a few.
 pub const MAX_JENGA_BLOCKS: u32 = 4;
 
+/// Most planks in a Keva demonstration's scene: the training structures use up to three, and
+/// the loose ones lie on the table, which has room for a few.
+pub const MAX_KEVA_PLANKS: u32 = 4;
+
 /// The demonstrators lamp ships.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Demonstrator {
@@ -46,16 +52,21 @@ pub enum Demonstrator {
     /// A Fetch arm on a fixed base places one Jenga block of a small tower, the blocks below it
     /// already placed; a marker recorded at each placed block.
     Jenga,
+    /// A free-flying two-finger gripper places one Keva plank of a small structure (a pi, a log
+    /// cabin layer, an upright on a flat plank), the planks it rests on already placed; a marker
+    /// recorded at each placed plank.
+    Keva,
 }
 
 impl Demonstrator {
-    /// The demonstrator called `name` in a spec (`packing`, `cafe`, `dinner`).
+    /// The demonstrator called `name` in a spec (`packing`, `cafe`, `dinner`, `jenga`, `keva`).
     pub fn from_name(name: &str) -> Result<Demonstrator, DemoError> {
         match name {
             "packing" => Ok(Demonstrator::Packing),
             "cafe" => Ok(Demonstrator::Cafe),
             "dinner" => Ok(Demonstrator::Dinner),
             "jenga" => Ok(Demonstrator::Jenga),
+            "keva" => Ok(Demonstrator::Keva),
             _ => Err(DemoError::UnknownDemonstrator { name: name.to_string() }),
         }
     }
@@ -67,6 +78,7 @@ impl Demonstrator {
             Demonstrator::Cafe => "cafe",
             Demonstrator::Dinner => "dinner",
             Demonstrator::Jenga => "jenga",
+            Demonstrator::Keva => "keva",
         }
     }
 }
@@ -78,8 +90,8 @@ pub struct Simulation {
     pub count: u32,
     /// Fraction of demonstrations cut short at a random step.
     pub cut_fraction: f64,
-    /// Objects of the manipulated type per demonstration (1, except for Jenga: blocks in the
-    /// scene, the training structures using up to three).
+    /// Objects of the manipulated type per demonstration (1, except for Jenga and Keva: blocks or
+    /// planks in the scene, the training structures using up to three).
     pub objects: u32,
     pub seed: u64,
 }
@@ -149,6 +161,7 @@ enum Prepared<'a> {
     // Boxed: the Café demonstrator keeps its furniture and configurations, Packing very little.
     Cafe(Box<cafe::Cafe<'a>>),
     Jenga(Box<jenga::Jenga<'a>>),
+    Keva(Box<keva::Keva<'a>>),
 }
 
 impl Prepared<'_> {
@@ -157,6 +170,7 @@ impl Prepared<'_> {
             Prepared::Packing(packing) => packing.attempt(seed, rng),
             Prepared::Cafe(cafe) => cafe.attempt(seed, rng),
             Prepared::Jenga(jenga) => jenga.attempt(seed, rng),
+            Prepared::Keva(keva) => keva.attempt(seed, rng),
         }
     }
 }
@@ -164,13 +178,14 @@ impl Prepared<'_> {
 fn prepare<'a>(world: &'a SpecWorld, simulation: &Simulation) -> Result<Prepared<'a>, DemoError> {
     let objects_ok = match simulation.demonstrator {
         Demonstrator::Jenga => (1..=MAX_JENGA_BLOCKS).contains(&simulation.objects),
+        Demonstrator::Keva => (1..=MAX_KEVA_PLANKS).contains(&simulation.objects),
         _ => simulation.objects == 1,
     };
     if !objects_ok {
         return Err(DemoError::Unsupported {
             demonstrator: simulation.demonstrator.name().to_string(),
             reason: format!(
-                "`objects {}`: this demonstrator moves exactly one object (Jenga: 1 to {MAX_JENGA_BLOCKS} blocks in the scene)",
+                "`objects {}`: this demonstrator moves exactly one object (Jenga: 1 to {MAX_JENGA_BLOCKS} blocks in the scene, Keva: 1 to {MAX_KEVA_PLANKS} planks)",
                 simulation.objects
             ),
         });
@@ -189,6 +204,7 @@ fn prepare<'a>(world: &'a SpecWorld, simulation: &Simulation) -> Result<Prepared
         Demonstrator::Jenga => {
             Prepared::Jenga(Box::new(jenga::Jenga::new(world, simulation.objects)?))
         }
+        Demonstrator::Keva => Prepared::Keva(Box::new(keva::Keva::new(world, simulation.objects)?)),
     })
 }
 

@@ -98,6 +98,49 @@ pub(crate) fn release(scene: &mut Scene, recorder: &mut Recorder, robot: usize) 
     Ok(())
 }
 
+/// Noise of a recorded marker about the object's final pose: 1.5 mm along the world's level, 0.5 mm
+/// in height (both in the object's frame), 1° about its z. Without it "on the marker" would be as
+/// thin as the resting rule's rounding.
+const MARKER_POSITION_NOISE: f64 = 0.0015;
+const MARKER_HEIGHT_NOISE: f64 = 0.0005;
+const MARKER_YAW_NOISE: f64 = std::f64::consts::PI / 180.0;
+
+/// Records a marker of `marker_type` at each placed body's final pose, give or take a marker's
+/// noise, in every step: `loc_<body>`. A marker has no geometry, so markers that stood there from
+/// the start change nothing the robot did; a demonstration cut before its placement keeps its
+/// moved body's marker where the body was heading.
+pub(crate) fn mark_placed(
+    recording: &mut crate::Recording,
+    placed: &[usize],
+    marker_type: &str,
+    rng: &mut ChaCha8Rng,
+) {
+    use rand::RngExt;
+    let Some(last) = recording.steps.last() else { return };
+    let finals: Vec<(String, Pose)> = placed
+        .iter()
+        .map(|&body| (recording.header.bodies[body].name.clone(), last.body_poses[body]))
+        .collect();
+    for (name, at) in finals {
+        let mut draw = |half: f64| rng.random_range(-half..=half);
+        let noise = pose(
+            draw(MARKER_POSITION_NOISE),
+            draw(MARKER_POSITION_NOISE),
+            draw(MARKER_HEIGHT_NOISE),
+            0.0,
+            0.0,
+            draw(MARKER_YAW_NOISE),
+        );
+        recording.header.bodies.push(lamp_trajectory::BodyDescription {
+            name: format!("loc_{name}"),
+            type_name: marker_type.to_string(),
+        });
+        for step in &mut recording.steps {
+            step.body_poses.push(at * noise);
+        }
+    }
+}
+
 /// A pose from a translation and roll, pitch, yaw (radians; `Rz(yaw)·Ry(pitch)·Rx(roll)`).
 pub(crate) fn pose(x: f64, y: f64, z: f64, roll: f64, pitch: f64, yaw: f64) -> Pose {
     Pose::from_parts(Vec3::new(x, y, z).into(), Rotation::from_euler_angles(roll, pitch, yaw))

@@ -48,6 +48,11 @@ pub static DINNER: LazyLock<Learned> = LazyLock::new(|| {
 pub static JENGA: LazyLock<Learned> =
     LazyLock::new(|| learn("jenga", None, RefinerOptions::default()));
 
+/// Keva from the spec's own 160 demonstrations of at most three planks, made with the free
+/// gripper; the problems are solved with the YuMi.
+pub static KEVA: LazyLock<Learned> =
+    LazyLock::new(|| learn("keva", None, RefinerOptions::default()));
+
 fn learn(domain: &str, count: Option<u32>, refiner: RefinerOptions) -> Learned {
     let (spec, world) = lamp_test_support::load(&lamp_test_support::spec_path(domain));
     let mut simulation = Simulation::from_spec(&spec).expect("the spec simulates its domain");
