@@ -72,16 +72,18 @@ fn putting_a_plank_onto_planks_needs_it_held_and_them_on_their_markers() {
             .flat_map(|atom| &atom.arguments)
             .filter(|argument| **argument != moved)
             .collect();
+        // "On some marker", without naming it: not on no marker.
         for plank in &below {
             assert!(
-                action
-                    .preconditions
-                    .iter()
-                    .any(|atom| atom.predicate == "loc_plank_1" && &&atom.arguments[1] == plank),
-                "{}: {plank} need not be on its marker",
+                action.negative_preconditions.iter().any(|atom| {
+                    atom.predicate == "nowhere_loc_plank_1" && &&atom.arguments[0] == plank
+                }),
+                "{}: {plank} need not be on a marker",
                 action.name
             );
         }
+        let markers = action.parameters.iter().filter(|p| p.type_name == "loc").count();
+        assert!(markers <= 1, "{}: only the moved plank's marker is named", action.name);
         supports.push(below.len());
     }
     supports.sort();
@@ -249,22 +251,24 @@ fn binds(
     if adds.as_ref() != Some(added) {
         return false;
     }
-    action.preconditions.iter().all(|atom| {
-        if atom.predicate.starts_with("plank_plank_") {
-            ground(atom).is_some_and(|atom| before.contains(&atom))
-        } else if atom.predicate == "loc_plank_1" {
-            // A plank it rests on is on its own marker (the marker parameter is free).
-            match binding.get(atom.arguments[1].as_str()) {
-                Some(plank) => before.contains(&GroundAtom {
+    let plank_relations_hold = action.preconditions.iter().all(|atom| {
+        !atom.predicate.starts_with("plank_plank_")
+            || ground(atom).is_some_and(|atom| before.contains(&atom))
+    });
+    // A plank it rests on is on its own marker: "on no marker" must not hold.
+    let supports_on_markers = action.negative_preconditions.iter().all(|atom| {
+        atom.predicate != "nowhere_loc_plank_1"
+            || binding.get(atom.arguments[0].as_str()).is_none_or(|plank| {
+                !before.contains(&GroundAtom {
+                    predicate: "nowhere_loc_plank_1".into(),
+                    arguments: vec![plank.to_string()],
+                }) && before.contains(&GroundAtom {
                     predicate: "loc_plank_1".into(),
                     arguments: vec![format!("loc_{plank}"), plank.to_string()],
-                }),
-                None => true,
-            }
-        } else {
-            true
-        }
-    })
+                })
+            })
+    });
+    plank_relations_hold && supports_on_markers
 }
 
 /// The height of a plank's lowest corner at `pose` (its box: 0.117 × 0.023 × 0.007 m, the frame
