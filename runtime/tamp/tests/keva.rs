@@ -39,7 +39,7 @@ fn builds(name: &str, planks: usize) {
 
 /// Not run: a pi's legs are in no learned relation to each other, and the YuMi's one learned
 /// grasp of an upright reaches the second leg only from outside the pair, so a plan that places
-/// the legs in the other order cannot be refined, and no plan of the first twenty swaps them
+/// the legs in the other order cannot be refined, and the twenty plans tried all failed by step 8
 /// (docs/solving.md, Keva). It passed while the planner's tie-breaking happened to choose the
 /// order that works.
 #[test]
