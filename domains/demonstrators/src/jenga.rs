@@ -24,7 +24,8 @@ use rand_chacha::ChaCha8Rng;
 use crate::Recording;
 use crate::error::DemoError;
 use crate::skills::{
-    Attempt, SurfaceTop, grab, mark_placed, move_straight, move_to, pose, release,
+    Attempt, SurfaceTop, accepted_placement, grab, mark_placed, move_straight, move_to, pose,
+    release,
 };
 use crate::tower::{BlockSize, draw_training};
 use lamp_world::{Recorder, trajectory_header as header};
@@ -217,21 +218,18 @@ impl<'a> Jenga<'a> {
 
         // Place: at the structure pose, give or take the noise, 1 mm up; the resting rule must
         // accept the release there, else fresh noise.
-        let held = scene.held(robot).ok_or_else(|| "the grab did not hold".to_string())?;
         let local = training.poses[placed_count];
-        let place = (0..PLACE_DRAWS)
-            .find_map(|_| {
-                let target = anchor * local * self.noise(rng, PLACE_CLEARANCE);
-                let gripper = target * held.grasp.inverse();
-                let q = self.reach(&scene, robot, &gripper, rng).ok()?;
-                let mut trial = scene.clone();
-                trial.set_configuration(robot, &q);
-                trial.release_at_rest(robot).ok()?;
-                Some(gripper)
-            })
-            .ok_or_else(|| {
-                format!("no placement of the {} block the resting rule accepts", training.name)
-            })?;
+        let place = accepted_placement(
+            &scene,
+            robot,
+            PLACE_DRAWS,
+            rng,
+            |rng| anchor * local * self.noise(rng, PLACE_CLEARANCE),
+            |scene, gripper, rng| self.reach(scene, robot, gripper, rng),
+        )?
+        .ok_or_else(|| {
+            format!("no placement of the {} block the resting rule accepts", training.name)
+        })?;
         let pre_q = self
             .reach(&scene, robot, &above(&place), rng)
             .map_err(|e| format!("pre-place: {e}"))?;

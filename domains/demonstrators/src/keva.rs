@@ -30,7 +30,9 @@ use rand_chacha::ChaCha8Rng;
 use crate::Recording;
 use crate::error::DemoError;
 use crate::planks::{PlankSize, draw_training};
-use crate::skills::{Attempt, SurfaceTop, grab, mark_placed, move_to, pose, release};
+use crate::skills::{
+    Attempt, SurfaceTop, accepted_placement, grab, mark_placed, move_to, pose, release,
+};
 
 /// The free gripper's joint group: its six mount coordinates.
 const GROUP: &str = "all";
@@ -237,21 +239,18 @@ impl<'a> Keva<'a> {
 
         // Place: at the structure pose, give or take the noise, 0.2–0.5 mm above its rest; the
         // resting rule must accept the release there, else fresh noise.
-        let held = scene.held(robot).ok_or_else(|| "the grab did not hold".to_string())?;
         let local = training.poses[placed_count];
-        let place = (0..PLACE_DRAWS)
-            .find_map(|_| {
-                let target = anchor * self.noise(&local, rng, PLACE_CLEARANCE);
-                let gripper = target * held.grasp.inverse();
-                let q = self.configuration(&scene, robot, &gripper).ok()?;
-                let mut trial = scene.clone();
-                trial.set_configuration(robot, &q);
-                trial.release_at_rest(robot).ok()?;
-                Some(gripper)
-            })
-            .ok_or_else(|| {
-                format!("no placement of the {} plank the resting rule accepts", training.name)
-            })?;
+        let place = accepted_placement(
+            &scene,
+            robot,
+            PLACE_DRAWS,
+            rng,
+            |rng| anchor * self.noise(&local, rng, PLACE_CLEARANCE),
+            |scene, gripper, _| self.configuration(scene, robot, gripper),
+        )?
+        .ok_or_else(|| {
+            format!("no placement of the {} plank the resting rule accepts", training.name)
+        })?;
         let hover = above(&place, HOVER);
         let goal = self.configuration(&scene, robot, &above(&hover, DESCENT))?;
         move_to(&mut scene, &mut recorder, robot, GROUP, &goal, rng)

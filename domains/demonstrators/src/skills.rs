@@ -29,6 +29,29 @@ fn configuration_of(scene: &Scene, robot: usize) -> Attempt<Vec<f64>> {
         .ok_or_else(|| "the robot is not in the scene".to_string())
 }
 
+/// The gripper pose that puts what `robot` holds at a placement drawn by `draw`, where `reach`
+/// finds a configuration for it and the resting rule accepts letting go there; `draws` tries,
+/// each a fresh draw (then `reach`, in that order, for the random stream).
+pub(crate) fn accepted_placement(
+    scene: &Scene,
+    robot: usize,
+    draws: usize,
+    rng: &mut ChaCha8Rng,
+    mut draw: impl FnMut(&mut ChaCha8Rng) -> Pose,
+    mut reach: impl FnMut(&Scene, &Pose, &mut ChaCha8Rng) -> Attempt<Vec<f64>>,
+) -> Attempt<Option<Pose>> {
+    let held = scene.held(robot).ok_or_else(|| "the grab did not hold".to_string())?;
+    let grasp = held.grasp;
+    Ok((0..draws).find_map(|_| {
+        let gripper = draw(rng) * grasp.inverse();
+        let q = reach(scene, &gripper, rng).ok()?;
+        let mut trial = scene.clone();
+        trial.set_configuration(robot, &q);
+        trial.release_at_rest(robot).ok()?;
+        Some(gripper)
+    }))
+}
+
 /// Moves `group` of `robot` from where it is to `goal` along a planned path, recording it.
 pub(crate) fn move_to(
     scene: &mut Scene,
