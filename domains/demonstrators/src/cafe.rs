@@ -34,8 +34,8 @@ use rand_chacha::ChaCha8Rng;
 use crate::Recording;
 use crate::error::DemoError;
 use crate::skills::{
-    Approach, Attempt, SurfaceTop, base_pose_facing, bearing, grab, move_straight, move_to, pose,
-    release,
+    Approach, Attempt, SurfaceTop, add_marker, base_pose_facing, bearing, grab, marker_noise,
+    move_straight, move_to, pose, release,
 };
 use lamp_world::{Recorder, trajectory_header as header};
 
@@ -459,23 +459,9 @@ fn mark_start_and_target(
     };
     let (start, placed) = (first.body_poses[index], last.body_poses[index]);
     for (name, at) in [(START_MARKER, start), (TARGET_MARKER, placed)] {
-        let mut draw = |half: f64| rng.random_range(-half..=half);
-        let noise = pose(
-            draw(MARKER_POSITION_NOISE),
-            draw(MARKER_POSITION_NOISE),
-            draw(MARKER_HEIGHT_NOISE),
-            0.0,
-            0.0,
-            draw(std::f64::consts::PI),
-        );
-        let marked = at * noise;
-        recording.header.bodies.push(lamp_trajectory::BodyDescription {
-            name: name.to_string(),
-            type_name: marker_type.to_string(),
-        });
-        for step in &mut recording.steps {
-            step.body_poses.push(marked);
-        }
+        // Round objects: a marker at any yaw, so that "on the marker" does not mean "turned as".
+        let noise = marker_noise(rng, MARKER_POSITION_NOISE, MARKER_HEIGHT_NOISE, PI);
+        add_marker(recording, name, marker_type, at * noise);
     }
 }
 

@@ -138,29 +138,39 @@ pub(crate) fn mark_placed(
     marker_type: &str,
     rng: &mut ChaCha8Rng,
 ) {
-    use rand::RngExt;
     let Some(last) = recording.steps.last() else { return };
     let finals: Vec<(String, Pose)> = placed
         .iter()
         .map(|&body| (recording.header.bodies[body].name.clone(), last.body_poses[body]))
         .collect();
     for (name, at) in finals {
-        let mut draw = |half: f64| rng.random_range(-half..=half);
-        let noise = pose(
-            draw(MARKER_POSITION_NOISE),
-            draw(MARKER_POSITION_NOISE),
-            draw(MARKER_HEIGHT_NOISE),
-            0.0,
-            0.0,
-            draw(MARKER_YAW_NOISE),
-        );
-        recording.header.bodies.push(lamp_trajectory::BodyDescription {
-            name: format!("loc_{name}"),
-            type_name: marker_type.to_string(),
-        });
-        for step in &mut recording.steps {
-            step.body_poses.push(at * noise);
-        }
+        let noise = marker_noise(rng, MARKER_POSITION_NOISE, MARKER_HEIGHT_NOISE, MARKER_YAW_NOISE);
+        add_marker(recording, &format!("loc_{name}"), marker_type, at * noise);
+    }
+}
+
+/// A marker's offset from the pose it marks: up to `level` along x and y, `height` along z and
+/// `yaw` about z, drawn in that order.
+pub(crate) fn marker_noise(rng: &mut ChaCha8Rng, level: f64, height: f64, yaw: f64) -> Pose {
+    use rand::RngExt;
+    let mut draw = |half: f64| rng.random_range(-half..=half);
+    let (x, y, z) = (draw(level), draw(level), draw(height));
+    pose(x, y, z, 0.0, 0.0, draw(yaw))
+}
+
+/// Adds a marker body `name` of `marker_type` standing at `at` in every step of `recording`.
+pub(crate) fn add_marker(
+    recording: &mut crate::Recording,
+    name: &str,
+    marker_type: &str,
+    at: Pose,
+) {
+    recording.header.bodies.push(lamp_trajectory::BodyDescription {
+        name: name.to_string(),
+        type_name: marker_type.to_string(),
+    });
+    for step in &mut recording.steps {
+        step.body_poses.push(at);
     }
 }
 
