@@ -22,7 +22,8 @@ pub struct LostGoals {
     achievers: Vec<(FactId, Vec<OperatorId>)>,
     /// Forbidden goal facts that no operator deletes.
     stuck_forbidden: Vec<FactId>,
-    /// Per operator: `(fact, needed value)` for each precondition on a fact that cannot change back.
+    /// Per goal achiever: `(fact, needed value)` for each precondition on a fact that cannot
+    /// change back (empty for the other operators).
     locks: Vec<Vec<(FactId, bool)>>,
 }
 
@@ -45,19 +46,18 @@ impl LostGoals {
                 deleted[fact as usize] = true;
             }
         }
-        let locks = task
-            .operators
-            .iter()
-            .map(|operator| {
-                let positive = operator.precondition.iter().filter(|&&f| !added[f as usize]);
-                let negative =
-                    operator.negative_precondition.iter().filter(|&&f| !deleted[f as usize]);
-                positive
-                    .map(|&fact| (fact, true))
-                    .chain(negative.map(|&fact| (fact, false)))
-                    .collect()
-            })
-            .collect();
+        // Only achievers of goal facts are ever asked; the others keep no locks.
+        let mut locks = vec![Vec::new(); task.operators.len()];
+        for &operator in achievers.iter().flat_map(|(_, operators)| operators) {
+            let definition = &task.operators[operator as usize];
+            let positive = definition.precondition.iter().filter(|&&f| !added[f as usize]);
+            let negative =
+                definition.negative_precondition.iter().filter(|&&f| !deleted[f as usize]);
+            locks[operator as usize] = positive
+                .map(|&fact| (fact, true))
+                .chain(negative.map(|&fact| (fact, false)))
+                .collect();
+        }
         let stuck_forbidden =
             task.negative_goal.iter().copied().filter(|&fact| !deleted[fact as usize]).collect();
         Self { achievers, stuck_forbidden, locks }
