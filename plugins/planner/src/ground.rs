@@ -16,6 +16,10 @@ use lamp_pddl::{Condition, Domain, Literal, Problem, Term};
 use crate::PlannerError;
 use crate::task::{FactId, GroundAtom, GroundTask, GroundingVerdict, Operator};
 
+mod locks;
+
+use locks::GoalLocks;
+
 /// A ground atom over indices: the predicate index followed by the object indices.
 type Key = Vec<u32>;
 
@@ -194,6 +198,14 @@ pub fn ground_until(
         key
     };
     let initial: HashSet<Key> = problem.init.iter().map(ground_literal).collect();
+    let goal_atoms: Vec<Key> = problem
+        .goal
+        .iter()
+        .filter(|literal| literal.positive)
+        .map(|literal| ground_literal(&literal.atom))
+        .collect();
+    let locks = GoalLocks::new(&actions, domain.predicates.len(), &goal_atoms, &initial);
+    let grounding = Grounding { universe: &universe, initial: &initial, locks: &locks };
 
     // Relaxed reachability to a fixpoint; the per-predicate lists keep insertion order.
     let mut reachable = Reachable::new(domain.predicates.len());
@@ -204,8 +216,8 @@ pub fn ground_until(
     }
     loop {
         let mut new_atoms = Vec::new();
-        for action in &actions {
-            enumerate(action, &reachable, &initial, &universe, &mut |binding| {
+        for (index, action) in actions.iter().enumerate() {
+            enumerate(index, action, &reachable, &grounding, &mut |binding| {
                 for atom in &action.add {
                     let key = instantiate(atom, binding);
                     if !reachable.contains(&key) {
@@ -240,8 +252,8 @@ pub fn ground_until(
 
     let mut operators = Vec::new();
     let mut too_many = false;
-    for action in &actions {
-        enumerate(action, &reachable, &initial, &universe, &mut |binding| {
+    for (index, action) in actions.iter().enumerate() {
+        enumerate(index, action, &reachable, &grounding, &mut |binding| {
             if operators.len() >= max_operators {
                 too_many = true;
                 return false;
@@ -413,105 +425,116 @@ const UNBOUND: u32 = u32::MAX;
 /// microseconds, so a stop request is seen within milliseconds.
 const STOP_CHECK_INTERVAL: u64 = 1024;
 
-/// Calls `visit` with every binding of `action`'s parameters whose positive preconditions are in
-/// `reachable` and whose equality and static negative conditions hold. `visit` returns `false` to
-/// stop early.
+/// What every binding is checked against besides reachability.
+struct Grounding<'g> {
+    universe: &'g Universe,
+    initial: &'g HashSet<Key>,
+    locks: &'g GoalLocks,
+}
+
+/// Calls `visit` with every binding of `action`'s parameters (the domain's action at `index`)
+/// whose positive preconditions are in `reachable`, whose equality and static negative conditions
+/// hold, and which loses no goal for good ([`GoalLocks`]). `visit` returns `false` to stop early.
 fn enumerate(
+    index: usize,
     action: &LiftedAction,
     reachable: &Reachable,
-    initial: &HashSet<Key>,
-    universe: &Universe,
+    grounding: &Grounding<'_>,
     visit: &mut dyn FnMut(&[u32]) -> bool,
 ) {
     let mut binding = vec![UNBOUND; action.candidates.len()];
-    join(action, 0, &mut binding, reachable, initial, universe, visit);
+    let mut join = Join { index, action, reachable, grounding, visit };
+    join.join(0, &mut binding);
 }
 
-fn join(
-    action: &LiftedAction,
-    depth: usize,
-    binding: &mut Vec<u32>,
-    reachable: &Reachable,
-    initial: &HashSet<Key>,
-    universe: &Universe,
-    visit: &mut dyn FnMut(&[u32]) -> bool,
-) -> bool {
-    if !equalities_hold(action, binding) {
-        return true;
-    }
-    let Some(atom) = action.positive.get(depth) else {
-        return bind_rest(action, 0, binding, initial, universe, visit);
-    };
-    let Some(candidates) = reachable.by_predicate.get(atom.predicate as usize) else {
-        return true;
-    };
-    for key in candidates {
-        let mut newly_bound = Vec::new();
-        let mut consistent = true;
-        for (slot, &value) in atom.slots.iter().zip(&key[1..]) {
-            match *slot {
-                Slot::Object(object) => consistent &= object == value,
-                Slot::Parameter(index) => match binding.get(index).copied() {
-                    Some(UNBOUND) => {
-                        if action.candidates[index].binary_search(&value).is_ok() {
-                            binding[index] = value;
-                            newly_bound.push(index);
-                        } else {
-                            consistent = false;
-                        }
-                    }
-                    Some(bound) => consistent &= bound == value,
-                    None => consistent = false,
-                },
-            }
-            if !consistent {
-                break;
-            }
-        }
-        let keep_going =
-            !consistent || join(action, depth + 1, binding, reachable, initial, universe, visit);
-        for index in newly_bound {
-            binding[index] = UNBOUND;
-        }
-        if !keep_going {
-            return false;
-        }
-    }
-    true
+/// The enumeration of one action's bindings.
+struct Join<'j, 'g> {
+    index: usize,
+    action: &'j LiftedAction,
+    reachable: &'j Reachable,
+    grounding: &'j Grounding<'g>,
+    visit: &'j mut dyn FnMut(&[u32]) -> bool,
 }
 
-/// Binds parameters that no positive precondition mentions, over their typed candidates.
-fn bind_rest(
-    action: &LiftedAction,
-    from: usize,
-    binding: &mut Vec<u32>,
-    initial: &HashSet<Key>,
-    universe: &Universe,
-    visit: &mut dyn FnMut(&[u32]) -> bool,
-) -> bool {
-    let Some(index) = (from..binding.len()).find(|&i| binding[i] == UNBOUND) else {
-        let static_negatives_hold = action
-            .negative
-            .iter()
-            .filter(|atom| universe.is_static[atom.predicate as usize])
-            .all(|atom| !initial.contains(&instantiate(atom, binding)));
-        return if static_negatives_hold && equalities_hold(action, binding) {
-            visit(binding)
-        } else {
-            true
+impl Join<'_, '_> {
+    /// Whether no binding extending `binding` is to be visited.
+    fn excluded(&self, binding: &[u32]) -> bool {
+        !equalities_hold(self.action, binding)
+            || self.grounding.locks.prunes(self.index, self.action, binding)
+    }
+
+    fn join(&mut self, depth: usize, binding: &mut Vec<u32>) -> bool {
+        let action = self.action;
+        if self.excluded(binding) {
+            return true;
+        }
+        let Some(atom) = action.positive.get(depth) else {
+            return self.bind_rest(0, binding);
         };
-    };
-    for position in 0..action.candidates[index].len() {
-        binding[index] = action.candidates[index][position];
-        let keep_going = !equalities_hold(action, binding)
-            || bind_rest(action, index + 1, binding, initial, universe, visit);
-        if !keep_going {
-            binding[index] = UNBOUND;
-            return false;
+        let Some(candidates) = self.reachable.by_predicate.get(atom.predicate as usize) else {
+            return true;
+        };
+        for key in candidates {
+            let mut newly_bound = Vec::new();
+            let mut consistent = true;
+            for (slot, &value) in atom.slots.iter().zip(&key[1..]) {
+                match *slot {
+                    Slot::Object(object) => consistent &= object == value,
+                    Slot::Parameter(index) => match binding.get(index).copied() {
+                        Some(UNBOUND) => {
+                            if action.candidates[index].binary_search(&value).is_ok() {
+                                binding[index] = value;
+                                newly_bound.push(index);
+                            } else {
+                                consistent = false;
+                            }
+                        }
+                        Some(bound) => consistent &= bound == value,
+                        None => consistent = false,
+                    },
+                }
+                if !consistent {
+                    break;
+                }
+            }
+            let keep_going = !consistent || self.join(depth + 1, binding);
+            for index in newly_bound {
+                binding[index] = UNBOUND;
+            }
+            if !keep_going {
+                return false;
+            }
         }
+        true
     }
-    binding[index] = UNBOUND;
-    true
+
+    /// Binds parameters that no positive precondition mentions, over their typed candidates.
+    fn bind_rest(&mut self, from: usize, binding: &mut Vec<u32>) -> bool {
+        let action = self.action;
+        let Some(index) = (from..binding.len()).find(|&i| binding[i] == UNBOUND) else {
+            let Grounding { universe, initial, .. } = self.grounding;
+            let static_negatives_hold = action
+                .negative
+                .iter()
+                .filter(|atom| universe.is_static[atom.predicate as usize])
+                .all(|atom| !initial.contains(&instantiate(atom, binding)));
+            return if static_negatives_hold && !self.excluded(binding) {
+                (self.visit)(binding)
+            } else {
+                true
+            };
+        };
+        for position in 0..action.candidates[index].len() {
+            binding[index] = action.candidates[index][position];
+            let keep_going = self.excluded(binding) || self.bind_rest(index + 1, binding);
+            if !keep_going {
+                binding[index] = UNBOUND;
+                return false;
+            }
+        }
+        binding[index] = UNBOUND;
+        true
+    }
 }
 
 /// Whether every equality constraint whose two sides are bound holds.
