@@ -46,7 +46,8 @@ anchor `area1` is a `droparea`, an area drawn on the table top
 flat on the table in a grid (0.13 m along a plank, 0.065 m across: lying flat side by side, planks
 are in no learned plank–plank region, and the fingers straddling one clear its neighbours) where the
 YuMi's left arm takes a top grasp (within 0.55 m of (-0.46, 0.1), measured with lamp's IK), the
-spots nearest the YuMi's shoulder first, none within 0.12 m of a plank of the structure.
+spots nearest the YuMi's shoulder first, none within 0.12 m of a plank of the structure (0.10 m of
+the ring, whose anchor is turned 30° so that the YuMi reaches every leg: KEVA_OWN_ANCHORS).
 
 Jenga, `jenga` (14 towers tower_<blocks>, 2 … 18 blocks, then 24 and 30): blocks 0.1524 m ×
 0.0508 m × 0.03048 m, frame at the centre; layers of two blocks at the outer positions (±0.0508 m
@@ -551,9 +552,12 @@ def upright_plank(x, y, base, yaw):
 
 def pi(cx, cy, base, yaw):
     """Two upright legs 7.75 cm apart along the lintel, which lies along `yaw` + 90 degrees; each
-    leg is 23 mm wide across the lintel, so that the pi stands on a 23 mm × 85 mm footprint."""
+    leg is 23 mm wide across the lintel, so that the pi stands on a 23 mm × 85 mm footprint.
+    Planks are listed in an order they can be built in: a gripper holds an upright by its top
+    face, on the side its frame's z points to (-across), so the +across leg comes first and the
+    other is then reached from outside the pi."""
     legs = []
-    for side in (-1, 1):
+    for side in (1, -1):
         lx, ly = yawed(0.0, side * PI_SPAN / 2, yaw)
         legs.append(upright_plank(cx + lx, cy + ly, base, yaw))
     lintel = flat_plank(cx, cy, base + RESTING_GAP + PLANK_L, yaw + 90.0)
@@ -629,6 +633,13 @@ KEVA_SHOULDER = (-0.46, 0.0)
 # list, that leaves room within reach for its supply; the last two always do.
 KEVA_ANCHORS = [(-0.05, 0.10), (-0.10, 0.05), (-0.05, 0.0), (-0.10, 0.10), (-0.05, 0.05), (-0.10, 0.0)]
 KEVA_FAR_ANCHORS = [(0.0, 0.10), (0.05, 0.05)]
+# The ring (stonehenge) is 40 cm across: from every anchor above the YuMi misses one to five legs
+# (those whose grasp side, where the fingers go, faces away from it). Turned 30° about an anchor
+# at (-0.10, 0.10), it reaches all 18 placements (lamp's IK, the demonstrated grasp, on a 5 cm
+# grid of anchors turned 0° and 30°), and the supply keeps 10 cm from the ring instead of 12 so
+# that 18 spots stay within reach. Per structure stem: (anchors as (x, y, yaw), clearance).
+KEVA_OWN_ANCHORS = {"stonehenge": ([(-0.10, 0.10, 30.0)], 0.10)}
+KEVA_SUPPLY_CLEARANCE = 0.12
 
 
 def footprint_corners(placement, length, width):
@@ -665,12 +676,15 @@ KEVA_SUPPLY_ACROSS = 0.065
 
 def print_keva():
     rng = random.Random(20255)
-    spots = []
-    for i in range(8):
-        for j in range(-12, 13):
-            x, y = round(-0.35 + KEVA_SUPPLY_ALONG * i, 3), round(KEVA_SUPPLY_ACROSS * j, 3)
-            if math.hypot(x - KEVA_REACH_CENTRE[0], y - KEVA_REACH_CENTRE[1]) <= KEVA_REACH:
-                spots.append((x, y, 0.12 + PLANK_L / 2))
+
+    def spots_keeping(clearance):
+        spots = []
+        for i in range(8):
+            for j in range(-12, 13):
+                x, y = round(-0.35 + KEVA_SUPPLY_ALONG * i, 3), round(KEVA_SUPPLY_ACROSS * j, 3)
+                if math.hypot(x - KEVA_REACH_CENTRE[0], y - KEVA_REACH_CENTRE[1]) <= KEVA_REACH:
+                    spots.append((x, y, clearance + PLANK_L / 2))
+        return spots
     names = []
     blocks = []
     for index, (stem, make, comment) in enumerate(KEVA_STRUCTURES):
@@ -688,9 +702,16 @@ def print_keva():
         planks = make()
         name = names[index]
         first = index % len(KEVA_ANCHORS)
-        for ax, ay in KEVA_ANCHORS[first:] + KEVA_ANCHORS[:first] + KEVA_FAR_ANCHORS:
-            keep_out = [(ax + cx, ay + cy) for plank in planks
-                        for cx, cy in footprint_corners(plank, PLANK_L, PLANK_W)]
+        anchors = [(x, y, 0.0) for x, y in
+                   KEVA_ANCHORS[first:] + KEVA_ANCHORS[:first] + KEVA_FAR_ANCHORS]
+        anchors, clearance = KEVA_OWN_ANCHORS.get(stem, (anchors, KEVA_SUPPLY_CLEARANCE))
+        spots = spots_keeping(clearance)
+        for ax, ay, ayaw in anchors:
+            keep_out = []
+            for plank in planks:
+                for cx, cy in footprint_corners(plank, PLANK_L, PLANK_W):
+                    dx, dy = yawed(cx, cy, ayaw)
+                    keep_out.append((ax + dx, ay + dy))
             starts = supply(spots, len(planks), keep_out, KEVA_SHOULDER)
             if starts is not None:
                 break
@@ -698,7 +719,7 @@ def print_keva():
         print(f"problem {name} {{")
         print("  scene {")
         print(f"    table table1 at {pose_text(*KEVA_TABLE, 0)}")
-        print(f"    droparea area1 at {pose_text(ax, ay, 0)}")
+        print(f"    droparea area1 at {pose_text(ax, ay, 0, 0, 0, ayaw)}")
         for k, (x, y, _) in enumerate(starts, start=1):
             yaw = rng.choice([0, 0, 180])
             print(f"    plank p{k} at {pose_text(x, y, RESTING_GAP, 0, 0, yaw)}")

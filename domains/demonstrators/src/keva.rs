@@ -8,15 +8,15 @@
 //! rule; the last plank and the spare ones (the spec's `objects` planks in all) lying flat on the
 //! table at random, clear of the structure and of each other. Script: the gripper from a random
 //! pose above the table to 10 cm above a top grasp of the last plank (fingers across its width),
-//! straight down, grab, straight up; a path to 9 cm above its hover pose, straight down in 1.5 mm
-//! steps to the hover pose 4.8 mm above the placement, one step down to the placement (the
-//! structure pose give or take the noise, 0.2–0.5 mm above its rest), release by the resting rule,
-//! straight back along the gripper's approach axis, a path to a random pose above the table. A
-//! marker of the spec's marker type is recorded at each placed plank's final pose.
+//! straight down, grab, straight up; a path to 9 cm above the placement (the structure pose give
+//! or take the noise, 0.2–0.5 mm above its rest), straight down onto it in one recorded step,
+//! release by the resting rule, straight back along the gripper's approach axis, a path to a
+//! random pose above the table. A marker of the spec's marker type is recorded at each placed
+//! plank's final pose.
 //!
-//! The hover pose and the single last step are what make a placement one learned action: the
-//! plank enters its resting relations to the planks below and its marker in the same recorded
-//! step (docs/demonstrations.md).
+//! The one step down is what makes a placement one learned action: the plank enters its resting
+//! relations to the planks around it and its marker in the same recorded step, and no recorded
+//! pose of the way down lies in a plank–plank region (docs/demonstrations.md).
 
 use std::f64::consts::PI;
 
@@ -74,16 +74,13 @@ const GRASP_YAW_NOISE: f64 = 0.02;
 const APPROACH: f64 = 0.10;
 const RETREAT: f64 = 0.05;
 const STEP: f64 = 0.005;
-/// The last step of a placement: from the hover pose this far above the placement straight onto
-/// it. Longer than twice the plank–plank cells' height (2.3 mm), so that no cell is visited both
-/// by a resting plank and by a hovering one, and no longer than the recording resolution (5 mm),
-/// so that it is one step.
-const HOVER: f64 = 0.0048;
-/// The way down to the hover pose: from this far above it, in steps shorter than a plank–plank
-/// cell, so that the cells it passes through form one region above the support. It begins
-/// beyond the spec's plank–plank half-range (8.5 cm) above every support, so that the paths
-/// converging on its top, from every direction, cross no plank–plank cell often enough to make
-/// it a region.
+/// The way down onto a placement: straight, from this far above it, checked for collisions every
+/// `DESCENT_STEP` and recorded in one step. It begins beyond the spec's plank–plank range (8.5 cm
+/// along a plank, 8.18 cm through it) from every plank the placed one comes to rest by, so that
+/// the plank is in no plank–plank region until it is at rest: recorded in small steps, the way
+/// down would be a column of cells every placement visits, one region "above" each resting one,
+/// and a tall structure holds planks in those columns (a log cabin's plank two storeys up stands
+/// in the column above the plank below).
 const DESCENT: f64 = 0.09;
 const DESCENT_STEP: f64 = 0.0015;
 
@@ -251,13 +248,10 @@ impl<'a> Keva<'a> {
         .ok_or_else(|| {
             format!("no placement of the {} plank the resting rule accepts", training.name)
         })?;
-        let hover = above(&place, HOVER);
-        let goal = self.configuration(&scene, robot, &above(&hover, DESCENT))?;
+        let goal = self.configuration(&scene, robot, &above(&place, DESCENT))?;
         move_to(&mut scene, &mut recorder, robot, GROUP, &goal, rng)
             .map_err(|e| format!("to above the placement: {e}"))?;
-        glide(&mut scene, &mut recorder, robot, &hover, DESCENT_STEP)
-            .map_err(|e| format!("down to the hover pose: {e}"))?;
-        glide(&mut scene, &mut recorder, robot, &place, HOVER)
+        glide_unrecorded(&mut scene, &mut recorder, robot, &place, DESCENT_STEP)
             .map_err(|e| format!("onto the placement: {e}"))?;
         release(&mut scene, &mut recorder, robot)?;
         let retreat_at = recorder.len();
@@ -359,6 +353,28 @@ impl<'a> Keva<'a> {
     }
 }
 
+/// Moves the free gripper in a straight line to `target` like [`glide`], every state checked,
+/// but records only the last: the recording has one step for the whole move.
+fn glide_unrecorded(
+    scene: &mut Scene,
+    recorder: &mut Recorder,
+    robot: usize,
+    target: &Pose,
+    step: f64,
+) -> Attempt<()> {
+    let now = scene.robots()[robot].configuration().to_vec();
+    let from = scene.gripper_pose(robot, &now).ok_or_else(|| "no gripper".to_string())?;
+    let distance = (target.translation.vector - from.translation.vector).norm();
+    let steps = ((distance / step) - 1e-6).ceil().max(1.0) as usize;
+    let mut last = now.clone();
+    for index in 1..=steps {
+        let t = index as f64 / steps as f64;
+        last = gripper_configuration(scene, robot, &from.lerp_slerp(target, t))?;
+    }
+    recorder.follow(scene, robot, &[now, last]);
+    Ok(())
+}
+
 /// The free gripper's configuration with its gripper (its root link) at `target`, if valid.
 fn gripper_configuration(scene: &Scene, robot: usize, target: &Pose) -> Attempt<Vec<f64>> {
     let state = &scene.robots()[robot];
@@ -382,7 +398,7 @@ fn glide(
     let now = scene.robots()[robot].configuration().to_vec();
     let from = scene.gripper_pose(robot, &now).ok_or_else(|| "no gripper".to_string())?;
     let distance = (target.translation.vector - from.translation.vector).norm();
-    // A step within a micrometre of `step` is that step (rounding of the hover distance).
+    // A step within a micrometre of `step` is that step (rounding of the distance).
     let steps = ((distance / step) - 1e-6).ceil().max(1.0) as usize;
     let mut states = vec![now];
     for index in 1..=steps {
