@@ -251,7 +251,7 @@ impl<'a> Keva<'a> {
         let goal = self.configuration(&scene, robot, &above(&place, DESCENT))?;
         move_to(&mut scene, &mut recorder, robot, GROUP, &goal, rng)
             .map_err(|e| format!("to above the placement: {e}"))?;
-        glide_unrecorded(&mut scene, &mut recorder, robot, &place, DESCENT_STEP)
+        glide_in_one_step(&mut scene, &mut recorder, robot, &place, DESCENT_STEP)
             .map_err(|e| format!("onto the placement: {e}"))?;
         release(&mut scene, &mut recorder, robot)?;
         let retreat_at = recorder.len();
@@ -353,28 +353,6 @@ impl<'a> Keva<'a> {
     }
 }
 
-/// Moves the free gripper in a straight line to `target` like [`glide`], every state checked,
-/// but records only the last: the recording has one step for the whole move.
-fn glide_unrecorded(
-    scene: &mut Scene,
-    recorder: &mut Recorder,
-    robot: usize,
-    target: &Pose,
-    step: f64,
-) -> Attempt<()> {
-    let now = scene.robots()[robot].configuration().to_vec();
-    let from = scene.gripper_pose(robot, &now).ok_or_else(|| "no gripper".to_string())?;
-    let distance = (target.translation.vector - from.translation.vector).norm();
-    let steps = ((distance / step) - 1e-6).ceil().max(1.0) as usize;
-    let mut last = now.clone();
-    for index in 1..=steps {
-        let t = index as f64 / steps as f64;
-        last = gripper_configuration(scene, robot, &from.lerp_slerp(target, t))?;
-    }
-    recorder.follow(scene, robot, &[now, last]);
-    Ok(())
-}
-
 /// The free gripper's configuration with its gripper (its root link) at `target`, if valid.
 fn gripper_configuration(scene: &Scene, robot: usize, target: &Pose) -> Attempt<Vec<f64>> {
     let state = &scene.robots()[robot];
@@ -395,6 +373,30 @@ fn glide(
     target: &Pose,
     step: f64,
 ) -> Attempt<()> {
+    let states = straight_line(scene, robot, target, step)?;
+    recorder.follow(scene, robot, &states);
+    Ok(())
+}
+
+/// [`glide`], but recorded as one step: only the line's end is recorded.
+fn glide_in_one_step(
+    scene: &mut Scene,
+    recorder: &mut Recorder,
+    robot: usize,
+    target: &Pose,
+    step: f64,
+) -> Attempt<()> {
+    let mut states = straight_line(scene, robot, target, step)?;
+    let last = states.pop().expect("a line has an end");
+    states.truncate(1);
+    states.push(last);
+    recorder.follow(scene, robot, &states);
+    Ok(())
+}
+
+/// The free gripper's configurations along a straight line from where it is to `target`, in
+/// equal steps of at most `step`, each checked: the current one first.
+fn straight_line(scene: &Scene, robot: usize, target: &Pose, step: f64) -> Attempt<Vec<Vec<f64>>> {
     let now = scene.robots()[robot].configuration().to_vec();
     let from = scene.gripper_pose(robot, &now).ok_or_else(|| "no gripper".to_string())?;
     let distance = (target.translation.vector - from.translation.vector).norm();
@@ -406,8 +408,7 @@ fn glide(
         let at = from.lerp_slerp(target, t);
         states.push(gripper_configuration(scene, robot, &at)?);
     }
-    recorder.follow(scene, robot, &states);
-    Ok(())
+    Ok(states)
 }
 
 /// The gripper's frame pointing straight down onto a plank lying flat (its approach axis z along
