@@ -386,11 +386,9 @@ fn glide_in_one_step(
     target: &Pose,
     step: f64,
 ) -> Attempt<()> {
-    let mut states = straight_line(scene, robot, target, step)?;
-    let last = states.pop().expect("a line has an end");
-    states.truncate(1);
-    states.push(last);
-    recorder.follow(scene, robot, &states);
+    let states = straight_line(scene, robot, target, step)?;
+    let ends: Vec<Vec<f64>> = states.first().into_iter().chain(states.last()).cloned().collect();
+    recorder.follow(scene, robot, &ends);
     Ok(())
 }
 
