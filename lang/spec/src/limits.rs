@@ -19,6 +19,10 @@ pub const SECONDS: Limit = Limit::above(0.0, MAX_SECONDS, "s").noting("one week"
 /// one, so more than a thousand is a search that could never be refined in a useful time.
 pub const PLANS: Limit = Limit::whole(1, 1_000);
 
+/// Ground operators the built-in planners may make (`planner gbfs-ff { operators N }`): an
+/// operator holds a few dozen facts, so a hundred million would take tens of gigabytes.
+pub const OPERATORS: Limit = Limit::whole(1, 100_000_000);
+
 /// Demonstrations generated (`lampc demos --count`, `simulate … { count }`): a demonstration is
 /// a few hundred steps that the learner holds in memory together, so ten thousand (fifty times
 /// the bundled domains' count) is where memory, not learning, would become the limit.

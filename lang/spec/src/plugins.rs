@@ -47,7 +47,7 @@ impl PluginKind {
     /// for a name that is not a built-in of this kind.
     pub fn builtin_options(self, name: &str) -> Option<&'static [OptionRule]> {
         Some(match (self, name) {
-            (PluginKind::Planner, "gbfs-ff" | "topk") => &[],
+            (PluginKind::Planner, "gbfs-ff" | "topk") => BUILTIN_PLANNER,
             (PluginKind::Planner, "external") => EXTERNAL,
             (PluginKind::Refiner, "gmm") => GMM,
             (PluginKind::Motion, "rrt-connect") => RRT_CONNECT,
@@ -65,6 +65,12 @@ const MOTION_RUNTIME: &[OptionRule] = &[
     OptionRule::new("resolution", OptionKind::Resolution, "the checking resolution"),
     OptionRule::new("timeout", OptionKind::Seconds, "the time limit of one motion call"),
 ];
+
+const BUILTIN_PLANNER: &[OptionRule] = &[OptionRule::new(
+    "operators",
+    OptionKind::Count(limits::OPERATORS),
+    "the most ground operators (default 2,000,000)",
+)];
 
 const EXTERNAL: &[OptionRule] = &[
     OptionRule::new("command", OptionKind::Text, "the Fast Downward driver command"),

@@ -4,7 +4,8 @@
 //!
 //! Linked statically, construct [`BuiltinPlanner`] directly; built as a shared library, the
 //! plugin's configuration is the JSON object `{"algorithm": "gbfs-ff"}` (the default) or
-//! `{"algorithm": "topk"}`.
+//! `{"algorithm": "topk"}`, with an optional `"operators"`: the most ground operators (by
+//! default lamp-planner's 2,000,000).
 //! Both planners are deterministic, so the request's seed is not used. Cancellation is polled
 //! before the search starts; a running search stops on its budget, not on cancellation.
 
@@ -64,6 +65,8 @@ impl BuiltinPlanner {
 
 /// The configuration key naming the algorithm.
 pub const ALGORITHM_OPTION: &str = "algorithm";
+/// The configuration key of the grounding limit.
+pub const OPERATORS_OPTION: &str = "operators";
 
 impl BuiltinAlgorithm {
     /// The algorithm named `name` in the configuration.
@@ -84,15 +87,18 @@ impl BuiltinAlgorithm {
 }
 
 impl PluginFactory for BuiltinPlanner {
-    /// The configuration is `{"algorithm": "gbfs-ff" | "topk"}`; without it, `gbfs-ff`.
+    /// The configuration is `{"algorithm": "gbfs-ff" | "topk", "operators": N}`; without an
+    /// algorithm, `gbfs-ff`; without a limit, lamp-planner's default.
     fn create(config: &[u8]) -> Result<Self, PluginError> {
         let mut config = PluginConfig::parse(config)?;
         let algorithm = match config.text(ALGORITHM_OPTION)? {
             None => BuiltinAlgorithm::GbfsFf,
             Some(name) => BuiltinAlgorithm::from_name(&name)?,
         };
+        let operators = config.count(OPERATORS_OPTION)?;
         config.finish()?;
-        Ok(Self::new(algorithm))
+        let planner = Self::new(algorithm);
+        Ok(operators.map_or(planner, |limit| planner.with_max_operators(limit)))
     }
 }
 
@@ -123,18 +129,26 @@ impl Planner for BuiltinPlanner {
             &format!("grounding and searching with {}", self.algorithm.name()),
         );
         let cancelled = || host.is_cancelled();
-        let output =
-            match lamp_planner::plan_until(&domain, &problem, algorithm, &budget, &cancelled) {
-                // Stopped because the run was cancelled: whatever was found is not what was asked.
-                _ if host.is_cancelled() => return Err(PluginError::Cancelled),
-                Ok(output) => output,
-                Err(error) => {
-                    let cause = std::error::Error::source(&error)
-                        .map(|source| format!(": {source}"))
-                        .unwrap_or_default();
-                    return Ok(PlanResponse::failed(format!("{error}{cause}")));
-                }
-            };
+        let output = match lamp_planner::plan_until(
+            &domain, &problem, algorithm, &budget, &cancelled,
+        ) {
+            // Stopped because the run was cancelled: whatever was found is not what was asked.
+            _ if host.is_cancelled() => return Err(PluginError::Cancelled),
+            Ok(output) => output,
+            Err(lamp_planner::PlannerError::TooManyOperators { limit }) => {
+                return Ok(PlanResponse::failed(format!(
+                    "grounding exceeds the limit of {limit} operators; raise it with the \
+                         planner's `operators` option (`plugins {{ planner {} {{ operators N }} }}`)",
+                    self.algorithm.name()
+                )));
+            }
+            Err(error) => {
+                let cause = std::error::Error::source(&error)
+                    .map(|source| format!(": {source}"))
+                    .unwrap_or_default();
+                return Ok(PlanResponse::failed(format!("{error}{cause}")));
+            }
+        };
         host.report_progress(1.0, "done");
         let status = match output.status {
             Status::Solved => PlanStatus::Solved,

@@ -144,6 +144,23 @@ fn unsolvable_failed_and_budget_statuses_cross_the_abi() {
 }
 
 #[test]
+fn the_grounding_limit_is_an_option_and_its_failure_names_it() {
+    // The Sussman anomaly (three blocks) grounds more than 10 operators and fewer than 100.
+    let request = PlanRequest::new(DOMAIN, SUSSMAN);
+    for config in [&br#"{"operators": 10}"#[..], br#"{"algorithm": "topk", "operators": 10}"#] {
+        let response = plan(through_abi(config).as_mut(), &request);
+        let PlanStatus::Failed { message } = response.status else {
+            panic!("{:?}", response.status)
+        };
+        assert!(message.starts_with("grounding exceeds the limit of 10 operators"), "{message}");
+        assert!(message.contains("`operators` option"), "{message}");
+    }
+    let roomy = plan(through_abi(br#"{"operators": 100}"#).as_mut(), &request);
+    assert_eq!(roomy.status, PlanStatus::Solved);
+    assert!(BuiltinPlanner::create(br#"{"operators": 2.5}"#).is_err());
+}
+
+#[test]
 fn an_unknown_algorithm_key_or_document_is_refused_at_creation() {
     assert_eq!(
         BuiltinPlanner::create(br#"{"algorithm": "astar"}"#).unwrap_err(),
@@ -153,7 +170,7 @@ fn an_unknown_algorithm_key_or_document_is_refused_at_creation() {
     );
     assert_eq!(
         BuiltinPlanner::create(br#"{"algorithm": "topk", "weight": 2}"#).unwrap_err(),
-        PluginError::invalid_request("unknown option `weight`; it reads `algorithm`")
+        PluginError::invalid_request("unknown option `weight`; it reads `algorithm`, `operators`")
     );
     // A bare word is not a JSON document.
     assert!(matches!(
