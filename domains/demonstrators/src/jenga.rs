@@ -23,6 +23,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::Recording;
 use crate::error::DemoError;
+use crate::layout::{Scatter, add_at, add_settled, numbered_body};
 use crate::skills::{
     Attempt, SurfaceTop, accepted_placement, grab, mark_placed, move_straight, move_to, pose,
     release,
@@ -163,21 +164,16 @@ impl<'a> Jenga<'a> {
         let mut scene = Scene::new();
         scene.add_body(self.table.0.clone(), self.table.1).map_err(|e| e.to_string())?;
         let placed_count = training.poses.len() - 1;
-        let mut placed = Vec::new();
-        for (index, local) in training.poses[..placed_count].iter().enumerate() {
-            let body = self.block(index)?;
-            let at = anchor * *local * self.noise(rng, (0.0, 0.0005));
-            let block = scene.add_body(body, at).map_err(|e| e.to_string())?;
-            let rest = scene.resting_pose(block).map_err(|e| format!("pre-placed: {e}"))?;
-            scene.set_body_pose(block, rest);
-            placed.push(block);
-        }
-        let spares = self.spare_poses(&anchor, self.objects - placed_count, rng)?;
-        let mut loose = Vec::new();
-        for (offset, at) in spares.into_iter().enumerate() {
-            let body = self.block(placed_count + offset)?;
-            loose.push(scene.add_body(body, at).map_err(|e| e.to_string())?);
-        }
+        let pre_placed: Vec<Pose> = training.poses[..placed_count]
+            .iter()
+            .map(|local| anchor * *local * self.noise(rng, (0.0, 0.0005)))
+            .collect();
+        let mut placed = add_settled(&mut scene, &pre_placed, |index| self.block(index))?;
+        let spares = self
+            .spares()
+            .poses(&self.top, &anchor, self.objects - placed_count, rng)
+            .ok_or_else(|| "no room on the table for the spare blocks".to_string())?;
+        let loose = add_at(&mut scene, &spares, |offset| self.block(placed_count + offset))?;
         let moved = loose[0];
         let robot = self
             .world
@@ -257,9 +253,7 @@ impl<'a> Jenga<'a> {
 
     /// Block number `index` (named `block<index + 1>`).
     fn block(&self, index: usize) -> Attempt<Body> {
-        self.world
-            .body(&format!("block{}", index + 1), &self.block_type)
-            .ok_or_else(|| format!("no type `{}`", self.block_type))
+        numbered_body(self.world, "block", &self.block_type, index)
     }
 
     /// Placement noise: along the top, in yaw, and a height drawn from `lift`.
@@ -275,40 +269,19 @@ impl<'a> Jenga<'a> {
         )
     }
 
-    /// `count` blocks lying flat on the table at random, clear of the structure and of each
-    /// other, 1 mm above the top.
-    fn spare_poses(&self, anchor: &Pose, count: usize, rng: &mut ChaCha8Rng) -> Attempt<Vec<Pose>> {
-        let half_x = (self.top.half_x - SPARE_EDGE_MARGIN).max(0.0);
-        let half_y = SPARE_Y.min(self.top.half_y - SPARE_EDGE_MARGIN).max(0.0);
-        let centre = anchor.translation.vector;
-        let mut spares: Vec<Pose> = Vec::new();
-        for _ in 0..LAYOUT_DRAWS {
-            if spares.len() == count {
-                break;
-            }
-            let at = self.top.pose
-                * pose(
-                    rng.random_range(-half_x..=half_x),
-                    rng.random_range(-half_y..=half_y),
-                    RESTING_GAP + self.size.height / 2.0,
-                    0.0,
-                    0.0,
-                    rng.random_range(-PI..PI),
-                );
-            let p = at.translation.vector;
-            let flat = |a: &nalgebra::Vector3<f64>, b: &nalgebra::Vector3<f64>| {
-                ((a.x - b.x).powi(2) + (a.y - b.y).powi(2)).sqrt()
-            };
-            if flat(&p, &centre) >= SPARE_CLEARANCE
-                && spares.iter().all(|other| flat(&p, &other.translation.vector) >= SPARE_SPACING)
-            {
-                spares.push(at);
-            }
+    /// Where the spare blocks lie: flat on the table at random, clear of the structure and of
+    /// each other, 1 mm above the top.
+    fn spares(&self) -> Scatter {
+        Scatter {
+            half: (
+                (self.top.half_x - SPARE_EDGE_MARGIN).max(0.0),
+                SPARE_Y.min(self.top.half_y - SPARE_EDGE_MARGIN).max(0.0),
+            ),
+            height: RESTING_GAP + self.size.height / 2.0,
+            clearance: SPARE_CLEARANCE,
+            spacing: SPARE_SPACING,
+            draws: LAYOUT_DRAWS,
         }
-        if spares.len() < count {
-            return Err("no room on the table for the spare blocks".to_string());
-        }
-        Ok(spares)
     }
 
     /// A collision-free arm configuration putting the gripper at `target`, searched from `tuck`.

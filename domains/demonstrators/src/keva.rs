@@ -29,6 +29,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::Recording;
 use crate::error::DemoError;
+use crate::layout::{Scatter, add_at, add_settled, numbered_body};
 use crate::planks::{PlankSize, draw_training};
 use crate::skills::{
     Attempt, SurfaceTop, accepted_placement, grab, mark_placed, move_to, pose, release,
@@ -186,20 +187,16 @@ impl<'a> Keva<'a> {
             .ok_or_else(|| format!("no type `{}`", self.area_type))?;
         scene.add_body(area, anchor).map_err(|e| e.to_string())?;
         let placed_count = training.poses.len() - 1;
-        let mut placed = Vec::new();
-        for (index, local) in training.poses[..placed_count].iter().enumerate() {
-            let at = anchor * self.noise(local, rng, (0.0, 0.0005));
-            let plank = scene.add_body(self.plank(index)?, at).map_err(|e| e.to_string())?;
-            let rest = scene.resting_pose(plank).map_err(|e| format!("pre-placed: {e}"))?;
-            scene.set_body_pose(plank, rest);
-            placed.push(plank);
-        }
-        let spares = self.spare_poses(&anchor, self.objects - placed_count, rng)?;
-        let mut loose = Vec::new();
-        for (offset, at) in spares.into_iter().enumerate() {
-            let body = self.plank(placed_count + offset)?;
-            loose.push(scene.add_body(body, at).map_err(|e| e.to_string())?);
-        }
+        let pre_placed: Vec<Pose> = training.poses[..placed_count]
+            .iter()
+            .map(|local| anchor * self.noise(local, rng, (0.0, 0.0005)))
+            .collect();
+        let mut placed = add_settled(&mut scene, &pre_placed, |index| self.plank(index))?;
+        let spares = self
+            .spares()
+            .poses(&self.top, &anchor, self.objects - placed_count, rng)
+            .ok_or_else(|| "no room on the table for the loose planks".to_string())?;
+        let loose = add_at(&mut scene, &spares, |offset| self.plank(placed_count + offset))?;
         let moved = loose[0];
         let start = self.free_pose(rng);
         let q = self
@@ -274,9 +271,7 @@ impl<'a> Keva<'a> {
 
     /// Plank number `index` (named `plank<index + 1>`).
     fn plank(&self, index: usize) -> Attempt<Body> {
-        self.world
-            .body(&format!("plank{}", index + 1), &self.plank_type)
-            .ok_or_else(|| format!("no type `{}`", self.plank_type))
+        numbered_body(self.world, "plank", &self.plank_type, index)
     }
 
     /// `local`, a pose in the anchor's frame, moved by the placement noise: along the table top,
@@ -300,38 +295,17 @@ impl<'a> Keva<'a> {
         moved
     }
 
-    /// `count` planks lying flat on the table at random, clear of the structure and of each
-    /// other, 1 mm above the top.
-    fn spare_poses(&self, anchor: &Pose, count: usize, rng: &mut ChaCha8Rng) -> Attempt<Vec<Pose>> {
-        let half_x = SPARE_RANGE.min(self.top.half_x - self.size.length / 2.0).max(0.0);
-        let half_y = SPARE_RANGE.min(self.top.half_y - self.size.length / 2.0).max(0.0);
-        let centre = anchor.translation.vector;
-        let flat = |a: &Vec3, b: &Vec3| ((a.x - b.x).powi(2) + (a.y - b.y).powi(2)).sqrt();
-        let mut spares: Vec<Pose> = Vec::new();
-        for _ in 0..LAYOUT_DRAWS {
-            if spares.len() == count {
-                break;
-            }
-            let at = self.top.pose
-                * pose(
-                    rng.random_range(-half_x..=half_x),
-                    rng.random_range(-half_y..=half_y),
-                    RESTING_GAP,
-                    0.0,
-                    0.0,
-                    rng.random_range(-PI..PI),
-                );
-            let p = at.translation.vector;
-            if flat(&p, &centre) >= SPARE_CLEARANCE
-                && spares.iter().all(|other| flat(&p, &other.translation.vector) >= SPARE_SPACING)
-            {
-                spares.push(at);
-            }
+    /// Where the loose planks lie: flat on the table at random, clear of the structure and of
+    /// each other, 1 mm above the top.
+    fn spares(&self) -> Scatter {
+        let half = |top_half: f64| SPARE_RANGE.min(top_half - self.size.length / 2.0).max(0.0);
+        Scatter {
+            half: (half(self.top.half_x), half(self.top.half_y)),
+            height: RESTING_GAP,
+            clearance: SPARE_CLEARANCE,
+            spacing: SPARE_SPACING,
+            draws: LAYOUT_DRAWS,
         }
-        if spares.len() < count {
-            return Err("no room on the table for the loose planks".to_string());
-        }
-        Ok(spares)
     }
 
     /// A random gripper pose above the table, pointing down.

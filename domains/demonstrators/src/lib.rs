@@ -11,6 +11,7 @@ mod cafe;
 mod error;
 mod jenga;
 mod keva;
+mod layout;
 mod packing;
 mod planks;
 mod skills;
