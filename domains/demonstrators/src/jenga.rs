@@ -23,7 +23,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::Recording;
 use crate::error::DemoError;
-use crate::layout::{Scatter, add_at, add_settled, numbered_body};
+use crate::layout::{Scatter, Table, add_at, add_settled, numbered_body};
 use crate::skills::{
     Attempt, SurfaceTop, accepted_placement, grab, mark_placed, move_straight, move_to, pose,
     release,
@@ -98,23 +98,8 @@ impl<'a> Jenga<'a> {
             .iter()
             .find(|robot| robot.kind == RobotKind::FixedArm)
             .ok_or_else(|| mismatch("a fixed-arm robot"))?;
-        let problem = spec.problems.first().ok_or_else(|| mismatch("a problem with a table"))?;
-        let mut table: Option<(Body, Pose, SurfaceTop)> = None;
-        for object in &problem.scene.objects {
-            let Some(body) = world.body(&object.name, &object.type_name) else { continue };
-            if body.movable || body.is_marker() {
-                continue;
-            }
-            let Some(top) = SurfaceTop::of_parts(object.pose, &body.parts) else { continue };
-            if table
-                .as_ref()
-                .is_none_or(|(_, _, best)| top.half_x * top.half_y > best.half_x * best.half_y)
-            {
-                table = Some((body, object.pose, top));
-            }
-        }
-        let (table_body, table_pose, top) =
-            table.ok_or_else(|| mismatch("a table in its first problem"))?;
+        let Table { body: table_body, pose: table_pose, top, .. } =
+            Table::of(world).ok_or_else(|| mismatch("a table in its first problem"))?;
         let block_type = spec
             .object_types
             .iter()

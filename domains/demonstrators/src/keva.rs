@@ -29,7 +29,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::Recording;
 use crate::error::DemoError;
-use crate::layout::{Scatter, add_at, add_settled, numbered_body};
+use crate::layout::{Scatter, Table, add_at, add_settled, numbered_body};
 use crate::planks::{PlankSize, draw_training};
 use crate::skills::{
     Attempt, SurfaceTop, accepted_placement, grab, mark_placed, move_to, pose, release,
@@ -111,23 +111,8 @@ impl<'a> Keva<'a> {
             .iter()
             .find(|robot| robot.kind == RobotKind::FreeFlying)
             .ok_or_else(|| mismatch("a free-flying robot"))?;
-        let problem = spec.problems.first().ok_or_else(|| mismatch("a problem with a table"))?;
-        let mut table: Option<(Body, Pose, SurfaceTop, String)> = None;
-        for object in &problem.scene.objects {
-            let Some(body) = world.body(&object.name, &object.type_name) else { continue };
-            if body.movable || body.is_marker() {
-                continue;
-            }
-            let Some(top) = SurfaceTop::of_parts(object.pose, &body.parts) else { continue };
-            if table
-                .as_ref()
-                .is_none_or(|(_, _, best, _)| top.half_x * top.half_y > best.half_x * best.half_y)
-            {
-                table = Some((body, object.pose, top, object.type_name.clone()));
-            }
-        }
-        let (table_body, table_pose, top, table_type) =
-            table.ok_or_else(|| mismatch("a table in its first problem"))?;
+        let Table { body: table_body, pose: table_pose, top, type_name: table_type } =
+            Table::of(world).ok_or_else(|| mismatch("a table in its first problem"))?;
         let area_type = spec
             .object_types
             .iter()

@@ -8,6 +8,36 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::skills::{Attempt, SurfaceTop, pose};
 
+/// The table of a structure demonstration: the widest static body (not a marker) of the spec's
+/// first problem, with its pose, its top and its type's name.
+pub(crate) struct Table {
+    pub(crate) body: Body,
+    pub(crate) pose: Pose,
+    pub(crate) top: SurfaceTop,
+    pub(crate) type_name: String,
+}
+
+impl Table {
+    /// The spec's table, or `None` when its first problem has no static body with a top.
+    pub(crate) fn of(world: &SpecWorld) -> Option<Table> {
+        let problem = world.spec().problems.first()?;
+        let mut table: Option<Table> = None;
+        for object in &problem.scene.objects {
+            let Some(body) = world.body(&object.name, &object.type_name) else { continue };
+            if body.movable || body.is_marker() {
+                continue;
+            }
+            let Some(top) = SurfaceTop::of_parts(object.pose, &body.parts) else { continue };
+            let area = |top: &SurfaceTop| top.half_x * top.half_y;
+            if table.as_ref().is_none_or(|best| area(&top) > area(&best.top)) {
+                let type_name = object.type_name.clone();
+                table = Some(Table { body, pose: object.pose, top, type_name });
+            }
+        }
+        table
+    }
+}
+
 /// Object number `index` of a type, named `<stem><index + 1>` (`block1`, `plank2`, …).
 pub(crate) fn numbered_body(
     world: &SpecWorld,
