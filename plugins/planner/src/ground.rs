@@ -24,13 +24,13 @@ use locks::GoalLocks;
 type Key = Vec<u32>;
 
 /// An argument of a lifted atom after name resolution.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Slot {
     Parameter(usize),
     Object(u32),
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 struct LiftedAtom {
     predicate: u32,
     slots: Vec<Slot>,

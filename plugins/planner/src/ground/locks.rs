@@ -49,7 +49,7 @@ impl GoalLocks {
                     .positive
                     .iter()
                     .filter(|atom| !added.get(atom.predicate as usize).copied().unwrap_or(true))
-                    .filter(|atom| action.delete.iter().any(|deleted| same(deleted, atom)))
+                    .filter(|atom| action.delete.contains(atom))
                     .cloned()
                     .collect()
             })
@@ -134,14 +134,4 @@ fn match_goal(action: &LiftedAction, added: &LiftedAtom, goal: &Key) -> Option<V
         }
     }
     equalities_hold(action, &binding).then_some(binding)
-}
-
-fn same(a: &LiftedAtom, b: &LiftedAtom) -> bool {
-    a.predicate == b.predicate
-        && a.slots.len() == b.slots.len()
-        && a.slots.iter().zip(&b.slots).all(|(x, y)| match (x, y) {
-            (Slot::Parameter(i), Slot::Parameter(j)) => i == j,
-            (Slot::Object(i), Slot::Object(j)) => i == j,
-            _ => false,
-        })
 }
