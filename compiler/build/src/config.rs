@@ -1,21 +1,23 @@
 //! The spec's `learn { … }` block as the learner's configuration.
 //!
-//! The spec resolves defaults and per-pair overrides; this maps them field by field. The spec
+//! The spec keeps what it writes: block-level settings and per-pair overrides merged over them,
+//! each setting `None` where the spec leaves it out. This maps them field by field to lamp-learn's
+//! pinned settings; the learner chooses or defaults the rest (see `docs/learning.md`). The spec
 //! language has no minimum support, rotation share or sample count yet, so those keep
-//! lamp-learn's defaults (see `docs/learning.md`).
+//! lamp-learn's defaults.
 
-use lamp_learn::{LearnConfig, PairSettings, Switch, TypePair};
+use lamp_learn::{LearnConfig, PinnedSettings, Switch, TypePair};
 
-/// The learner's configuration for a spec: its pair settings, ignored pairs and seed.
+/// The learner's configuration for a spec: its pinned pair settings, ignored pairs and seed.
 pub fn learn_config(spec: &lamp_spec::Spec) -> LearnConfig {
     let learning = &spec.learning;
     LearnConfig {
-        default: pair_settings(&learning.defaults),
+        default: pinned_settings(&learning.defaults),
         pairs: learning
             .pairs
             .iter()
             .map(|((primary, secondary), settings)| {
-                (TypePair::new(primary.clone(), secondary.clone()), pair_settings(settings))
+                (TypePair::new(primary.clone(), secondary.clone()), pinned_settings(settings))
             })
             .collect(),
         ignored: learning
@@ -28,16 +30,16 @@ pub fn learn_config(spec: &lamp_spec::Spec) -> LearnConfig {
     }
 }
 
-fn pair_settings(settings: &lamp_spec::PairSettings) -> PairSettings {
-    PairSettings {
-        position_bins: settings.position_bins.map(|bins| bins as usize),
+fn pinned_settings(settings: &lamp_spec::PairSettings) -> PinnedSettings {
+    PinnedSettings {
+        position_bins: settings.position_bins.map(|bins| bins.map(|count| count as usize)),
         half_range: settings.position_range,
-        rotation_bins: settings.rotation_bins as usize,
+        rotation_bins: settings.rotation_bins.map(|bins| bins as usize),
         threshold: settings.threshold,
-        max_components: settings.max_components as usize,
+        max_components: settings.max_components.map(|cap| cap as usize),
         cover: settings.likelihood_cover,
-        clear: switch(settings.clear),
-        nowhere: switch(settings.nowhere),
+        clear: settings.clear.map(switch),
+        nowhere: settings.nowhere.map(switch),
     }
 }
 
@@ -56,13 +58,24 @@ mod tests {
 
     #[test]
     fn every_spec_setting_reaches_the_learner() {
-        let mut override_settings = lamp_spec::PairSettings::DEFAULT;
-        override_settings.position_bins = [9, 9, 6];
-        override_settings.threshold = 0.2;
-        override_settings.clear = lamp_spec::Switch::Off;
-        override_settings.nowhere = lamp_spec::Switch::On;
+        // The block writes a rotation bin count and a component cap; the pair writes its grid,
+        // threshold and switches over them.
+        let defaults = lamp_spec::PairSettings {
+            rotation_bins: Some(61),
+            max_components: Some(4),
+            ..lamp_spec::PairSettings::default()
+        };
+        let override_settings = lamp_spec::PairSettings {
+            position_bins: Some([9, 9, 6]),
+            position_range: Some([0.2, 0.2, 0.05]),
+            threshold: Some(0.2),
+            likelihood_cover: Some(0.95),
+            clear: Some(lamp_spec::Switch::Off),
+            nowhere: Some(lamp_spec::Switch::On),
+            ..defaults.clone()
+        };
         let learning = lamp_spec::Learning {
-            defaults: lamp_spec::PairSettings::DEFAULT,
+            defaults,
             pairs: BTreeMap::from([(("surface".into(), "can".into()), override_settings)]),
             ignored_pairs: BTreeSet::from([("can".into(), "can".into())]),
         };
@@ -84,13 +97,26 @@ mod tests {
         };
         let config = learn_config(&spec);
         assert_eq!(config.seed, 42);
-        assert_eq!(config.default.position_bins, [35, 35, 35]);
-        assert_eq!(config.default.rotation_bins, 61);
-        assert_eq!(config.default.max_components, 6);
-        let surface_can = config.settings(&TypePair::new("can", "surface"));
-        assert_eq!((surface_can.position_bins, surface_can.threshold), ([9, 9, 6], 0.2));
-        assert_eq!((surface_can.clear, surface_can.nowhere), (Switch::Off, Switch::On));
-        assert_eq!((config.default.clear, config.default.nowhere), (Switch::Auto, Switch::Auto));
+        // Written at block level: pinned for every pair.
+        assert_eq!(config.default.rotation_bins, Some(61));
+        assert_eq!(config.default.max_components, Some(4));
+        // Left out: not given, for the learner to choose or default.
+        assert_eq!(config.default.position_bins, None);
+        assert_eq!(config.default.half_range, None);
+        assert_eq!(config.default.threshold, None);
+        assert_eq!(config.default.cover, None);
+        assert_eq!((config.default.clear, config.default.nowhere), (None, None));
+        // The pair's entry, found in either order.
+        let surface_can = config.pinned(&TypePair::new("can", "surface"));
+        assert_eq!(surface_can.position_bins, Some([9, 9, 6]));
+        assert_eq!(surface_can.half_range, Some([0.2, 0.2, 0.05]));
+        assert_eq!(surface_can.threshold, Some(0.2));
+        assert_eq!(surface_can.cover, Some(0.95));
+        assert_eq!((surface_can.rotation_bins, surface_can.max_components), (Some(61), Some(4)));
+        assert_eq!((surface_can.clear, surface_can.nowhere), (Some(Switch::Off), Some(Switch::On)));
+        // A pair without an entry has the block-level settings only.
+        let other = config.pinned(&TypePair::new("gripper", "can"));
+        assert_eq!(other, config.default);
         assert!(config.is_ignored(&TypePair::new("can", "can")));
         assert_eq!(config.validate(), Ok(()));
     }

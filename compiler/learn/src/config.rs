@@ -1,4 +1,8 @@
 //! Learning settings: discretisation, criticality threshold and mixture settings per ordered type pair, and the seed.
+//!
+//! A user pins some settings ([`PinnedSettings`]); the learner chooses every other one from the demonstrations
+//! ([`crate::selection`]), or, for the few it does not choose, takes it from the one table of defaults,
+//! [`PairSettings::DEFAULT`].
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -6,7 +10,7 @@ use crate::error::LearnError;
 
 pub use lamp_abstraction::TypePair;
 
-/// Settings of one type pair.
+/// The settings one type pair is learned with, every one resolved.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PairSettings {
     /// Position bins along x, y and z of the primary's frame.
@@ -38,17 +42,98 @@ pub enum Switch {
     Auto,
 }
 
+impl PairSettings {
+    /// The one table of defaults. The component cap, the cover and the two switches are used whenever a spec
+    /// leaves them out; the grid and the threshold only where the selection has nothing to choose from (see
+    /// `docs/learning.md`).
+    pub const DEFAULT: PairSettings = PairSettings {
+        position_bins: [35, 35, 35],
+        half_range: [0.3, 0.3, 0.3],
+        rotation_bins: 61,
+        threshold: 0.5,
+        max_components: 6,
+        cover: 0.99,
+        clear: Switch::Auto,
+        nowhere: Switch::Auto,
+    };
+}
+
 impl Default for PairSettings {
     fn default() -> Self {
+        PairSettings::DEFAULT
+    }
+}
+
+/// The settings a user pinned for a type pair; `None` is left to the learner.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PinnedSettings {
+    /// Position bins along x, y and z.
+    pub position_bins: Option<[usize; 3]>,
+    /// Half-ranges (m).
+    pub half_range: Option<[f64; 3]>,
+    /// Bins per rotation-vector component.
+    pub rotation_bins: Option<usize>,
+    /// Criticality threshold θ.
+    pub threshold: Option<f64>,
+    /// The largest number of mixture components BIC may choose.
+    pub max_components: Option<usize>,
+    /// The share of a region's own samples that its likelihood threshold must accept.
+    pub cover: Option<f64>,
+    /// Whether clear relations are invented.
+    pub clear: Option<Switch>,
+    /// Whether nowhere relations are invented.
+    pub nowhere: Option<Switch>,
+}
+
+impl PinnedSettings {
+    /// These settings, with every one left out taken from `base`.
+    pub fn over(&self, base: &PinnedSettings) -> PinnedSettings {
+        PinnedSettings {
+            position_bins: self.position_bins.or(base.position_bins),
+            half_range: self.half_range.or(base.half_range),
+            rotation_bins: self.rotation_bins.or(base.rotation_bins),
+            threshold: self.threshold.or(base.threshold),
+            max_components: self.max_components.or(base.max_components),
+            cover: self.cover.or(base.cover),
+            clear: self.clear.or(base.clear),
+            nowhere: self.nowhere.or(base.nowhere),
+        }
+    }
+
+    /// Whether the learner has something to choose: the grid or the threshold.
+    pub fn leaves_a_choice(&self) -> bool {
+        self.position_bins.is_none()
+            || self.half_range.is_none()
+            || self.rotation_bins.is_none()
+            || self.threshold.is_none()
+    }
+
+    /// Every setting resolved: the pinned ones as pinned, the others from `chosen`.
+    pub fn resolve(&self, chosen: &PairSettings) -> PairSettings {
         PairSettings {
-            position_bins: [16, 16, 16],
-            half_range: [0.2, 0.2, 0.2],
-            rotation_bins: 24,
-            threshold: 0.5,
-            max_components: 4,
-            cover: 0.99,
-            clear: Switch::Auto,
-            nowhere: Switch::Auto,
+            position_bins: self.position_bins.unwrap_or(chosen.position_bins),
+            half_range: self.half_range.unwrap_or(chosen.half_range),
+            rotation_bins: self.rotation_bins.unwrap_or(chosen.rotation_bins),
+            threshold: self.threshold.unwrap_or(chosen.threshold),
+            max_components: self.max_components.unwrap_or(chosen.max_components),
+            cover: self.cover.unwrap_or(chosen.cover),
+            clear: self.clear.unwrap_or(chosen.clear),
+            nowhere: self.nowhere.unwrap_or(chosen.nowhere),
+        }
+    }
+}
+
+impl From<PairSettings> for PinnedSettings {
+    fn from(settings: PairSettings) -> Self {
+        PinnedSettings {
+            position_bins: Some(settings.position_bins),
+            half_range: Some(settings.half_range),
+            rotation_bins: Some(settings.rotation_bins),
+            threshold: Some(settings.threshold),
+            max_components: Some(settings.max_components),
+            cover: Some(settings.cover),
+            clear: Some(settings.clear),
+            nowhere: Some(settings.nowhere),
         }
     }
 }
@@ -56,10 +141,10 @@ impl Default for PairSettings {
 /// Everything the learner can be told.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LearnConfig {
-    /// Settings for pairs not listed in `pairs`.
-    pub default: PairSettings,
-    /// Settings per ordered type pair.
-    pub pairs: BTreeMap<TypePair, PairSettings>,
+    /// Settings pinned for every pair (a pair's own entry wins).
+    pub default: PinnedSettings,
+    /// Settings pinned per ordered type pair.
+    pub pairs: BTreeMap<TypePair, PinnedSettings>,
     /// Ordered type pairs that never get relations.
     pub ignored: BTreeSet<TypePair>,
     /// A cell is critical only if at least this many demonstrations visit it, whatever θ says.
@@ -75,7 +160,7 @@ pub struct LearnConfig {
 impl Default for LearnConfig {
     fn default() -> Self {
         LearnConfig {
-            default: PairSettings::default(),
+            default: PinnedSettings::default(),
             pairs: BTreeMap::new(),
             ignored: BTreeSet::new(),
             min_support: 3,
@@ -90,10 +175,13 @@ impl Default for LearnConfig {
 pub const MIN_SAMPLES_PER_REGION: usize = 50;
 
 impl LearnConfig {
-    /// The settings of an ordered pair: its own entry, else the entry of the reversed pair, else the default.
-    pub fn settings(&self, pair: &TypePair) -> &PairSettings {
+    /// The settings pinned for an ordered pair: its own entry (else the reversed pair's) over the default.
+    pub fn pinned(&self, pair: &TypePair) -> PinnedSettings {
         let reversed = TypePair::new(pair.secondary.clone(), pair.primary.clone());
-        self.pairs.get(pair).or_else(|| self.pairs.get(&reversed)).unwrap_or(&self.default)
+        match self.pairs.get(pair).or_else(|| self.pairs.get(&reversed)) {
+            Some(own) => own.over(&self.default),
+            None => self.default.clone(),
+        }
     }
 
     /// Whether a pair (in either order) is ignored.
@@ -127,23 +215,25 @@ impl LearnConfig {
     }
 }
 
-fn validate_pair(name: &str, settings: &PairSettings) -> Result<(), LearnError> {
+fn validate_pair(name: &str, settings: &PinnedSettings) -> Result<(), LearnError> {
     let fail = |reason: &str| {
         Err(LearnError::BadSetting { pair: name.to_string(), reason: reason.to_string() })
     };
-    if settings.position_bins.contains(&0) || settings.rotation_bins == 0 {
+    if settings.position_bins.is_some_and(|bins| bins.contains(&0))
+        || settings.rotation_bins == Some(0)
+    {
         return fail("every bin count must be at least 1");
     }
-    if !settings.half_range.iter().all(|r| r.is_finite() && *r > 0.0) {
+    if settings.half_range.is_some_and(|range| !range.iter().all(|r| r.is_finite() && *r > 0.0)) {
         return fail("half-ranges must be positive");
     }
-    if !(settings.threshold > 0.0 && settings.threshold <= 1.0) {
+    if settings.threshold.is_some_and(|threshold| !(threshold > 0.0 && threshold <= 1.0)) {
         return fail("the threshold θ must be in (0, 1]");
     }
-    if settings.max_components == 0 {
+    if settings.max_components == Some(0) {
         return fail("at least one mixture component is needed");
     }
-    if !(settings.cover > 0.0 && settings.cover <= 1.0) {
+    if settings.cover.is_some_and(|cover| !(cover > 0.0 && cover <= 1.0)) {
         return fail("the cover fraction must be in (0, 1]");
     }
     Ok(())
@@ -157,20 +247,30 @@ mod tests {
     fn defaults_are_valid_and_bad_values_are_rejected() {
         let mut config = LearnConfig::default();
         assert_eq!(config.validate(), Ok(()));
-        config.default.threshold = 0.0;
+        config.default.threshold = Some(0.0);
         assert!(config.validate().is_err());
-        config.default.threshold = 1.0;
+        config.default.threshold = Some(1.0);
         assert_eq!(config.validate(), Ok(()));
-        config.default.half_range[1] = -1.0;
+        config.default.half_range = Some([0.1, -1.0, 0.1]);
         assert!(config.validate().is_err());
     }
 
     #[test]
     fn settings_fall_back_to_the_reversed_pair_then_the_default() {
         let mut config = LearnConfig::default();
-        let special = PairSettings { threshold: 0.3, ..PairSettings::default() };
+        config.default.rotation_bins = Some(21);
+        let special = PinnedSettings { threshold: Some(0.3), ..PinnedSettings::default() };
         config.pairs.insert(TypePair::new("surface", "can"), special);
-        assert_eq!(config.settings(&TypePair::new("can", "surface")).threshold, 0.3);
-        assert_eq!(config.settings(&TypePair::new("gripper", "can")).threshold, 0.5);
+        let surface_can = config.pinned(&TypePair::new("can", "surface"));
+        assert_eq!((surface_can.threshold, surface_can.rotation_bins), (Some(0.3), Some(21)));
+        let gripper_can = config.pinned(&TypePair::new("gripper", "can"));
+        assert_eq!((gripper_can.threshold, gripper_can.rotation_bins), (None, Some(21)));
+        assert!(gripper_can.leaves_a_choice());
+        let all = PinnedSettings::from(PairSettings::DEFAULT);
+        assert!(!all.leaves_a_choice());
+        assert_eq!(
+            all.resolve(&PairSettings { threshold: 0.9, ..PairSettings::DEFAULT }),
+            PairSettings::DEFAULT
+        );
     }
 }

@@ -144,6 +144,7 @@ mod tests {
         Grid::new(&PairSettings {
             position_bins: [4, 4, 2],
             half_range: [0.2, 0.2, 0.1],
+            rotation_bins: 24,
             ..PairSettings::default()
         })
     }

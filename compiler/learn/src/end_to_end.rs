@@ -96,8 +96,8 @@ fn without_shapes_every_auto_side_is_on() {
 fn settings_on_and_off_override_the_shapes_and_the_report_says_so() {
     let mut config = packing_config();
     let surface_can = config.pairs.get_mut(&TypePair::new("surface", "can")).expect("configured");
-    surface_can.clear = Switch::On;
-    surface_can.nowhere = Switch::Off;
+    surface_can.clear = Some(Switch::On);
+    surface_can.nowhere = Some(Switch::Off);
     let demonstrations = packing_demonstrations(DEMONSTRATIONS, DEMONSTRATION_SEED);
     let model = learn(&demonstrations, &config, &packing_shapes()).expect("learns");
     let names: Vec<String> = model.predicates().into_iter().map(|p| p.name).collect();

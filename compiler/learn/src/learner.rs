@@ -21,6 +21,7 @@ use crate::occupancy::Occupancy;
 use crate::pairs;
 use crate::regions::{self, RegionCells};
 use crate::relations::PairVocabulary;
+use crate::selection::{self, Selection, Track, TrackFrame};
 
 /// Where a region came from and what it looks like.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,6 +53,8 @@ pub struct PairRegions {
     pub pair: TypePair,
     /// Its settings.
     pub settings: PairSettings,
+    /// How the settings the spec left out were chosen; `None` when every one was pinned.
+    pub selection: Option<Selection>,
     /// Its discretisation.
     pub grid: Grid,
     /// The number of demonstrations in which the pair occurs (the denominator of criticality).
@@ -159,9 +162,24 @@ fn find_regions(
     pair: &TypePair,
     primary_moves: bool,
 ) -> PairRegions {
-    let settings = config.settings(pair).clone();
-    let grid = Grid::new(&settings);
     let type_pairs = [pair.clone()];
+    let pinned = config.pinned(pair);
+    let selection = pinned.leaves_a_choice().then(|| {
+        let tracks = tracks(demonstrations, &type_pairs);
+        let occurring = tracks.iter().map(|track| track.demonstration).collect::<BTreeSet<_>>();
+        selection::select(
+            &pinned,
+            &tracks,
+            occurring.len(),
+            config.min_support,
+            config.rotation_share,
+        )
+    });
+    let settings = match &selection {
+        Some(selection) => selection.settings.clone(),
+        None => pinned.resolve(&PairSettings::DEFAULT),
+    };
+    let grid = Grid::new(&settings);
     let mut occupancy = Occupancy::default();
     let mut observations = Vec::new();
     for (index, demonstration) in demonstrations.iter().enumerate() {
@@ -182,8 +200,12 @@ fn find_regions(
         }
         occupancy.add_demonstration(visited);
     }
-    let critical =
+    let mut critical =
         occupancy.critical(settings.threshold, config.min_support, config.rotation_share);
+    if let Some(selection) = &selection {
+        // Chosen settings make regions only where demonstrations stop or change contact.
+        critical.retain(|cell, _| selection.learns_regions() && selection.cells.contains(cell));
+    }
     let regions = regions::components(&critical)
         .into_iter()
         .map(|cells| {
@@ -194,10 +216,46 @@ fn find_regions(
     PairRegions {
         pair: pair.clone(),
         settings,
+        selection,
         grid,
         demonstrations: occupancy.demonstrations(),
         regions,
     }
+}
+
+/// Every participant pair's relative motion through every demonstration, with held flags and contact changes.
+fn tracks(demonstrations: &[Demonstration], type_pairs: &[TypePair]) -> Vec<Track> {
+    let mut tracks = Vec::new();
+    for (index, demonstration) in demonstrations.iter().enumerate() {
+        let held: Vec<BTreeSet<usize>> = demonstration
+            .steps
+            .iter()
+            .map(|snapshot| snapshot.held.iter().map(|(_, object)| *object).collect())
+            .collect();
+        for instance in pairs::instances(type_pairs, &demonstration.participants) {
+            let changed = |step: usize, participant: usize| {
+                step > 0
+                    && held[step].contains(&participant) != held[step - 1].contains(&participant)
+            };
+            let frames = demonstration
+                .steps
+                .iter()
+                .enumerate()
+                .map(|(step, snapshot)| TrackFrame {
+                    g: pairs::held_flag(snapshot, instance),
+                    pose: pairs::relative_pose(snapshot, instance),
+                    contact: changed(step, instance.primary) || changed(step, instance.secondary),
+                })
+                .collect();
+            tracks.push(Track {
+                demonstration: index,
+                primary: instance.primary,
+                secondary: instance.secondary,
+                frames,
+            });
+        }
+    }
+    tracks
 }
 
 fn summarise(
@@ -311,7 +369,7 @@ mod tests {
     fn a_pair_seen_in_no_demonstration_window_has_no_regions() {
         let mut config = packing_config();
         config.pairs.get_mut(&TypePair::new("surface", "can")).expect("configured").half_range =
-            [0.001; 3];
+            Some([0.001; 3]);
         let induced =
             induce(&packing_demonstrations(20, 5), &config, &NoShapes, cells).expect("learns");
         assert_eq!(induced.empty_pairs, vec![TypePair::new("surface", "can")]);

@@ -1,7 +1,7 @@
 //! lamp-learn: demonstrations in memory become a learned planning model.
 //!
 //! The pipeline, one module per stage: [`pairs`] (which type pairs, relative poses, held flag) →
-//! [`discretise`] (voxels and rotation cells) → [`occupancy`] (criticality) → [`regions`] (connected components) →
+//! [`selection`] (the settings a spec leaves out, chosen from the demonstrations' keyframes) → [`discretise`] (voxels and rotation cells) → [`occupancy`] (criticality) → [`regions`] (connected components) →
 //! [`capacity`] (which regions get clear and nowhere relations) → [`region_model`] (a membership test and generator per
 //! region) → [`relations`] (the vocabulary) → [`abstraction`] (states to facts)
 //! → [`actions`] (induced operators) → [`emit`] (PDDL) and [`report`] (Markdown).
@@ -30,13 +30,14 @@ pub mod region_model;
 pub mod regions;
 pub use lamp_abstraction::relations;
 pub mod report;
+pub mod selection;
 pub mod synthetic;
 
 pub use abstraction::{CellClassifier, GroundAtom, RegionClassifier};
 pub use actions::{Action, LiftedAtom, Parameter, TransitionRef};
 pub use artifact::{SAMPLER_ARTIFACT_VERSION, SamplerArtifact};
 pub use capacity::{NoShapes, RegionSides, ShapeOracle, Side, SideReason};
-pub use config::{LearnConfig, PairSettings, Switch, TypePair};
+pub use config::{LearnConfig, PairSettings, PinnedSettings, Switch, TypePair};
 pub use demo::{Demonstration, Participant, Pose, Role, Snapshot};
 pub use emit::{domain, domain_text, ground_atoms};
 pub use error::LearnError;
@@ -44,5 +45,7 @@ pub use lamp_abstraction::AbstractionError;
 pub use learner::{PairRegions, RegionSummary};
 pub use model::{LearnedPair, Model, Region, abstract_state, learn};
 pub use report::vocabulary_report;
+#[cfg(test)]
+mod chosen_settings;
 #[cfg(test)]
 mod end_to_end;

@@ -76,7 +76,13 @@ mod tests {
     const SAMPLES: usize = 400;
 
     fn pair_with(cells: RegionCells) -> PairRegions {
-        let settings = PairSettings::default();
+        let settings = PairSettings {
+            position_bins: [16; 3],
+            half_range: [0.2; 3],
+            rotation_bins: 24,
+            max_components: 4,
+            ..PairSettings::DEFAULT
+        };
         let summary = RegionSummary {
             g: cells.g,
             cells,
@@ -92,6 +98,7 @@ mod tests {
             pair: TypePair::new("surface", "can"),
             grid: Grid::new(&settings),
             settings,
+            selection: None,
             demonstrations: 1,
             regions: vec![summary],
         }

@@ -6,6 +6,7 @@ use crate::actions::Action;
 use crate::capacity::SideReason;
 use crate::learner::RegionSummary;
 use crate::model::{LearnedPair, Model, Region};
+use crate::selection::Selection;
 
 /// Transitions listed per action before the rest are summarised as a count.
 const LISTED_TRANSITIONS: usize = 12;
@@ -68,6 +69,9 @@ fn pair_section(out: &mut String, learned: &LearnedPair) {
         settings.cover,
         pair.demonstrations
     );
+    if let Some(selection) = &pair.selection {
+        selection_section(out, selection);
+    }
     let _ = writeln!(
         out,
         "| relation | g | centre | spread | representative pose (xyz; roll pitch yaw) | cells | components | demonstrations | time steps |"
@@ -87,6 +91,72 @@ fn pair_section(out: &mut String, learned: &LearnedPair) {
         let _ = writeln!(out, "{}", side_line(primary, secondary, region, false));
     }
     let _ = writeln!(out);
+}
+
+/// What the selection chose for a pair and the evidence that chose it, so that a user can pin it.
+fn selection_section(out: &mut String, selection: &Selection) {
+    let chosen = selection.chosen;
+    let names: Vec<&str> = [
+        (chosen.position_bins, "position bins"),
+        (chosen.half_range, "range"),
+        (chosen.rotation_bins, "rotation bins"),
+        (chosen.threshold, "threshold"),
+    ]
+    .into_iter()
+    .filter_map(|(was_chosen, name)| was_chosen.then_some(name))
+    .collect();
+    let settings = &selection.settings;
+    let [x, y, z] = settings.half_range;
+    let [nx, ny, nz] = settings.position_bins;
+    let _ = writeln!(
+        out,
+        "Chosen from the demonstrations: {} (to pin them: `position bins ({nx}, {ny}, {nz}) range ({x:.4}, {y:.4}, {z:.4}) m  rotation bins {}  threshold {:.4}`).",
+        names.join(", "),
+        settings.rotation_bins,
+        settings.threshold
+    );
+    let _ = writeln!(
+        out,
+        "{} keyframes (still: under {:.2} mm and {:.3}° a step); {} groups kept, {} left out for too little support; least margin of a group from its cell's edges per axis {:.2}, {:.2}, {:.2} of a cell.
+",
+        selection.keyframes,
+        selection.stillness.position * 1000.0,
+        selection.stillness.rotation.to_degrees(),
+        selection.groups.len(),
+        selection.dropped,
+        selection.margins[0],
+        selection.margins[1],
+        selection.margins[2]
+    );
+    if selection.groups.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "| group | g | demonstrations | keyframes | scale | centre | extent | cell share |"
+    );
+    let _ = writeln!(out, "| --- | --- | --- | --- | --- | --- | --- | --- |");
+    for (index, group) in selection.groups.iter().enumerate() {
+        let extent: Vec<String> =
+            (0..3).map(|axis| format!("{:.4}", group.high[axis] - group.low[axis])).collect();
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} | {:.0} mm | {} | {} | {:.3} |",
+            index + 1,
+            group.g,
+            group.demonstrations,
+            group.keyframes,
+            group.scale * 1000.0,
+            vector(&group.centre),
+            extent.join(", "),
+            group.share
+        );
+    }
+    let _ = writeln!(out);
+}
+
+fn vector(values: &[f64; 3]) -> String {
+    format!("{:.4}, {:.4}, {:.4}", values[0], values[1], values[2])
 }
 
 /// What one side's relation of a region means (`clear_…` when `clear`, else `nowhere_…`), or why it does not exist.

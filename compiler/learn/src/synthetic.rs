@@ -154,8 +154,10 @@ pub fn packing_config() -> LearnConfig {
             half_range: [0.3; 3],
             threshold: 0.4,
             rotation_bins: 25,
+            max_components: 4,
             ..PairSettings::default()
-        },
+        }
+        .into(),
     );
     config.pairs.insert(
         TypePair::new("surface", "can"),
@@ -164,8 +166,10 @@ pub fn packing_config() -> LearnConfig {
             half_range: [0.1; 3],
             threshold: 0.4,
             rotation_bins: 25,
+            max_components: 4,
             ..PairSettings::default()
-        },
+        }
+        .into(),
     );
     config.ignored.insert(TypePair::new("gripper", "surface"));
     config
@@ -193,4 +197,121 @@ impl ShapeOracle for DiscShapes {
 /// (5.7 cm apart), and a box 30 cm across, of which a can is in one at a time.
 pub fn packing_shapes() -> DiscShapes {
     DiscShapes { radii: vec![("can".into(), 0.025), ("surface".into(), 0.15)] }
+}
+
+/// A place-on-target task with answers known in advance, for the selection's tests: a free-flying gripper takes
+/// a block from a random spot on a ring around a fixed target, carries it through one waypoint high above the
+/// target (in every demonstration), lowers it onto one of `spots` (offsets in the target's frame, taken in
+/// turn) and lets go. Every recorded pose is disturbed by up to `noise` (m) and `noise / 2` (rad), as a
+/// motion-capture system would; half of the demonstrations stop at a random step.
+#[derive(Debug, Clone)]
+pub struct PlaceTask {
+    /// Resting offsets of the block in the target's frame.
+    pub spots: Vec<[f64; 3]>,
+    /// Tracking noise: the most a recorded position is off (m); rotations are off by half as many radians.
+    pub noise: f64,
+}
+
+/// The block's offset below the gripper's frame while held.
+pub const PLACE_GRASP_DEPTH: f64 = 0.1;
+/// The waypoint every carry passes, in the target's frame.
+pub const PLACE_WAYPOINT: [f64; 3] = [0.0, 0.0, 0.3];
+
+/// `count` demonstrations of a [`PlaceTask`] from one seed.
+pub fn place_demonstrations(task: &PlaceTask, count: usize, seed: u64) -> Vec<Demonstration> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..count).map(|index| place_demonstration(task, index, &mut rng)).collect()
+}
+
+fn place_demonstration(task: &PlaceTask, index: usize, rng: &mut ChaCha8Rng) -> Demonstration {
+    let participants = vec![
+        Participant {
+            name: "gripper1".into(),
+            type_name: "gripper".into(),
+            role: Role::RobotPart { gripper: true },
+        },
+        Participant {
+            name: "block1".into(),
+            type_name: "block".into(),
+            role: Role::Object { movable: true },
+        },
+        Participant {
+            name: "target1".into(),
+            type_name: "target".into(),
+            role: Role::Object { movable: false },
+        },
+    ];
+    let target = Pose::identity();
+    let angle = rng.random_range(-PI..PI);
+    let radius = rng.random_range(0.4..0.6);
+    let start = Pose::from_parts(
+        Translation3::new(radius * angle.cos(), radius * angle.sin(), 0.0),
+        yaw(rng.random_range(-PI..PI)),
+    );
+    // Pairs of demonstrations (one whole, one cut) share a spot, so every spot is reached as often.
+    let spot = task.spots[(index / 2) % task.spots.len()];
+    let placed = Pose::from_parts(
+        Translation3::new(
+            spot[0] + rng.random_range(-0.001..0.001),
+            spot[1] + rng.random_range(-0.001..0.001),
+            spot[2],
+        ),
+        yaw(rng.random_range(-0.02..0.02)),
+    );
+    let grasp = Pose::translation(0.0, 0.0, PLACE_GRASP_DEPTH);
+    let home = Pose::translation(rng.random_range(-0.2..0.2), rng.random_range(-0.2..0.2), 0.6);
+    let waypoint = Pose::translation(PLACE_WAYPOINT[0], PLACE_WAYPOINT[1], PLACE_WAYPOINT[2]);
+    // (gripper, block, held) per step, before noise.
+    let mut script: Vec<(Pose, Pose, bool)> = Vec::new();
+    let rest = |script: &mut Vec<(Pose, Pose, bool)>, frames: usize| {
+        let last = *script.last().expect("a first step");
+        script.extend(std::iter::repeat_n(last, frames));
+    };
+    script.push((home, start, false));
+    rest(&mut script, 3);
+    let above_start = Pose::translation(0.0, 0.0, 0.2) * start * grasp;
+    for gripper in interpolate(&home, &above_start, 6) {
+        script.push((gripper, start, false));
+    }
+    for gripper in interpolate(&above_start, &(start * grasp), 5) {
+        script.push((gripper, start, false));
+    }
+    rest(&mut script, 2);
+    script.push((start * grasp, start, true));
+    let lifted = Pose::translation(0.0, 0.0, 0.2) * start;
+    let mut carried = interpolate(&start, &lifted, 4);
+    carried.extend(interpolate(&lifted, &waypoint, 8));
+    carried.extend(interpolate(&waypoint, &placed, 12));
+    for block in carried {
+        script.push((block * grasp, block, true));
+    }
+    script.push((placed * grasp, placed, false));
+    rest(&mut script, 3);
+    for gripper in interpolate(&(placed * grasp), &home, 6) {
+        script.push((gripper, placed, false));
+    }
+    rest(&mut script, 3);
+    if index % 2 == 1 {
+        let keep = rng.random_range(2..script.len());
+        script.truncate(keep);
+    }
+    let mut disturb = |pose: Pose| {
+        if task.noise == 0.0 {
+            return pose;
+        }
+        let shift = Vector3::from_fn(|_, _| rng.random_range(-task.noise..task.noise));
+        let turn = Vector3::from_fn(|_, _| rng.random_range(-task.noise..task.noise) / 2.0);
+        Pose::from_parts(
+            Translation3::from(pose.translation.vector + shift),
+            UnitQuaternion::from_scaled_axis(turn) * pose.rotation,
+        )
+    };
+    let steps = script
+        .into_iter()
+        .map(|(gripper, block, held)| Snapshot {
+            poses: vec![disturb(gripper), disturb(block), disturb(target)],
+            held: if held { vec![(0, 1)] } else { vec![] },
+        })
+        .collect();
+    Demonstration { id: format!("place-{index:03}"), participants, steps }
 }

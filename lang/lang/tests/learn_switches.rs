@@ -11,13 +11,10 @@ fn with(from: &str, to: &str) -> String {
 }
 
 #[test]
-fn switches_default_to_auto_and_take_on_off_and_auto_per_block() {
+fn switches_left_out_are_not_given_and_take_on_off_and_auto_per_block() {
     let outcome = check(VALID);
     let spec = outcome.spec.expect("the valid spec checks");
-    assert_eq!(
-        (spec.learning.defaults.clear, spec.learning.defaults.nowhere),
-        (Switch::Auto, Switch::Auto)
-    );
+    assert_eq!((spec.learning.defaults.clear, spec.learning.defaults.nowhere), (None, None));
 
     let source = with(
         "  threshold 0.5\n  pair gripper can { position bins (9, 9, 9) range (0.3, 0.3, 0.3) m }",
@@ -26,12 +23,12 @@ fn switches_default_to_auto_and_take_on_off_and_auto_per_block() {
     let outcome = check(&source);
     let spec = outcome.spec.unwrap_or_else(|| panic!("{}", render(&check(&source))));
     let learning = &spec.learning;
-    assert_eq!((learning.defaults.clear, learning.defaults.nowhere), (Switch::Off, Switch::Auto));
+    assert_eq!((learning.defaults.clear, learning.defaults.nowhere), (Some(Switch::Off), None));
     let gripper_can = learning.settings("gripper", "can");
-    assert_eq!((gripper_can.clear, gripper_can.nowhere), (Switch::Auto, Switch::On));
-    // An override inherits the block's defaults for what it does not say.
+    assert_eq!((gripper_can.clear, gripper_can.nowhere), (Some(Switch::Auto), Some(Switch::On)));
+    // An override inherits the block-level settings for what it does not say.
     let surface_can = learning.settings("can", "surface");
-    assert_eq!((surface_can.clear, surface_can.nowhere), (Switch::Off, Switch::Off));
+    assert_eq!((surface_can.clear, surface_can.nowhere), (Some(Switch::Off), Some(Switch::Off)));
 }
 
 #[test]

@@ -1,32 +1,39 @@
-//! Learning settings: defaults, per type-pair overrides and ignored pairs.
+//! Learning settings as the spec writes them: block-level settings, per type-pair overrides and
+//! ignored pairs.
+//!
+//! lamp-spec knows no defaults: a setting the spec leaves out is `None`, and the learner then
+//! chooses it from the demonstrations or takes lamp-learn's one table of defaults (see
+//! `docs/learning.md`).
 
 use std::collections::{BTreeMap, BTreeSet};
 
 /// An ordered pair of type names: (primary, secondary).
 pub type TypePair = (String, String);
 
-/// Discretisation and model settings for one type pair.
-#[derive(Clone, Debug, PartialEq)]
+/// Discretisation and model settings for one type pair, each `None` where the spec leaves it out
+/// (the learner then chooses it from the demonstrations or takes lamp-learn's default; see
+/// `docs/learning.md`).
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct PairSettings {
     /// Voxel counts along x, y, z of the relative position.
-    pub position_bins: [u32; 3],
+    pub position_bins: Option<[u32; 3]>,
     /// Half-ranges (metres) of the relative position along x, y, z.
-    pub position_range: [f64; 3],
+    pub position_range: Option<[f64; 3]>,
     /// Bins per rotation component.
-    pub rotation_bins: u32,
+    pub rotation_bins: Option<u32>,
     /// Criticality threshold θ ∈ (0, 1]: fraction of demonstrations that must visit a cell.
-    pub threshold: f64,
+    pub threshold: Option<f64>,
     /// Upper bound on Gaussian components per region (BIC chooses up to this).
-    pub max_components: u32,
+    pub max_components: Option<u32>,
     /// Fraction of a region's own samples the membership threshold must accept.
-    pub likelihood_cover: f64,
+    pub likelihood_cover: Option<f64>,
     /// Whether `clear_<t1>_<t2>_<k>(x)` relations ("no t2 in region k of x") are invented. `auto`
-    /// (the default) leaves them out of the regions where two t2 fit at once (a box holding cans),
-    /// where "region k is empty" would wrongly become a precondition of putting one more in.
-    pub clear: Switch,
+    /// leaves them out of the regions where two t2 fit at once (a box holding cans), where
+    /// "region k is empty" would wrongly become a precondition of putting one more in.
+    pub clear: Option<Switch>,
     /// Whether `nowhere_<t1>_<t2>_<k>(y)` relations ("y is in region k of no t1") are invented.
-    /// `auto` (the default) leaves them out of the regions where y fits in two t1 at once.
-    pub nowhere: Switch,
+    /// `auto` leaves them out of the regions where y fits in two t1 at once.
+    pub nowhere: Option<Switch>,
 }
 
 /// A relation family's switch: `on`, `off`, or `auto` (decided per region by the shapes).
@@ -40,33 +47,20 @@ pub enum Switch {
     Auto,
 }
 
-impl PairSettings {
-    /// Defaults, taken from the reference implementation's common values.
-    pub const DEFAULT: PairSettings = PairSettings {
-        position_bins: [35, 35, 35],
-        position_range: [0.3, 0.3, 0.3],
-        rotation_bins: 61,
-        threshold: 0.5,
-        max_components: 6,
-        likelihood_cover: 0.99,
-        clear: Switch::Auto,
-        nowhere: Switch::Auto,
-    };
-}
-
-/// The `learn { … }` block with its defaults resolved.
+/// The `learn { … }` block: its settings as written, and the per-pair overrides merged over them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Learning {
-    /// Settings for every pair without an override.
+    /// The block-level settings, as written (for every pair without an override).
     pub defaults: PairSettings,
-    /// Full settings per overridden pair (the override merged over `defaults`).
+    /// Settings per overridden pair: the pair's own settings merged over the block-level ones.
     pub pairs: BTreeMap<TypePair, PairSettings>,
     /// Pairs excluded from learning, in both orders.
     pub ignored_pairs: BTreeSet<TypePair>,
 }
 
 impl Learning {
-    /// The settings for an ordered pair; an override written in either order applies.
+    /// The settings for an ordered pair; an override written in either order applies, else the
+    /// block-level settings.
     pub fn settings(&self, primary: &str, secondary: &str) -> &PairSettings {
         let forward = (primary.to_string(), secondary.to_string());
         let backward = (secondary.to_string(), primary.to_string());

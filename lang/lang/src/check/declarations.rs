@@ -366,7 +366,7 @@ impl Checker<'_> {
         declared: &Declared,
     ) -> Option<lamp_spec::Learning> {
         let errors_before = self.diagnostics.len();
-        let mut defaults = lamp_spec::PairSettings::DEFAULT;
+        let mut defaults = lamp_spec::PairSettings::default();
         let mut pairs = BTreeMap::new();
         let mut ignored = BTreeSet::new();
         let mut block_seen = None;
@@ -463,7 +463,7 @@ impl Checker<'_> {
                     if self.once(&mut seen.threshold, "`threshold`", *span)
                         && let Some(v) = self.fraction_open(value, "the threshold θ")
                     {
-                        out.threshold = v;
+                        out.threshold = Some(v);
                     }
                 }
                 LearnItem::Position { bins, range, span } => {
@@ -474,12 +474,18 @@ impl Checker<'_> {
                                 at,
                             }));
                         }
+                        let mut position_bins = [0; 3];
+                        let mut every_axis = true;
                         for (axis, (value, number_span)) in
                             bins.values.iter().zip(bins.number_spans).enumerate()
                         {
-                            if let Some(v) = self.whole(*value, number_span, "a bin count", 1) {
-                                out.position_bins[axis] = v;
+                            match self.whole(*value, number_span, "a bin count", 1) {
+                                Some(v) => position_bins[axis] = v,
+                                None => every_axis = false,
                             }
+                        }
+                        if every_axis {
+                            out.position_bins = Some(position_bins);
                         }
                         if let Some(range) = range
                             && let Some(values) = self.length_vector(range)
@@ -490,7 +496,7 @@ impl Checker<'_> {
                                 "positive along every axis",
                             )
                         {
-                            out.position_range = values;
+                            out.position_range = Some(values);
                         }
                     }
                 }
@@ -498,7 +504,7 @@ impl Checker<'_> {
                     if self.once(&mut seen.rotation, "`rotation`", *span)
                         && let Some(v) = self.count(value, "a bin count", 1)
                     {
-                        out.rotation_bins = v;
+                        out.rotation_bins = Some(v);
                     }
                 }
                 LearnItem::Components(value, span) => {
@@ -506,24 +512,24 @@ impl Checker<'_> {
                         && let Some(v) =
                             self.limited_count(value, "the component cap", &limits::COMPONENTS)
                     {
-                        out.max_components = v;
+                        out.max_components = Some(v);
                     }
                 }
                 LearnItem::Likelihood(value, span) => {
                     if self.once(&mut seen.likelihood, "`likelihood`", *span)
                         && let Some(v) = self.fraction_open(value, "the likelihood cover")
                     {
-                        out.likelihood_cover = v;
+                        out.likelihood_cover = Some(v);
                     }
                 }
                 LearnItem::Clear(switch, span) => {
                     if self.once(&mut seen.clear, "`clear`", *span) {
-                        out.clear = *switch;
+                        out.clear = Some(*switch);
                     }
                 }
                 LearnItem::Nowhere(switch, span) => {
                     if self.once(&mut seen.nowhere, "`nowhere`", *span) {
-                        out.nowhere = *switch;
+                        out.nowhere = Some(*switch);
                     }
                 }
                 LearnItem::Pair { .. } | LearnItem::IgnorePair(..) => {}

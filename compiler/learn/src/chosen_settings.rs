@@ -1,0 +1,142 @@
+//! Settings chosen from the demonstrations (`selection`), end to end on tasks whose answer is known: where a block comes to rest on a target, how many places it
+//! rests in, tracking noise, and a waypoint every carry passes that must not become a region.
+
+use rand_chacha::ChaCha8Rng;
+
+use crate::abstraction::CellClassifier;
+use crate::capacity::NoShapes;
+use crate::config::{LearnConfig, PinnedSettings, TypePair};
+use crate::error::LearnError;
+use crate::learner::{PairRegions, induce};
+use crate::synthetic::{PLACE_GRASP_DEPTH, PLACE_WAYPOINT, PlaceTask, place_demonstrations};
+
+const DEMONSTRATIONS: usize = 40;
+
+fn cells(
+    pair: &PairRegions,
+    index: usize,
+    _: &mut ChaCha8Rng,
+) -> Result<CellClassifier, LearnError> {
+    Ok(CellClassifier { grid: pair.grid.clone(), cells: pair.regions[index].cells.clone() })
+}
+
+fn learn_pairs(task: &PlaceTask, config: &LearnConfig) -> Vec<PairRegions> {
+    let demonstrations = place_demonstrations(task, DEMONSTRATIONS, 5);
+    induce(&demonstrations, config, &NoShapes, cells).expect("learns").pairs
+}
+
+fn pair<'a>(pairs: &'a [PairRegions], stem: &str) -> &'a PairRegions {
+    pairs.iter().find(|p| p.pair.stem() == stem).unwrap_or_else(|| panic!("no {stem} regions"))
+}
+
+/// Whether a region's cells contain a position (m) in the primary's frame.
+fn contains(pair: &PairRegions, region: usize, position: [f64; 3]) -> bool {
+    let pose = crate::demo::Pose::translation(position[0], position[1], position[2]);
+    pair.grid
+        .voxel(&pose)
+        .is_some_and(|voxel| pair.regions[region].cells.voxels.contains_key(&voxel))
+}
+
+#[test]
+fn a_known_resting_offset_becomes_the_one_region_and_the_waypoint_none() {
+    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0 };
+    let pairs = learn_pairs(&task, &LearnConfig::default());
+    let target_block = pair(&pairs, "target_block");
+    assert_eq!(target_block.regions.len(), 1, "{:?}", target_block.selection);
+    let region = &target_block.regions[0];
+    assert_eq!(region.g, 0);
+    assert!(contains(target_block, 0, [0.0, 0.0, 0.05]));
+    assert!((region.centre[2] - 0.05).abs() < 0.002, "{:?}", region.centre);
+    // Every carry passes the waypoint, and more demonstrations pass it than rest on the target.
+    assert!(!contains(target_block, 0, PLACE_WAYPOINT));
+    let selection = target_block.selection.as_ref().expect("chosen");
+    assert_eq!(selection.groups.len(), 1);
+    // The gripper at the grasp, before (g = 0) and while holding (g = 1).
+    let gripper_block = pair(&pairs, "gripper_block");
+    let flags: Vec<u8> = gripper_block.regions.iter().map(|r| r.g).collect();
+    assert_eq!(flags, [0, 1]);
+    for (index, region) in gripper_block.regions.iter().enumerate() {
+        assert!(contains(gripper_block, index, [0.0, 0.0, -PLACE_GRASP_DEPTH]), "{region:?}");
+    }
+}
+
+#[test]
+fn two_resting_places_are_two_regions() {
+    let task = PlaceTask { spots: vec![[0.08, 0.0, 0.05], [-0.08, 0.0, 0.05]], noise: 0.0 };
+    let pairs = learn_pairs(&task, &LearnConfig::default());
+    let target_block = pair(&pairs, "target_block");
+    assert_eq!(target_block.regions.len(), 2, "{:?}", target_block.selection);
+    let mut centres: Vec<f64> = target_block.regions.iter().map(|r| r.centre[0]).collect();
+    centres.sort_by(f64::total_cmp);
+    assert!((centres[0] + 0.08).abs() < 0.002 && (centres[1] - 0.08).abs() < 0.002, "{centres:?}");
+}
+
+#[test]
+fn tracking_noise_leaves_the_regions_as_they_were() {
+    let clean = learn_pairs(
+        &PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0 },
+        &LearnConfig::default(),
+    );
+    let noisy = learn_pairs(
+        &PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.001 },
+        &LearnConfig::default(),
+    );
+    let shape = |pairs: &[PairRegions]| -> Vec<(String, Vec<u8>)> {
+        pairs.iter().map(|p| (p.pair.stem(), p.regions.iter().map(|r| r.g).collect())).collect()
+    };
+    assert_eq!(shape(&noisy), shape(&clean));
+    let target_block = pair(&noisy, "target_block");
+    assert!(contains(target_block, 0, [0.0, 0.0, 0.05]));
+    assert!((target_block.regions[0].centre[2] - 0.05).abs() < 0.003);
+    let selection = target_block.selection.as_ref().expect("chosen");
+    assert!(selection.stillness.position > 0.001, "{:?}", selection.stillness);
+}
+
+#[test]
+fn pinned_settings_are_kept_and_the_rest_chosen_around_them() {
+    let mut config = LearnConfig::default();
+    config.pairs.insert(
+        TypePair::new("target", "block"),
+        PinnedSettings {
+            rotation_bins: Some(5),
+            half_range: Some([0.2; 3]),
+            ..PinnedSettings::default()
+        },
+    );
+    let pairs = learn_pairs(&PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0 }, &config);
+    let target_block = pair(&pairs, "target_block");
+    assert_eq!(
+        (target_block.settings.rotation_bins, target_block.settings.half_range),
+        (5, [0.2; 3])
+    );
+    let chosen = target_block.selection.as_ref().expect("chosen").chosen;
+    assert!(
+        chosen.position_bins && chosen.threshold && !chosen.rotation_bins && !chosen.half_range
+    );
+    assert!(contains(target_block, 0, [0.0, 0.0, 0.05]));
+}
+
+#[test]
+fn the_selection_is_deterministic() {
+    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.001 };
+    let first = learn_pairs(&task, &LearnConfig::default());
+    let second = learn_pairs(&task, &LearnConfig::default());
+    assert_eq!(first, second);
+}
+
+#[test]
+fn the_report_says_what_was_chosen_and_how_to_pin_it() {
+    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0 };
+    let demonstrations = place_demonstrations(&task, DEMONSTRATIONS, 5);
+    let model = crate::learn(
+        &demonstrations,
+        &LearnConfig { seed: 3, ..LearnConfig::default() },
+        &NoShapes,
+    )
+    .expect("learns");
+    let report = crate::vocabulary_report(&model);
+    assert!(report.contains("Chosen from the demonstrations: position bins, range, rotation bins, threshold (to pin them: `position bins ("), "{report}");
+    assert!(report.contains(
+        "| group | g | demonstrations | keyframes | scale | centre | extent | cell share |"
+    ));
+}

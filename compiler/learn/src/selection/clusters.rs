@@ -1,0 +1,175 @@
+//! Clusters of keyframe positions that stay the same over a range of scales.
+//!
+//! Single-linkage clustering at scales from [`FINEST_SCALE`] up, doubling [`SCALES`] times. A cluster found at
+//! one scale is kept when, two doublings coarser (a fourfold scale change), it has gained at most
+//! [`STABLE_GROWTH`] more keyframes: it is separated from everything else by a gap four times wider than the
+//! links inside it. Scales are tried from fine to coarse and a keyframe joins at most one cluster, so the
+//! tightest separated groups are found first. A cluster needs keyframes from at least the minimum support of
+//! demonstrations.
+
+use std::collections::BTreeSet;
+
+/// The finest scale (m): a millimetre, below what a robot's placements repeat to.
+pub const FINEST_SCALE: f64 = 0.001;
+/// Scales tried: 1 mm to 128 mm.
+pub const SCALES: usize = 8;
+/// Doublings between a scale and the scale its cluster must survive to.
+pub const STABLE_DOUBLINGS: u32 = 2;
+/// The share of keyframes a cluster may gain over a fourfold coarsening and still be the same cluster.
+pub const STABLE_GROWTH: f64 = 0.1;
+
+/// A cluster: the indices of its points, sorted, and the scale it was found at.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cluster {
+    /// Indices into the clustered points.
+    pub members: Vec<usize>,
+    /// The scale (m) at which it separated.
+    pub scale: f64,
+}
+
+/// The stable clusters of `points`; `demonstration[i]` says which demonstration point `i` came from.
+pub fn stable_clusters(
+    points: &[[f64; 3]],
+    demonstration: &[usize],
+    min_support: usize,
+) -> Vec<Cluster> {
+    if points.len() < min_support.max(2) {
+        return Vec::new();
+    }
+    let tree = minimum_spanning_tree(points);
+    let labels: Vec<Vec<usize>> = (0..SCALES + STABLE_DOUBLINGS as usize)
+        .map(|rung| components(points.len(), &tree, scale(rung)))
+        .collect();
+    let mut taken = vec![false; points.len()];
+    let mut found = Vec::new();
+    for rung in 0..SCALES {
+        let fine = &labels[rung];
+        let coarse = &labels[rung + STABLE_DOUBLINGS as usize];
+        let roots: BTreeSet<usize> =
+            (0..points.len()).filter(|&i| !taken[i]).map(|i| fine[i]).collect();
+        for root in roots {
+            let members: Vec<usize> = (0..points.len()).filter(|&i| fine[i] == root).collect();
+            if members.iter().any(|&i| taken[i]) {
+                continue;
+            }
+            let support: BTreeSet<usize> = members.iter().map(|&i| demonstration[i]).collect();
+            if support.len() < min_support {
+                continue;
+            }
+            let grown = coarse.iter().filter(|&&label| label == coarse[members[0]]).count();
+            if grown as f64 <= (1.0 + STABLE_GROWTH) * members.len() as f64 {
+                for &i in &members {
+                    taken[i] = true;
+                }
+                found.push(Cluster { members, scale: scale(rung) });
+            }
+        }
+    }
+    found
+}
+
+fn scale(rung: usize) -> f64 {
+    FINEST_SCALE * f64::from(1u32 << rung)
+}
+
+/// The edges `(a, b, length)` of a Euclidean minimum spanning tree, by Prim's algorithm (quadratic, no index).
+fn minimum_spanning_tree(points: &[[f64; 3]]) -> Vec<(usize, usize, f64)> {
+    let distance = |a: &[f64; 3], b: &[f64; 3]| {
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+    };
+    let n = points.len();
+    let mut in_tree = vec![false; n];
+    let mut best = vec![(f64::INFINITY, 0usize); n];
+    let mut edges = Vec::with_capacity(n.saturating_sub(1));
+    let mut current = 0;
+    in_tree[0] = true;
+    for _ in 1..n {
+        let mut next = None;
+        for i in 0..n {
+            if in_tree[i] {
+                continue;
+            }
+            let d = distance(&points[current], &points[i]);
+            if d < best[i].0 {
+                best[i] = (d, current);
+            }
+            if next.is_none_or(|j: usize| best[i].0 < best[j].0) {
+                next = Some(i);
+            }
+        }
+        let Some(chosen) = next else { break };
+        in_tree[chosen] = true;
+        edges.push((best[chosen].1, chosen, best[chosen].0));
+        current = chosen;
+    }
+    edges
+}
+
+/// Component labels (the smallest member index) of the tree's edges no longer than `scale`.
+fn components(n: usize, tree: &[(usize, usize, f64)], scale: f64) -> Vec<usize> {
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for &(a, b, length) in tree {
+        if length <= scale {
+            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+            let (low, high) = (ra.min(rb), ra.max(rb));
+            parent[high] = low;
+        }
+    }
+    (0..n).map(|i| root(&mut parent, i)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn two_tight_groups_far_apart_are_two_clusters() {
+        let mut points = Vec::new();
+        let mut demos = Vec::new();
+        for d in 0..10 {
+            let jitter = d as f64 * 1e-4;
+            points.push([jitter, 0.0, 0.0]);
+            points.push([0.3 + jitter, 0.0, 0.0]);
+            demos.extend([d, d]);
+        }
+        let found = stable_clusters(&points, &demos, 3);
+        assert_eq!(found.len(), 2);
+        assert_eq!(found[0].members, (0..20).step_by(2).collect::<Vec<_>>());
+        assert_eq!(found[0].scale, FINEST_SCALE);
+    }
+
+    #[test]
+    fn a_group_is_kept_only_at_a_scale_where_it_stops_growing() {
+        // Ten keyframes within half a millimetre and a trail of four at 2.5 mm spacing beside them: at 1 and
+        // 2 mm the group would still gain the trail four times coarser, so it is taken at 4 mm, trail and all.
+        let mut points: Vec<[f64; 3]> = (0..10).map(|i| [i as f64 * 5e-5, 0.0, 0.0]).collect();
+        points.extend((1..=4).map(|i| [i as f64 * 0.0025, 0.0, 0.0]));
+        let demos: Vec<usize> = (0..14).collect();
+        let found = stable_clusters(&points, &demos, 3);
+        assert_eq!(found.len(), 1);
+        assert_eq!((found[0].members.len(), found[0].scale), (14, 0.004));
+    }
+
+    #[test]
+    fn a_group_from_too_few_demonstrations_is_no_cluster() {
+        let points = vec![[0.0; 3], [0.0001, 0.0, 0.0], [0.0002, 0.0, 0.0]];
+        assert!(stable_clusters(&points, &[0, 0, 1], 3).is_empty());
+        assert_eq!(stable_clusters(&points, &[0, 1, 2], 3).len(), 1);
+    }
+
+    #[test]
+    fn the_tree_joins_every_point_with_the_shortest_links() {
+        let points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [1.0, 0.5, 0.0]];
+        let tree = minimum_spanning_tree(&points);
+        let total: f64 = tree.iter().map(|e| e.2).sum();
+        assert!((total - (1.0 + 0.5 + (1.0f64 + 1.5 * 1.5).sqrt())).abs() < 1e-12, "{tree:?}");
+        assert_eq!(components(4, &tree, 0.6), [0, 1, 2, 1]);
+    }
+}

@@ -1,0 +1,169 @@
+//! A grid, rotation bins and a threshold that keep each selected cluster whole.
+//!
+//! Per position axis: the finest grid over a symmetric range in which every cluster, padded, lies inside one
+//! cell, at least [`MIN_MARGIN`] of a cell from its edges, so that a pose a little off the demonstrated ones
+//! still falls in the same cell. The range is the clusters' extent, widened by up to [`RANGE_SLACK`] where
+//! that lets the edges fall between clusters or away from them.
+//!
+//! Rotation: the largest odd bin count (an odd count puts "not turned" mid-cell) at which the rotation cells
+//! that learning keeps in a voxel, those holding at least the rotation share of its demonstrations, still hold
+//! all but that share of every cluster's keyframes.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use crate::config::PairSettings;
+use crate::demo::Pose;
+use crate::discretise::Grid;
+
+/// The least distance of a cluster from its cell's edges, as a share of the cell's width.
+pub const MIN_MARGIN: f64 = 0.1;
+/// How much wider than the clusters' extent the range may be made: a quarter, what a single cell needs to keep
+/// its cluster [`MIN_MARGIN`] from both edges.
+pub const RANGE_SLACK: f64 = 0.25;
+/// Widths tried between the extent and the slack.
+const RANGE_STEPS: u32 = 50;
+/// The most bins per axis.
+pub const MAX_BINS: usize = 400;
+/// The narrowest cell (m).
+pub const MIN_CELL: f64 = 1e-4;
+
+/// One axis of the chosen grid.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxisChoice {
+    /// Half-range (m).
+    pub half_range: f64,
+    /// Bins.
+    pub bins: usize,
+    /// The least margin of a cluster from its cell's edges, as a share of the cell.
+    pub margin: f64,
+}
+
+/// The grid of one axis for the padded cluster intervals `(low, high)`, keeping what the user pinned.
+pub fn choose_axis(
+    intervals: &[(f64, f64)],
+    pinned_range: Option<f64>,
+    pinned_bins: Option<usize>,
+) -> AxisChoice {
+    let extent = intervals.iter().map(|(low, high)| low.abs().max(high.abs())).fold(0.0, f64::max);
+    let ranges: Vec<f64> = match pinned_range {
+        Some(range) => vec![range],
+        None => (0..=RANGE_STEPS)
+            .map(|step| extent * (1.0 + RANGE_SLACK * f64::from(step) / f64::from(RANGE_STEPS)))
+            .collect(),
+    };
+    let mut best: Option<((bool, usize, f64), AxisChoice)> = None;
+    for &half_range in &ranges {
+        let counts: Vec<usize> = match pinned_bins {
+            Some(bins) => vec![bins],
+            None => (1..=MAX_BINS)
+                .take_while(|&bins| bins == 1 || 2.0 * half_range / bins as f64 >= MIN_CELL)
+                .collect(),
+        };
+        for bins in counts {
+            let Some(margin) = margin(intervals, half_range, bins) else { continue };
+            let key = (margin >= MIN_MARGIN, if margin >= MIN_MARGIN { bins } else { 0 }, margin);
+            if best.as_ref().is_none_or(|(kept, _)| key > *kept) {
+                best = Some((key, AxisChoice { half_range, bins, margin }));
+            }
+        }
+    }
+    best.map(|(_, choice)| choice).unwrap_or(AxisChoice {
+        half_range: pinned_range.unwrap_or(extent),
+        bins: pinned_bins.unwrap_or(1),
+        margin: 0.0,
+    })
+}
+
+/// The least margin of the intervals from their cells' edges, or `None` if one spans two cells or leaves the range.
+fn margin(intervals: &[(f64, f64)], half_range: f64, bins: usize) -> Option<f64> {
+    let width = 2.0 * half_range / bins as f64;
+    let mut least = f64::INFINITY;
+    for &(low, high) in intervals {
+        if low < -half_range || high > half_range {
+            return None;
+        }
+        let (from, to) = ((low + half_range) / width, (high + half_range) / width);
+        let cell = from.floor();
+        let at_the_top = to == bins as f64 && cell + 1.0 == to;
+        if to.floor() != cell && !at_the_top {
+            return None;
+        }
+        least = least.min((from - cell).min(cell + 1.0 - to));
+    }
+    Some(least)
+}
+
+/// The rotation bins for the clusters' keyframe rotations, each with its demonstration, at most `most`.
+pub fn choose_rotation_bins(
+    clusters: &[Vec<(usize, Pose)>],
+    rotation_share: f64,
+    most: usize,
+) -> usize {
+    let fits = |bins: usize| {
+        let grid = Grid::new(&PairSettings { rotation_bins: bins, ..PairSettings::DEFAULT });
+        clusters.iter().all(|keyframes| {
+            let demonstrations: BTreeSet<usize> = keyframes.iter().map(|(d, _)| *d).collect();
+            let mut cells: BTreeMap<[usize; 3], BTreeSet<usize>> = BTreeMap::new();
+            for (demonstration, pose) in keyframes {
+                cells.entry(grid.rotation_cell(pose)).or_default().insert(*demonstration);
+            }
+            let needed = rotation_share * demonstrations.len() as f64;
+            let covered = keyframes
+                .iter()
+                .filter(|(_, pose)| cells[&grid.rotation_cell(pose)].len() as f64 >= needed)
+                .count();
+            covered as f64 >= (1.0 - rotation_share) * keyframes.len() as f64
+        })
+    };
+    let largest_odd = if most % 2 == 1 { most } else { most.saturating_sub(1).max(1) };
+    (1..=largest_odd).rev().step_by(2).find(|&bins| fits(bins)).unwrap_or(1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn the_finest_grid_keeps_each_cluster_in_one_cell_away_from_its_edges() {
+        // Two clusters 4 cm wide, at −0.1 and +0.1 m.
+        let intervals = [(-0.12, -0.08), (0.08, 0.12)];
+        let choice = choose_axis(&intervals, None, None);
+        assert!(choice.margin >= MIN_MARGIN, "{choice:?}");
+        let width = 2.0 * choice.half_range / choice.bins as f64;
+        assert!(width >= 0.04 / (1.0 - 2.0 * MIN_MARGIN) - 1e-12, "{choice:?}");
+        assert!(
+            choice.half_range >= 0.12 && choice.half_range <= 0.12 * (1.0 + RANGE_SLACK) + 1e-12
+        );
+        // No finer grid would do: one more bin breaks a cluster or the margin.
+        for range_step in 0..=RANGE_STEPS {
+            let range = 0.12 * (1.0 + RANGE_SLACK * f64::from(range_step) / f64::from(RANGE_STEPS));
+            for bins in choice.bins + 1..=MAX_BINS {
+                assert!(margin(&intervals, range, bins).is_none_or(|m| m < MIN_MARGIN));
+            }
+        }
+    }
+
+    #[test]
+    fn pinned_values_are_kept() {
+        let choice = choose_axis(&[(0.01, 0.02)], Some(0.3), Some(4));
+        assert_eq!((choice.half_range, choice.bins), (0.3, 4));
+        let bins_only = choose_axis(&[(0.01, 0.02)], Some(0.3), None);
+        assert_eq!(bins_only.half_range, 0.3);
+        assert!(bins_only.margin >= MIN_MARGIN);
+    }
+
+    #[test]
+    fn rotation_bins_shrink_until_a_spread_of_yaws_fills_its_cells() {
+        let yaw = |angle: f64| Pose::rotation(nalgebra::Vector3::z() * angle);
+        // One yaw within a degree: the finest count is kept.
+        let upright: Vec<(usize, Pose)> =
+            (0..40).map(|d| (d, yaw((d as f64 - 20.0) * 0.0008))).collect();
+        assert_eq!(choose_rotation_bins(&[upright], 0.1, 61), 61);
+        // Yaws spread over the whole turn: each kept cell must hold a tenth of the demonstrations.
+        let any: Vec<(usize, Pose)> =
+            (0..90).map(|d| (d, yaw(-PI + (d as f64 + 0.5) * 2.0 * PI / 90.0))).collect();
+        let bins = choose_rotation_bins(&[any], 0.1, 61);
+        assert_eq!(bins, 9);
+    }
+}

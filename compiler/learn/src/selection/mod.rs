@@ -1,0 +1,280 @@
+//! Settings chosen from the demonstrations, for a type pair whose spec leaves them out.
+//!
+//! The criterion: a region is a place where demonstrations stop or change contact, seen in many of them. So
+//! 1. [`keyframes`]: the steps where the pair comes to rest, leaves rest, or an object of it is grasped or let
+//!    go of; every pose a carry merely passes through is left out;
+//! 2. [`clusters`]: keyframe positions grouped where they stay the same over a fourfold change of scale, per
+//!    held flag; a group must come from at least the minimum support of demonstrations and from at least
+//!    [`MIN_RELATIVE_SUPPORT`] as many as the pair's best-supported group;
+//! 3. [`grid_choice`]: the finest grid that keeps every group in one cell, the rotation bins that keep its
+//!    rotations in the cells learning keeps, and the threshold θ = the least share of demonstrations that
+//!    visits a group's cell, so that every group's cell is critical.
+//!
+//! Regions are then made of the groups' cells only: a cell that carries pass through in every demonstration is
+//! visited often, yet nothing happens there.
+//!
+//! What the user pinned is kept, and the rest is chosen around it. The component count is chosen per region by
+//! BIC, up to the cap; the cap, the likelihood cover and the clear and nowhere switches come from
+//! [`PairSettings::DEFAULT`] when left out. A pair whose keyframes form no group learns no region unless its
+//! threshold is pinned.
+
+pub mod clusters;
+pub mod grid_choice;
+pub mod keyframes;
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use crate::config::{PairSettings, PinnedSettings};
+use crate::discretise::Grid;
+pub use keyframes::{Stillness, Track, TrackFrame};
+
+/// A group seen in fewer than this share of the demonstrations of the pair's best-supported group is an
+/// incidental rest, not a region.
+pub const MIN_RELATIVE_SUPPORT: f64 = 0.2;
+/// The least padding (m) around a group's keyframes: the precision to which a robot repeats a placement.
+pub const PLACEMENT_TOLERANCE: f64 = 0.002;
+/// Padding around a group's keyframes, as a share of its extent along the axis.
+pub const EXTENT_PADDING: f64 = 0.02;
+
+/// What was chosen for one pair, and the evidence that chose it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Selection {
+    /// Every setting, pinned or chosen.
+    pub settings: PairSettings,
+    /// Which settings were chosen rather than pinned.
+    pub chosen: Chosen,
+    /// Keyframes found, over every held flag.
+    pub keyframes: usize,
+    /// How still a step must be to count as rest.
+    pub stillness: Stillness,
+    /// The groups the settings keep, in order of held flag, then support (most first).
+    pub groups: Vec<Group>,
+    /// Stable groups left out for too little support.
+    pub dropped: usize,
+    /// Per axis, the least margin of a group from its cell's edges (share of a cell).
+    pub margins: [f64; 3],
+    /// The cells, with their held flag, that the groups' keyframes fall in: the only cells regions are made of.
+    pub cells: BTreeSet<(u8, [usize; 3])>,
+}
+
+/// Which settings the selection chose.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Chosen {
+    /// Bins per axis.
+    pub position_bins: bool,
+    /// Half-ranges.
+    pub half_range: bool,
+    /// Rotation bins.
+    pub rotation_bins: bool,
+    /// Threshold θ.
+    pub threshold: bool,
+}
+
+/// A stable group of keyframes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Group {
+    /// Its held flag.
+    pub g: u8,
+    /// Demonstrations with a keyframe in it.
+    pub demonstrations: usize,
+    /// Its keyframes.
+    pub keyframes: usize,
+    /// The scale (m) at which it separated from the rest.
+    pub scale: f64,
+    /// The mean position (m).
+    pub centre: [f64; 3],
+    /// The smallest position per axis (m).
+    pub low: [f64; 3],
+    /// The largest position per axis (m).
+    pub high: [f64; 3],
+    /// The share of the pair's demonstrations that visit its best cell of the chosen grid.
+    pub share: f64,
+}
+
+impl Selection {
+    /// Whether the pair may learn regions: it has a group, or its threshold was pinned.
+    pub fn learns_regions(&self) -> bool {
+        !self.groups.is_empty() || !self.chosen.threshold
+    }
+}
+
+/// Chooses every setting `pinned` leaves out from the pair's tracks over `demonstrations` demonstrations.
+pub fn select(
+    pinned: &PinnedSettings,
+    tracks: &[Track],
+    demonstrations: usize,
+    min_support: usize,
+    rotation_share: f64,
+) -> Selection {
+    let chosen = Chosen {
+        position_bins: pinned.position_bins.is_none(),
+        half_range: pinned.half_range.is_none(),
+        rotation_bins: pinned.rotation_bins.is_none(),
+        threshold: pinned.threshold.is_none(),
+    };
+    let stillness = keyframes::stillness(tracks);
+    let keyframes = keyframes::keyframes(tracks, stillness);
+    let mut found: Vec<(u8, Vec<keyframes::Keyframe>, f64)> = Vec::new();
+    for g in [0u8, 1] {
+        let slice: Vec<keyframes::Keyframe> =
+            keyframes.iter().filter(|k| k.g == g).copied().collect();
+        let points: Vec<[f64; 3]> = slice
+            .iter()
+            .map(|k| {
+                let v = k.pose.translation.vector;
+                [v[0], v[1], v[2]]
+            })
+            .collect();
+        let sources: Vec<usize> = slice.iter().map(|k| k.demonstration).collect();
+        for cluster in clusters::stable_clusters(&points, &sources, min_support) {
+            let members = cluster.members.iter().map(|&i| slice[i]).collect();
+            found.push((g, members, cluster.scale));
+        }
+    }
+    let support = |members: &[keyframes::Keyframe]| {
+        members.iter().map(|k| k.demonstration).collect::<BTreeSet<_>>().len()
+    };
+    let best = found.iter().map(|(_, members, _)| support(members)).max().unwrap_or(0);
+    let before = found.len();
+    found.retain(|(_, members, _)| support(members) as f64 >= MIN_RELATIVE_SUPPORT * best as f64);
+    let dropped = before - found.len();
+    found.sort_by_key(|(g, members, _)| (*g, std::cmp::Reverse(support(members))));
+
+    let fallback = pinned.resolve(&PairSettings::DEFAULT);
+    if found.is_empty() {
+        return Selection {
+            settings: fallback,
+            chosen,
+            keyframes: keyframes.len(),
+            stillness,
+            groups: Vec::new(),
+            dropped,
+            margins: [0.0; 3],
+            cells: BTreeSet::new(),
+        };
+    }
+    let extents: Vec<([f64; 3], [f64; 3])> =
+        found.iter().map(|(_, members, _)| bounds(members)).collect();
+    let mut half_range = [0.0; 3];
+    let mut position_bins = [1; 3];
+    let mut margins = [0.0; 3];
+    for axis in 0..3 {
+        let intervals: Vec<(f64, f64)> = extents
+            .iter()
+            .map(|(low, high)| {
+                let pad = (EXTENT_PADDING * (high[axis] - low[axis])).max(PLACEMENT_TOLERANCE);
+                (low[axis] - pad, high[axis] + pad)
+            })
+            .collect();
+        let choice = grid_choice::choose_axis(
+            &intervals,
+            pinned.half_range.map(|range| range[axis]),
+            pinned.position_bins.map(|bins| bins[axis]),
+        );
+        half_range[axis] = choice.half_range;
+        position_bins[axis] = choice.bins;
+        margins[axis] = choice.margin;
+    }
+    let rotation_bins = pinned.rotation_bins.unwrap_or_else(|| {
+        let rotations: Vec<Vec<(usize, crate::demo::Pose)>> = found
+            .iter()
+            .map(|(_, members, _)| members.iter().map(|k| (k.demonstration, k.pose)).collect())
+            .collect();
+        grid_choice::choose_rotation_bins(
+            &rotations,
+            rotation_share,
+            PairSettings::DEFAULT.rotation_bins,
+        )
+    });
+    let mut settings = PairSettings { position_bins, half_range, rotation_bins, ..fallback };
+    let grid = Grid::new(&settings);
+    let (shares, cells) = best_cell_shares(&grid, &found, tracks, demonstrations);
+    if chosen.threshold {
+        let least = shares.iter().copied().fold(1.0, f64::min);
+        settings.threshold = least.clamp(f64::MIN_POSITIVE, 1.0);
+    }
+    let groups = found
+        .iter()
+        .zip(&extents)
+        .zip(&shares)
+        .map(|(((g, members, scale), (low, high)), share)| Group {
+            g: *g,
+            demonstrations: support(members),
+            keyframes: members.len(),
+            scale: *scale,
+            centre: centre(members),
+            low: *low,
+            high: *high,
+            share: *share,
+        })
+        .collect();
+    Selection {
+        settings: pinned.resolve(&settings),
+        chosen,
+        keyframes: keyframes.len(),
+        stillness,
+        groups,
+        dropped,
+        margins,
+        cells,
+    }
+}
+
+fn bounds(members: &[keyframes::Keyframe]) -> ([f64; 3], [f64; 3]) {
+    let mut low = [f64::INFINITY; 3];
+    let mut high = [f64::NEG_INFINITY; 3];
+    for k in members {
+        for axis in 0..3 {
+            low[axis] = low[axis].min(k.pose.translation.vector[axis]);
+            high[axis] = high[axis].max(k.pose.translation.vector[axis]);
+        }
+    }
+    (low, high)
+}
+
+fn centre(members: &[keyframes::Keyframe]) -> [f64; 3] {
+    let mut sum = [0.0; 3];
+    for k in members {
+        for (axis, total) in sum.iter_mut().enumerate() {
+            *total += k.pose.translation.vector[axis];
+        }
+    }
+    sum.map(|total| total / members.len().max(1) as f64)
+}
+
+/// Per group: the largest share of the demonstrations that visit, at any step, one of the cells its keyframes
+/// fall in (in its held flag); and all those cells.
+fn best_cell_shares(
+    grid: &Grid,
+    groups: &[(u8, Vec<keyframes::Keyframe>, f64)],
+    tracks: &[Track],
+    demonstrations: usize,
+) -> (Vec<f64>, BTreeSet<(u8, [usize; 3])>) {
+    let group_cells: Vec<BTreeSet<(u8, [usize; 3])>> = groups
+        .iter()
+        .map(|(g, members, _)| {
+            members.iter().filter_map(|k| grid.voxel(&k.pose).map(|voxel| (*g, voxel))).collect()
+        })
+        .collect();
+    let wanted: BTreeSet<(u8, [usize; 3])> = group_cells.iter().flatten().copied().collect();
+    let mut visitors: BTreeMap<(u8, [usize; 3]), BTreeSet<usize>> = BTreeMap::new();
+    for track in tracks {
+        for frame in &track.frames {
+            if let Some(voxel) = grid.voxel(&frame.pose)
+                && wanted.contains(&(frame.g, voxel))
+            {
+                visitors.entry((frame.g, voxel)).or_default().insert(track.demonstration);
+            }
+        }
+    }
+    let total = demonstrations.max(1) as f64;
+    let shares = group_cells
+        .iter()
+        .map(|cells| {
+            cells.iter().map(|cell| visitors.get(cell).map_or(0, BTreeSet::len)).max().unwrap_or(0)
+                as f64
+                / total
+        })
+        .collect();
+    (shares, wanted)
+}
