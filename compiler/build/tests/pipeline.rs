@@ -73,8 +73,7 @@ fn an_empty_gripper_is_asked_for_by_clear_atoms_else_by_nowhere_atoms() {
     // held by none at the end.
     let (_, artifacts) = build_with(|spec| {
         let pair = ("gripper".to_string(), "can".to_string());
-        spec.learning.pairs.get_mut(&pair).expect("the spec sets the pair").clear =
-            Some(lamp_spec::Switch::Off);
+        spec.learning.pairs.entry(pair).or_default().clear = Some(lamp_spec::Switch::Off);
     })
     .expect("builds");
     let expected: Vec<String> =

@@ -6,6 +6,10 @@
 //! links inside it. Scales are tried from fine to coarse and a keyframe joins at most one cluster, so the
 //! tightest separated groups are found first. A cluster needs keyframes from at least the minimum support of
 //! demonstrations.
+//!
+//! Fewer demonstrations spread a group's keyframes further apart, so a second pass over the keyframes left
+//! asks for one doubling only, from a group seen in at least [`COMMON_SHARE`] of the demonstrations: common
+//! enough not to be chance, though closer to its neighbours.
 
 use std::collections::BTreeSet;
 
@@ -17,6 +21,8 @@ pub const SCALES: usize = 8;
 pub const STABLE_DOUBLINGS: u32 = 2;
 /// The share of keyframes a cluster may gain over a fourfold coarsening and still be the same cluster.
 pub const STABLE_GROWTH: f64 = 0.1;
+/// The share of the demonstrations a group needs to be kept when it is stable over one doubling only.
+pub const COMMON_SHARE: f64 = 0.1;
 
 /// A cluster: the indices of its points, sorted, and the scale it was found at.
 #[derive(Debug, Clone, PartialEq)]
@@ -27,11 +33,13 @@ pub struct Cluster {
     pub scale: f64,
 }
 
-/// The stable clusters of `points`; `demonstration[i]` says which demonstration point `i` came from.
+/// The stable clusters of `points`; `demonstration[i]` says which of the pair's `demonstrations` point `i` came
+/// from.
 pub fn stable_clusters(
     points: &[[f64; 3]],
     demonstration: &[usize],
     min_support: usize,
+    demonstrations: usize,
 ) -> Vec<Cluster> {
     if points.len() < min_support.max(2) {
         return Vec::new();
@@ -42,13 +50,31 @@ pub fn stable_clusters(
         .collect();
     let mut taken = vec![false; points.len()];
     let mut found = Vec::new();
+    let common = (COMMON_SHARE * demonstrations as f64).ceil() as usize;
+    for (doublings, support_needed) in
+        [(STABLE_DOUBLINGS as usize, min_support), (1, min_support.max(common))]
+    {
+        take_stable(&labels, doublings, support_needed, demonstration, &mut taken, &mut found);
+    }
+    found
+}
+
+/// Takes, from fine to coarse, the clusters of keyframes not yet taken that stay the same `doublings` coarser.
+fn take_stable(
+    labels: &[Vec<usize>],
+    doublings: usize,
+    min_support: usize,
+    demonstration: &[usize],
+    taken: &mut [bool],
+    found: &mut Vec<Cluster>,
+) {
+    let n = taken.len();
     for rung in 0..SCALES {
         let fine = &labels[rung];
-        let coarse = &labels[rung + STABLE_DOUBLINGS as usize];
-        let roots: BTreeSet<usize> =
-            (0..points.len()).filter(|&i| !taken[i]).map(|i| fine[i]).collect();
+        let coarse = &labels[rung + doublings];
+        let roots: BTreeSet<usize> = (0..n).filter(|&i| !taken[i]).map(|i| fine[i]).collect();
         for root in roots {
-            let members: Vec<usize> = (0..points.len()).filter(|&i| fine[i] == root).collect();
+            let members: Vec<usize> = (0..n).filter(|&i| fine[i] == root).collect();
             if members.iter().any(|&i| taken[i]) {
                 continue;
             }
@@ -65,7 +91,6 @@ pub fn stable_clusters(
             }
         }
     }
-    found
 }
 
 fn scale(rung: usize) -> f64 {
@@ -139,7 +164,7 @@ mod tests {
             points.push([0.3 + jitter, 0.0, 0.0]);
             demos.extend([d, d]);
         }
-        let found = stable_clusters(&points, &demos, 3);
+        let found = stable_clusters(&points, &demos, 3, 100);
         assert_eq!(found.len(), 2);
         assert_eq!(found[0].members, (0..20).step_by(2).collect::<Vec<_>>());
         assert_eq!(found[0].scale, FINEST_SCALE);
@@ -152,7 +177,7 @@ mod tests {
         let mut points: Vec<[f64; 3]> = (0..10).map(|i| [i as f64 * 5e-5, 0.0, 0.0]).collect();
         points.extend((1..=4).map(|i| [i as f64 * 0.0025, 0.0, 0.0]));
         let demos: Vec<usize> = (0..14).collect();
-        let found = stable_clusters(&points, &demos, 3);
+        let found = stable_clusters(&points, &demos, 3, 100);
         assert_eq!(found.len(), 1);
         assert_eq!((found[0].members.len(), found[0].scale), (14, 0.004));
     }
@@ -160,8 +185,8 @@ mod tests {
     #[test]
     fn a_group_from_too_few_demonstrations_is_no_cluster() {
         let points = vec![[0.0; 3], [0.0001, 0.0, 0.0], [0.0002, 0.0, 0.0]];
-        assert!(stable_clusters(&points, &[0, 0, 1], 3).is_empty());
-        assert_eq!(stable_clusters(&points, &[0, 1, 2], 3).len(), 1);
+        assert!(stable_clusters(&points, &[0, 0, 1], 3, 3).is_empty());
+        assert_eq!(stable_clusters(&points, &[0, 1, 2], 3, 3).len(), 1);
     }
 
     #[test]

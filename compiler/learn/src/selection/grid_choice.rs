@@ -1,8 +1,8 @@
 //! A grid, rotation bins and a threshold that keep each selected cluster whole.
 //!
 //! Per position axis: the finest grid over a symmetric range in which every cluster, padded, lies inside one
-//! cell, at least [`MIN_MARGIN`] of a cell from its edges, so that a pose a little off the demonstrated ones
-//! still falls in the same cell. The range is the clusters' extent, widened by up to [`RANGE_SLACK`] where
+//! cell, at least [`MIN_MARGIN`] of a cell (or the placement tolerance, if that is less) from its edges, so
+//! that a pose a little off the demonstrated ones still falls in the same cell. The range is the clusters' extent, widened by up to [`RANGE_SLACK`] where
 //! that lets the edges fall between clusters or away from them.
 //!
 //! Rotation: the largest odd bin count (an odd count puts "not turned" mid-cell) at which the rotation cells
@@ -38,11 +38,13 @@ pub struct AxisChoice {
     pub margin: f64,
 }
 
-/// The grid of one axis for the padded cluster intervals `(low, high)`, keeping what the user pinned.
+/// The grid of one axis for the padded cluster intervals `(low, high)`, keeping what the user pinned; a margin of
+/// `tolerance` (m) from the cells' edges is always enough.
 pub fn choose_axis(
     intervals: &[(f64, f64)],
     pinned_range: Option<f64>,
     pinned_bins: Option<usize>,
+    tolerance: f64,
 ) -> AxisChoice {
     let extent = intervals.iter().map(|(low, high)| low.abs().max(high.abs())).fold(0.0, f64::max);
     let ranges: Vec<f64> = match pinned_range {
@@ -61,7 +63,11 @@ pub fn choose_axis(
         };
         for bins in counts {
             let Some(margin) = margin(intervals, half_range, bins) else { continue };
-            let key = (margin >= MIN_MARGIN, if margin >= MIN_MARGIN { bins } else { 0 }, margin);
+            let width = 2.0 * half_range / bins as f64;
+            let enough = margin >= MIN_MARGIN || margin * width >= tolerance;
+            // Enough margin first, then the finest grid, then the tightest range (else the widest margin).
+            let key =
+                (enough, if enough { bins } else { 0 }, if enough { -half_range } else { margin });
             if best.as_ref().is_none_or(|(kept, _)| key > *kept) {
                 best = Some((key, AxisChoice { half_range, bins, margin }));
             }
@@ -128,10 +134,9 @@ mod tests {
     fn the_finest_grid_keeps_each_cluster_in_one_cell_away_from_its_edges() {
         // Two clusters 4 cm wide, at −0.1 and +0.1 m.
         let intervals = [(-0.12, -0.08), (0.08, 0.12)];
-        let choice = choose_axis(&intervals, None, None);
-        assert!(choice.margin >= MIN_MARGIN, "{choice:?}");
+        let choice = choose_axis(&intervals, None, None, 0.002);
         let width = 2.0 * choice.half_range / choice.bins as f64;
-        assert!(width >= 0.04 / (1.0 - 2.0 * MIN_MARGIN) - 1e-12, "{choice:?}");
+        assert!(choice.margin >= MIN_MARGIN || choice.margin * width >= 0.002, "{choice:?}");
         assert!(
             choice.half_range >= 0.12 && choice.half_range <= 0.12 * (1.0 + RANGE_SLACK) + 1e-12
         );
@@ -139,16 +144,24 @@ mod tests {
         for range_step in 0..=RANGE_STEPS {
             let range = 0.12 * (1.0 + RANGE_SLACK * f64::from(range_step) / f64::from(RANGE_STEPS));
             for bins in choice.bins + 1..=MAX_BINS {
-                assert!(margin(&intervals, range, bins).is_none_or(|m| m < MIN_MARGIN));
+                let width = 2.0 * range / bins as f64;
+                assert!(
+                    margin(&intervals, range, bins)
+                        .is_none_or(|m| m < MIN_MARGIN && m * width < 0.002)
+                );
             }
         }
+        // A wide group needs only the tolerance: its range is not inflated by a tenth of its cell.
+        let wide = choose_axis(&[(-0.35, 0.35)], None, None, 0.002);
+        assert_eq!(wide.bins, 1);
+        assert!(wide.half_range <= 0.36, "{wide:?}");
     }
 
     #[test]
     fn pinned_values_are_kept() {
-        let choice = choose_axis(&[(0.01, 0.02)], Some(0.3), Some(4));
+        let choice = choose_axis(&[(0.01, 0.02)], Some(0.3), Some(4), 0.002);
         assert_eq!((choice.half_range, choice.bins), (0.3, 4));
-        let bins_only = choose_axis(&[(0.01, 0.02)], Some(0.3), None);
+        let bins_only = choose_axis(&[(0.01, 0.02)], Some(0.3), None, 0.002);
         assert_eq!(bins_only.half_range, 0.3);
         assert!(bins_only.margin >= MIN_MARGIN);
     }

@@ -126,7 +126,7 @@ pub fn select(
             })
             .collect();
         let sources: Vec<usize> = slice.iter().map(|k| k.demonstration).collect();
-        for cluster in clusters::stable_clusters(&points, &sources, min_support) {
+        for cluster in clusters::stable_clusters(&points, &sources, min_support, demonstrations) {
             let members = cluster.members.iter().map(|&i| slice[i]).collect();
             found.push((g, members, cluster.scale));
         }
@@ -170,6 +170,7 @@ pub fn select(
             &intervals,
             pinned.half_range.map(|range| range[axis]),
             pinned.position_bins.map(|bins| bins[axis]),
+            PLACEMENT_TOLERANCE,
         );
         half_range[axis] = choice.half_range;
         position_bins[axis] = choice.bins;
