@@ -140,3 +140,49 @@ fn the_report_says_what_was_chosen_and_how_to_pin_it() {
         "| group | g | demonstrations | keyframes | scale | centre | extent | cell share |"
     ));
 }
+
+/// Demonstrations in which a block stands still on a target from the first step to the last: no keyframe.
+fn still_demonstrations() -> Vec<crate::demo::Demonstration> {
+    use crate::demo::{Demonstration, Participant, Pose, Role, Snapshot};
+    (0..10)
+        .map(|index| Demonstration {
+            id: format!("still-{index}"),
+            participants: vec![
+                Participant {
+                    name: "block1".into(),
+                    type_name: "block".into(),
+                    role: Role::Object { movable: true },
+                },
+                Participant {
+                    name: "target1".into(),
+                    type_name: "target".into(),
+                    role: Role::Object { movable: false },
+                },
+            ],
+            steps: vec![
+                Snapshot {
+                    poses: vec![Pose::translation(0.0, 0.0, 0.05), Pose::identity()],
+                    held: vec![],
+                };
+                5
+            ],
+        })
+        .collect()
+}
+
+#[test]
+fn without_keyframe_groups_a_pair_learns_a_region_only_from_a_pinned_threshold() {
+    let demonstrations = still_demonstrations();
+    let chosen = induce(&demonstrations, &LearnConfig::default(), &NoShapes, cells);
+    assert!(
+        matches!(chosen, Err(LearnError::NoRegions { .. })),
+        "nothing happens, nothing is learned"
+    );
+    let mut config = LearnConfig::default();
+    config.default.threshold = Some(0.5);
+    let pairs = induce(&demonstrations, &config, &NoShapes, cells).expect("learns").pairs;
+    let target_block = pair(&pairs, "target_block");
+    assert_eq!(target_block.regions.len(), 1);
+    assert!(contains(target_block, 0, [0.0, 0.0, 0.05]));
+    assert_eq!(target_block.settings.position_bins, crate::PairSettings::DEFAULT.position_bins);
+}

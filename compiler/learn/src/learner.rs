@@ -203,8 +203,12 @@ fn find_regions(
     let mut critical =
         occupancy.critical(settings.threshold, config.min_support, config.rotation_share);
     if let Some(selection) = &selection {
-        // Chosen settings make regions only where demonstrations stop or change contact.
-        critical.retain(|cell, _| selection.learns_regions() && selection.cells.contains(cell));
+        if !selection.learns_regions() {
+            critical.clear();
+        } else if !selection.groups.is_empty() {
+            // Chosen settings make regions only where demonstrations stop or change contact.
+            critical.retain(|cell, _| selection.cells.contains(cell));
+        }
     }
     let regions = regions::components(&critical)
         .into_iter()
