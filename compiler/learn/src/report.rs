@@ -117,7 +117,7 @@ fn selection_section(out: &mut String, selection: &Selection) {
     );
     let _ = writeln!(
         out,
-        "{} keyframes (still: under {:.2} mm and {:.3}° a step); {} groups kept, {} left out for too little support; least margin of a group from its cell's edges per axis {:.2}, {:.2}, {:.2} of a cell.
+        "{} keyframes (still: under {:.3} mm and {:.4}° a step); {} groups kept, {} left out for too little support; least margin of a group from its cell's edges per axis {:.2}, {:.2}, {:.2} of a cell.
 ",
         selection.keyframes,
         selection.stillness.position * 1000.0,
