@@ -1,24 +1,15 @@
 //! Settings chosen from the demonstrations (`selection`), end to end on tasks whose answer is known: where a block comes to rest on a target, how many places it
 //! rests in, tracking noise, and a waypoint every carry passes that must not become a region.
 
-use rand_chacha::ChaCha8Rng;
-
-use crate::abstraction::CellClassifier;
 use crate::capacity::NoShapes;
 use crate::config::{LearnConfig, PinnedSettings, TypePair};
 use crate::error::LearnError;
-use crate::learner::{PairRegions, induce};
-use crate::synthetic::{PLACE_GRASP_DEPTH, PLACE_WAYPOINT, PlaceTask, place_demonstrations};
+use crate::learner::{PairRegions, cells, induce};
+use crate::synthetic::{
+    PLACE_GRASP_DEPTH, PLACE_WAYPOINT, PlaceTask, place_demonstrations, place_participants,
+};
 
 const DEMONSTRATIONS: usize = 40;
-
-fn cells(
-    pair: &PairRegions,
-    index: usize,
-    _: &mut ChaCha8Rng,
-) -> Result<CellClassifier, LearnError> {
-    Ok(CellClassifier { grid: pair.grid.clone(), cells: pair.regions[index].cells.clone() })
-}
 
 fn learn_pairs(task: &PlaceTask, config: &LearnConfig) -> Vec<PairRegions> {
     let demonstrations = place_demonstrations(task, DEMONSTRATIONS, 5);
@@ -143,22 +134,12 @@ fn the_report_says_what_was_chosen_and_how_to_pin_it() {
 
 /// Demonstrations in which a block stands still on a target from the first step to the last: no keyframe.
 fn still_demonstrations() -> Vec<crate::demo::Demonstration> {
-    use crate::demo::{Demonstration, Participant, Pose, Role, Snapshot};
+    use crate::demo::{Demonstration, Pose, Snapshot};
     (0..10)
         .map(|index| Demonstration {
             id: format!("still-{index}"),
-            participants: vec![
-                Participant {
-                    name: "block1".into(),
-                    type_name: "block".into(),
-                    role: Role::Object { movable: true },
-                },
-                Participant {
-                    name: "target1".into(),
-                    type_name: "target".into(),
-                    role: Role::Object { movable: false },
-                },
-            ],
+            // The block and the target, without the gripper.
+            participants: place_participants()[1..].to_vec(),
             steps: vec![
                 Snapshot {
                     poses: vec![Pose::translation(0.0, 0.0, 0.05), Pose::identity()],

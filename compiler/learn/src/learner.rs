@@ -327,20 +327,24 @@ fn first_cell_centre(grid: &Grid, cells: &RegionCells) -> Pose {
     Pose::translation(centre[0], centre[1], centre[2])
 }
 
+/// For tests: a region's classifier is its exact cells, so that what is learned does not depend on a fit.
+#[cfg(test)]
+pub(crate) fn cells(
+    pair: &PairRegions,
+    index: usize,
+    _: &mut ChaCha8Rng,
+) -> Result<crate::abstraction::CellClassifier, LearnError> {
+    Ok(crate::abstraction::CellClassifier {
+        grid: pair.grid.clone(),
+        cells: pair.regions[index].cells.clone(),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::abstraction::CellClassifier;
     use crate::capacity::NoShapes;
     use crate::synthetic::{packing_config, packing_demonstrations};
-
-    fn cells(
-        pair: &PairRegions,
-        index: usize,
-        _: &mut ChaCha8Rng,
-    ) -> Result<CellClassifier, LearnError> {
-        Ok(CellClassifier { grid: pair.grid.clone(), cells: pair.regions[index].cells.clone() })
-    }
 
     #[test]
     fn packing_with_exact_cells_finds_the_paper_vocabulary() {

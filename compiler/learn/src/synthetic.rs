@@ -217,14 +217,9 @@ pub const PLACE_GRASP_DEPTH: f64 = 0.1;
 /// The waypoint every carry passes, in the target's frame.
 pub const PLACE_WAYPOINT: [f64; 3] = [0.0, 0.0, 0.3];
 
-/// `count` demonstrations of a [`PlaceTask`] from one seed.
-pub fn place_demonstrations(task: &PlaceTask, count: usize, seed: u64) -> Vec<Demonstration> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    (0..count).map(|index| place_demonstration(task, index, &mut rng)).collect()
-}
-
-fn place_demonstration(task: &PlaceTask, index: usize, rng: &mut ChaCha8Rng) -> Demonstration {
-    let participants = vec![
+/// The participants of a [`PlaceTask`]: a gripper, a block and a target, in that order.
+pub fn place_participants() -> Vec<Participant> {
+    vec![
         Participant {
             name: "gripper1".into(),
             type_name: "gripper".into(),
@@ -240,7 +235,17 @@ fn place_demonstration(task: &PlaceTask, index: usize, rng: &mut ChaCha8Rng) -> 
             type_name: "target".into(),
             role: Role::Object { movable: false },
         },
-    ];
+    ]
+}
+
+/// `count` demonstrations of a [`PlaceTask`] from one seed.
+pub fn place_demonstrations(task: &PlaceTask, count: usize, seed: u64) -> Vec<Demonstration> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..count).map(|index| place_demonstration(task, index, &mut rng)).collect()
+}
+
+fn place_demonstration(task: &PlaceTask, index: usize, rng: &mut ChaCha8Rng) -> Demonstration {
+    let participants = place_participants();
     let target = Pose::identity();
     let angle = rng.random_range(-PI..PI);
     let radius = rng.random_range(0.4..0.6);

@@ -210,7 +210,7 @@ pub fn select(
         })
         .collect();
     Selection {
-        settings: pinned.resolve(&settings),
+        settings,
         chosen,
         keyframes: keyframes.len(),
         stillness,
