@@ -128,6 +128,19 @@ fn selection_section(out: &mut String, selection: &Selection) {
         selection.margins[1],
         selection.margins[2]
     );
+    let fixed: Vec<&str> = ["x", "y", "z"]
+        .into_iter()
+        .zip(selection.fixed_axes)
+        .filter_map(|(name, fixed)| fixed.then_some(name))
+        .collect();
+    if !fixed.is_empty() {
+        let _ = writeln!(
+            out,
+            "No demonstration moves the pair along {}: one cell spans every value seen there.
+",
+            fixed.join(", ")
+        );
+    }
     if selection.groups.is_empty() {
         return;
     }

@@ -7,7 +7,8 @@
 //!
 //! Rotation: the largest odd bin count (an odd count puts "not turned" mid-cell) at which the rotation cells
 //! that learning keeps in a voxel, those holding at least the rotation share of its demonstrations, still hold
-//! all but that share of every cluster's keyframes.
+//! every keyframe of every cluster. A keyframe left outside would be a demonstration whose state lacks the
+//! region's relation, and an action's preconditions, the intersection of its demonstrated states, would lose it.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -118,7 +119,7 @@ pub fn choose_rotation_bins(
                 .iter()
                 .filter(|(_, pose)| cells[&grid.rotation_cell(pose)].len() as f64 >= needed)
                 .count();
-            covered as f64 >= (1.0 - rotation_share) * keyframes.len() as f64
+            covered == keyframes.len()
         })
     };
     let largest_odd = if most % 2 == 1 { most } else { most.saturating_sub(1).max(1) };

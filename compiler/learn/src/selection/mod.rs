@@ -3,10 +3,12 @@
 //! The criterion: a region is a place where demonstrations stop or change contact, seen in many of them. So
 //! 1. [`keyframes`]: the steps where the pair comes to rest, leaves rest, or an object of it is grasped or let
 //!    go of; every pose a carry merely passes through is left out;
-//! 2. [`clusters`]: keyframe positions grouped where they stay the same over a fourfold change of scale, per
+//! 2. [`fixed_axes`]: the position axes along which no demonstration moves the pair (a table's height under a
+//!    mobile base) are left out of clustering and get one cell;
+//! 3. [`clusters`]: keyframe positions grouped where they stay the same over a fourfold change of scale, per
 //!    held flag; a group must come from at least the minimum support of demonstrations and from at least
 //!    [`MIN_RELATIVE_SUPPORT`] as many as the pair's best-supported group;
-//! 3. [`grid_choice`]: the finest grid that keeps every group in one cell, the rotation bins that keep its
+//! 4. [`grid_choice`]: the finest grid that keeps every group in one cell, the rotation bins that keep its
 //!    rotations in the cells learning keeps, and the threshold θ = the least share of demonstrations that
 //!    visits a group's cell, so that every group's cell is critical.
 //!
@@ -19,6 +21,7 @@
 //! threshold is pinned.
 
 pub mod clusters;
+pub mod fixed_axes;
 pub mod grid_choice;
 pub mod keyframes;
 
@@ -53,6 +56,8 @@ pub struct Selection {
     pub dropped: usize,
     /// Per axis, the least margin of a group from its cell's edges (share of a cell).
     pub margins: [f64; 3],
+    /// Per axis, whether no demonstration moves the pair along it ([`fixed_axes`]): one cell spans it.
+    pub fixed_axes: [bool; 3],
     /// The cells, with their held flag, that the groups' keyframes fall in: the only cells regions are made of.
     pub cells: BTreeSet<(u8, [usize; 3])>,
 }
@@ -114,6 +119,7 @@ pub fn select(
     };
     let stillness = keyframes::stillness(tracks);
     let keyframes = keyframes::keyframes(tracks, stillness);
+    let fixed_axes = fixed_axes::fixed_axes(tracks, stillness);
     let mut found: Vec<(u8, Vec<keyframes::Keyframe>, f64)> = Vec::new();
     for g in [0u8, 1] {
         let slice: Vec<keyframes::Keyframe> =
@@ -122,7 +128,8 @@ pub fn select(
             .iter()
             .map(|k| {
                 let v = k.pose.translation.vector;
-                [v[0], v[1], v[2]]
+                // A fixed axis says which participants these are, not where: groups do not split along it.
+                [0, 1, 2].map(|axis| if fixed_axes[axis] { 0.0 } else { v[axis] })
             })
             .collect();
         let sources: Vec<usize> = slice.iter().map(|k| k.demonstration).collect();
@@ -150,6 +157,7 @@ pub fn select(
             groups: Vec::new(),
             dropped,
             margins: [0.0; 3],
+            fixed_axes,
             cells: BTreeSet::new(),
         };
     }
@@ -159,17 +167,24 @@ pub fn select(
     let mut position_bins = [1; 3];
     let mut margins = [0.0; 3];
     for axis in 0..3 {
-        let intervals: Vec<(f64, f64)> = extents
-            .iter()
-            .map(|(low, high)| {
-                let pad = (EXTENT_PADDING * (high[axis] - low[axis])).max(PLACEMENT_TOLERANCE);
-                (low[axis] - pad, high[axis] + pad)
-            })
-            .collect();
+        let padded = |low: f64, high: f64| {
+            let pad = (EXTENT_PADDING * (high - low)).max(PLACEMENT_TOLERANCE);
+            (low - pad, high + pad)
+        };
+        let (intervals, bins): (Vec<(f64, f64)>, Option<usize>) = if fixed_axes[axis] {
+            // One cell across every value the demonstrations show.
+            let low = extents.iter().map(|(low, _)| low[axis]).fold(f64::INFINITY, f64::min);
+            let high = extents.iter().map(|(_, high)| high[axis]).fold(f64::NEG_INFINITY, f64::max);
+            (vec![padded(low, high)], Some(pinned.position_bins.map_or(1, |bins| bins[axis])))
+        } else {
+            let intervals =
+                extents.iter().map(|(low, high)| padded(low[axis], high[axis])).collect();
+            (intervals, pinned.position_bins.map(|bins| bins[axis]))
+        };
         let choice = grid_choice::choose_axis(
             &intervals,
             pinned.half_range.map(|range| range[axis]),
-            pinned.position_bins.map(|bins| bins[axis]),
+            bins,
             PLACEMENT_TOLERANCE,
         );
         half_range[axis] = choice.half_range;
@@ -217,6 +232,7 @@ pub fn select(
         groups,
         dropped,
         margins,
+        fixed_axes,
         cells,
     }
 }
@@ -278,4 +294,45 @@ fn best_cell_shares(
         })
         .collect();
     (shares, wanted)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::demo::Pose;
+
+    #[test]
+    fn a_base_standing_at_tables_of_two_heights_stands_at_one_place() {
+        // A surface's top, seen from a base that drives up to it and stops 0.9 m ahead of it: at a table
+        // (0.73 m) in two demonstrations of three, at a counter (0.90 m) in the third.
+        let tracks: Vec<Track> = (0..30)
+            .map(|demonstration| {
+                let height = if demonstration % 3 == 2 { 0.90 } else { 0.73 };
+                let side = 0.0001 * (demonstration % 7) as f64;
+                let mut frames: Vec<TrackFrame> = (0..20)
+                    .map(|step| 3.0 - 0.1 * step as f64)
+                    .chain(std::iter::repeat_n(0.9, 10))
+                    .map(|x| TrackFrame {
+                        g: 0,
+                        pose: Pose::translation(x, side, height),
+                        contact: false,
+                    })
+                    .collect();
+                frames.extend((1..=10).map(|step| TrackFrame {
+                    g: 0,
+                    pose: Pose::translation(0.9, side + 0.1 * step as f64, height),
+                    contact: false,
+                }));
+                Track { demonstration, primary: 0, secondary: 1, frames }
+            })
+            .collect();
+        let selection = select(&PinnedSettings::default(), &tracks, 30, 3, 0.1);
+        assert_eq!(selection.fixed_axes, [false, false, true]);
+        assert_eq!(selection.groups.len(), 1, "{:?}", selection.groups);
+        assert_eq!(selection.groups[0].demonstrations, 30);
+        assert_eq!(selection.settings.position_bins[2], 1);
+        let grid = Grid::new(&selection.settings);
+        let at = |height: f64| grid.voxel(&Pose::translation(0.9, 0.0003, height));
+        assert!(at(0.73).is_some() && at(0.73) == at(0.90), "{:?}", selection.settings);
+    }
 }
