@@ -5,7 +5,9 @@
 //! [`STABLE_GROWTH`] more keyframes: it is separated from everything else by a gap four times wider than the
 //! links inside it. Scales are tried from fine to coarse and a keyframe joins at most one cluster, so the
 //! tightest separated groups are found first. A cluster needs keyframes from at least the minimum support of
-//! demonstrations.
+//! demonstrations. A coarser stable cluster replaces the clusters found inside it when each of them is seen in
+//! less than [`MIN_RELATIVE_SUPPORT`] of its demonstrations: three demonstrations that happened to stop within a
+//! millimetre of each other inside a place that eighty stop in are not a place of their own.
 //!
 //! Fewer demonstrations spread a group's keyframes further apart, so a second pass over the keyframes left
 //! asks for one doubling only, from a group seen in at least [`COMMON_SHARE`] of the demonstrations: common
@@ -23,6 +25,9 @@ pub const STABLE_DOUBLINGS: u32 = 2;
 pub const STABLE_GROWTH: f64 = 0.1;
 /// The share of the demonstrations a group needs to be kept when it is stable over one doubling only.
 pub const COMMON_SHARE: f64 = 0.1;
+/// A group seen in fewer than this share of the demonstrations of the pair's best-supported group is an
+/// incidental rest, not a region.
+pub const MIN_RELATIVE_SUPPORT: f64 = 0.2;
 
 /// A cluster: the indices of its points, sorted, and the scale it was found at.
 #[derive(Debug, Clone, PartialEq)]
@@ -75,22 +80,60 @@ fn take_stable(
         let roots: BTreeSet<usize> = (0..n).filter(|&i| !taken[i]).map(|i| fine[i]).collect();
         for root in roots {
             let members: Vec<usize> = (0..n).filter(|&i| fine[i] == root).collect();
-            if members.iter().any(|&i| taken[i]) {
-                continue;
-            }
-            let support: BTreeSet<usize> = members.iter().map(|&i| demonstration[i]).collect();
-            if support.len() < min_support {
+            let support = support_of(&members, demonstration);
+            if support < min_support {
                 continue;
             }
             let grown = coarse.iter().filter(|&&label| label == coarse[members[0]]).count();
-            if grown as f64 <= (1.0 + STABLE_GROWTH) * members.len() as f64 {
-                for &i in &members {
-                    taken[i] = true;
-                }
-                found.push(Cluster { members, scale: scale(rung) });
+            if grown as f64 > (1.0 + STABLE_GROWTH) * members.len() as f64 {
+                continue;
             }
+            if members.iter().any(|&i| taken[i]) {
+                // Clusters found inside this one are incidental when it is common enough beside them.
+                let Some(inside) = incidental_inside(&members, support, demonstration, found)
+                else {
+                    continue;
+                };
+                for index in inside.into_iter().rev() {
+                    found.remove(index);
+                }
+            }
+            for &i in &members {
+                taken[i] = true;
+            }
+            found.push(Cluster { members, scale: scale(rung) });
         }
     }
+}
+
+fn support_of(members: &[usize], demonstration: &[usize]) -> usize {
+    members.iter().map(|&i| demonstration[i]).collect::<BTreeSet<_>>().len()
+}
+
+/// The indices in `found` of the clusters that `members` (with `support` demonstrations) contains, if every
+/// cluster it meets lies wholly inside it and is seen in less than [`MIN_RELATIVE_SUPPORT`] of its support: a
+/// few demonstrations that stopped closer together within a common place do not make a place of their own.
+fn incidental_inside(
+    members: &[usize],
+    support: usize,
+    demonstration: &[usize],
+    found: &[Cluster],
+) -> Option<Vec<usize>> {
+    let inside: BTreeSet<usize> = members.iter().copied().collect();
+    let mut contained = Vec::new();
+    for (index, cluster) in found.iter().enumerate() {
+        let meets = cluster.members.iter().filter(|i| inside.contains(i)).count();
+        if meets == 0 {
+            continue;
+        }
+        let incidental = (support_of(&cluster.members, demonstration) as f64)
+            < MIN_RELATIVE_SUPPORT * support as f64;
+        if meets < cluster.members.len() || !incidental {
+            return None;
+        }
+        contained.push(index);
+    }
+    Some(contained)
 }
 
 fn scale(rung: usize) -> f64 {
@@ -180,6 +223,18 @@ mod tests {
         let found = stable_clusters(&points, &demos, 3, 100);
         assert_eq!(found.len(), 1);
         assert_eq!((found[0].members.len(), found[0].scale), (14, 0.004));
+    }
+
+    #[test]
+    fn a_few_close_keyframes_inside_a_common_place_do_not_hide_it() {
+        // Forty keyframes 3 cm apart along a line (a base stopping anywhere along a table's edge), and three
+        // within 0.1 mm of one another 2 cm beyond its end: a cluster at 1 mm that stays the same at 4 mm.
+        let mut points: Vec<[f64; 3]> = (0..40).map(|i| [i as f64 * 0.03, 0.0, 0.0]).collect();
+        points.extend((0..3).map(|i| [-0.02 + i as f64 * 5e-5, 0.0, 0.0]));
+        let demos: Vec<usize> = (0..43).collect();
+        let found = stable_clusters(&points, &demos, 3, 43);
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!((found[0].members.len(), found[0].scale), (43, 0.032));
     }
 
     #[test]

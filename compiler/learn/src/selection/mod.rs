@@ -29,11 +29,9 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use crate::config::{PairSettings, PinnedSettings};
 use crate::discretise::Grid;
+pub use clusters::MIN_RELATIVE_SUPPORT;
 pub use keyframes::{Stillness, Track, TrackFrame};
 
-/// A group seen in fewer than this share of the demonstrations of the pair's best-supported group is an
-/// incidental rest, not a region.
-pub const MIN_RELATIVE_SUPPORT: f64 = 0.2;
 /// The least padding (m) around a group's keyframes: the precision to which a robot repeats a placement.
 pub const PLACEMENT_TOLERANCE: f64 = 0.002;
 /// Padding around a group's keyframes, as a share of its extent along the axis.
