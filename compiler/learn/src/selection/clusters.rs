@@ -5,7 +5,8 @@
 //! [`STABLE_GROWTH`] more keyframes: it is separated from everything else by a gap four times wider than the
 //! links inside it. Scales are tried from fine to coarse and a keyframe joins at most one cluster, so the
 //! tightest separated groups are found first. A cluster needs keyframes from at least the minimum support of
-//! demonstrations. A coarser stable cluster replaces the clusters found inside it when each of them is seen in
+//! demonstrations, and keeps the few keyframes it gains up to the coarse scale: they are the sparse edge of the
+//! same place. A coarser stable cluster replaces the clusters found inside it when each of them is seen in
 //! less than [`MIN_RELATIVE_SUPPORT`] of its demonstrations: three demonstrations that happened to stop within a
 //! millimetre of each other inside a place that eighty stop in are not a place of their own.
 //!
@@ -98,6 +99,12 @@ fn take_stable(
                     found.remove(index);
                 }
             }
+            // The cluster is what stays together up to the coarse scale: the few keyframes it gains there are the
+            // sparse edge of the same place (a base stopping a little further aside), not a place of their own.
+            let label = coarse[members[0]];
+            let mut members = members;
+            members.extend((0..n).filter(|&i| coarse[i] == label && fine[i] != root && !taken[i]));
+            members.sort_unstable();
             for &i in &members {
                 taken[i] = true;
             }
@@ -235,6 +242,18 @@ mod tests {
         let found = stable_clusters(&points, &demos, 3, 43);
         assert_eq!(found.len(), 1, "{found:?}");
         assert_eq!((found[0].members.len(), found[0].scale), (43, 0.032));
+    }
+
+    #[test]
+    fn a_cluster_keeps_the_sparse_edge_it_gains_up_to_the_coarse_scale() {
+        // Forty stops 2 cm apart, then two stragglers 5 cm apart beyond the last: at 32 mm the forty are one
+        // cluster, and at 128 mm it has gained only the two, which are the edge of the same place.
+        let mut points: Vec<[f64; 3]> = (0..40).map(|i| [i as f64 * 0.02, 0.0, 0.0]).collect();
+        points.extend([[0.83, 0.0, 0.0], [0.88, 0.0, 0.0]]);
+        let demos: Vec<usize> = (0..42).collect();
+        let found = stable_clusters(&points, &demos, 3, 42);
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!((found[0].members.len(), found[0].scale), (42, 0.032));
     }
 
     #[test]
