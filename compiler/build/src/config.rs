@@ -26,6 +26,8 @@ pub fn learn_config(spec: &lamp_spec::Spec) -> LearnConfig {
             .map(|(first, second)| TypePair::new(first.clone(), second.clone()))
             .collect(),
         seed: spec.seed,
+        // What the world lets a released object drop by is what a region must tolerate.
+        release_tolerance: lamp_world::MAX_SETTLE_DROP,
         ..LearnConfig::default()
     }
 }

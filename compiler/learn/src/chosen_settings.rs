@@ -52,6 +52,20 @@ fn a_known_resting_offset_becomes_the_one_region_and_the_waypoint_none() {
 }
 
 #[test]
+fn the_grasp_region_still_holds_an_object_that_settled_after_its_release() {
+    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0 };
+    let config = LearnConfig { release_tolerance: 0.005, ..LearnConfig::default() };
+    let pairs = learn_pairs(&task, &config);
+    let gripper_block = pair(&pairs, "gripper_block");
+    let released = gripper_block.regions.iter().position(|r| r.g == 0).expect("a grasp region");
+    // Let go of 4.5 mm above its support, the block drops that far below the gripper's grasp.
+    for offset in [-0.0045, 0.0045] {
+        let settled = [0.0, 0.0, -PLACE_GRASP_DEPTH + offset];
+        assert!(contains(gripper_block, released, settled), "{offset}");
+    }
+}
+
+#[test]
 fn two_resting_places_are_two_regions() {
     let task = PlaceTask { spots: vec![[0.08, 0.0, 0.05], [-0.08, 0.0, 0.05]], noise: 0.0 };
     let pairs = learn_pairs(&task, &LearnConfig::default());

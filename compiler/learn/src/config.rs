@@ -153,6 +153,10 @@ pub struct LearnConfig {
     pub rotation_share: f64,
     /// Poses drawn uniformly from a region to fit its mixture.
     pub samples_per_region: usize,
+    /// How far (m) an object may settle from where it was let go: chosen regions keep every demonstrated pose
+    /// at least this far inside their cells, so that the relations an object had when released still hold
+    /// once it has come to rest. The world's settle rule decides it (lamp-build passes its largest drop).
+    pub release_tolerance: f64,
     /// The one seed of all randomness in learning.
     pub seed: u64,
 }
@@ -166,6 +170,7 @@ impl Default for LearnConfig {
             min_support: 3,
             rotation_share: 0.1,
             samples_per_region: 400,
+            release_tolerance: 0.005,
             seed: 0,
         }
     }

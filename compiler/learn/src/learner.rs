@@ -173,6 +173,7 @@ fn find_regions(
             occurring.len(),
             config.min_support,
             config.rotation_share,
+            config.release_tolerance,
         )
     });
     let settings = match &selection {

@@ -67,6 +67,8 @@ pub struct Keyframe {
     pub g: u8,
     /// The relative pose.
     pub pose: Pose,
+    /// Whether the pair's own held flag changes here: the primary grasps or lets go of the secondary.
+    pub grip: bool,
 }
 
 /// How far a step may move and still be rest, in translation (m) and rotation (rad).
@@ -107,10 +109,15 @@ pub fn keyframes(tracks: &[Track], still: Stillness) -> Vec<Keyframe> {
     let mut found = Vec::new();
     for track in tracks {
         let mut steps = BTreeSet::new();
+        let mut grips = BTreeSet::new();
         for (step, frame) in track.frames.iter().enumerate() {
             if frame.contact && step > 0 {
                 steps.insert(step - 1);
                 steps.insert(step);
+                if frame.g != track.frames[step - 1].g {
+                    grips.insert(step - 1);
+                    grips.insert(step);
+                }
             }
         }
         for (first, last) in rests(&track.frames, still) {
@@ -130,6 +137,7 @@ pub fn keyframes(tracks: &[Track], still: Stillness) -> Vec<Keyframe> {
                 secondary: track.secondary,
                 g: frame.g,
                 pose: frame.pose,
+                grip: grips.contains(&step),
             });
         }
     }
@@ -189,22 +197,26 @@ fn nearest_partners(keyframes: Vec<Keyframe>) -> Vec<Keyframe> {
 }
 
 /// One keyframe per track, held flag and pose (to 0.1 mm): an arrival and the departure from the same rest are
-/// one observation, not two.
+/// one observation, not two. The one kept is a grip if any of them is.
 fn deduplicate(keyframes: Vec<Keyframe>) -> Vec<Keyframe> {
-    let mut seen = BTreeSet::new();
-    keyframes
-        .into_iter()
-        .filter(|k| {
-            let position = k.pose.translation.vector.map(|v| (v * 1e4).round() as i64);
-            seen.insert((
-                k.demonstration,
-                k.primary,
-                k.secondary,
-                k.g,
-                [position[0], position[1], position[2]],
-            ))
-        })
-        .collect()
+    let mut kept: Vec<Keyframe> = Vec::new();
+    let mut index = BTreeMap::new();
+    for k in keyframes {
+        let position = k.pose.translation.vector.map(|v| (v * 1e4).round() as i64);
+        let key =
+            (k.demonstration, k.primary, k.secondary, k.g, [position[0], position[1], position[2]]);
+        match index.get(&key) {
+            Some(&at) => {
+                let first: &mut Keyframe = &mut kept[at];
+                first.grip |= k.grip;
+            }
+            None => {
+                index.insert(key, kept.len());
+                kept.push(k);
+            }
+        }
+    }
+    kept
 }
 
 #[cfg(test)]

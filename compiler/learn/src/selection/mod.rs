@@ -32,10 +32,11 @@ use crate::discretise::Grid;
 pub use clusters::MIN_RELATIVE_SUPPORT;
 pub use keyframes::{Stillness, Track, TrackFrame};
 
-/// The least padding (m) around a group's keyframes: the precision to which a robot repeats a placement.
-pub const PLACEMENT_TOLERANCE: f64 = 0.002;
 /// Padding around a group's keyframes, as a share of its extent along the axis.
 pub const EXTENT_PADDING: f64 = 0.02;
+/// The least padding (m) around a group's keyframes where nothing is let go of: the precision to which a robot
+/// repeats a placement.
+pub const PLACEMENT_TOLERANCE: f64 = 0.002;
 
 /// What was chosen for one pair, and the evidence that chose it.
 #[derive(Debug, Clone, PartialEq)]
@@ -101,13 +102,18 @@ impl Selection {
     }
 }
 
-/// Chooses every setting `pinned` leaves out from the pair's tracks over `demonstrations` demonstrations.
+/// Chooses every setting `pinned` leaves out from the pair's tracks over `demonstrations` demonstrations;
+/// the keyframes of a group where the pair's own grasp or release happens stay at least `release_tolerance` (m)
+/// inside its cell ([`LearnConfig`]), those of every other group [`PLACEMENT_TOLERANCE`].
+///
+/// [`LearnConfig`]: crate::config::LearnConfig
 pub fn select(
     pinned: &PinnedSettings,
     tracks: &[Track],
     demonstrations: usize,
     min_support: usize,
     rotation_share: f64,
+    release_tolerance: f64,
 ) -> Selection {
     let chosen = Chosen {
         position_bins: pinned.position_bins.is_none(),
@@ -161,22 +167,38 @@ pub fn select(
     }
     let extents: Vec<([f64; 3], [f64; 3])> =
         found.iter().map(|(_, members, _)| bounds(members)).collect();
+    // An object let go of settles by up to the release tolerance, and the relation it had to what let it go
+    // must still hold once it is at rest.
+    let floors: Vec<f64> =
+        found
+            .iter()
+            .map(|(_, members, _)| {
+                if members.iter().any(|k| k.grip) { release_tolerance } else { PLACEMENT_TOLERANCE }
+            })
+            .collect();
     let mut half_range = [0.0; 3];
     let mut position_bins = [1; 3];
     let mut margins = [0.0; 3];
     for axis in 0..3 {
-        let padded = |low: f64, high: f64| {
-            let pad = (EXTENT_PADDING * (high - low)).max(PLACEMENT_TOLERANCE);
+        let padded = |low: f64, high: f64, floor: f64| {
+            let pad = (EXTENT_PADDING * (high - low)).max(floor);
             (low - pad, high + pad)
         };
         let (intervals, bins): (Vec<(f64, f64)>, Option<usize>) = if fixed_axes[axis] {
             // One cell across every value the demonstrations show.
             let low = extents.iter().map(|(low, _)| low[axis]).fold(f64::INFINITY, f64::min);
             let high = extents.iter().map(|(_, high)| high[axis]).fold(f64::NEG_INFINITY, f64::max);
-            (vec![padded(low, high)], Some(pinned.position_bins.map_or(1, |bins| bins[axis])))
+            let floor = floors.iter().copied().fold(PLACEMENT_TOLERANCE, f64::max);
+            (
+                vec![padded(low, high, floor)],
+                Some(pinned.position_bins.map_or(1, |bins| bins[axis])),
+            )
         } else {
-            let intervals =
-                extents.iter().map(|(low, high)| padded(low[axis], high[axis])).collect();
+            let intervals = extents
+                .iter()
+                .zip(&floors)
+                .map(|((low, high), floor)| padded(low[axis], high[axis], *floor))
+                .collect();
             (intervals, pinned.position_bins.map(|bins| bins[axis]))
         };
         let choice = grid_choice::choose_axis(
@@ -324,7 +346,7 @@ mod tests {
                 Track { demonstration, primary: 0, secondary: 1, frames }
             })
             .collect();
-        let selection = select(&PinnedSettings::default(), &tracks, 30, 3, 0.1);
+        let selection = select(&PinnedSettings::default(), &tracks, 30, 3, 0.1, 0.005);
         assert_eq!(selection.fixed_axes, [false, false, true]);
         assert_eq!(selection.groups.len(), 1, "{:?}", selection.groups);
         assert_eq!(selection.groups[0].demonstrations, 30);
