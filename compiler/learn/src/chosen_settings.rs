@@ -142,8 +142,11 @@ fn the_report_says_what_was_chosen_and_how_to_pin_it() {
     let report = crate::vocabulary_report(&model);
     assert!(report.contains("Chosen from the demonstrations: position bins, range, rotation bins, threshold (to pin them: `position bins ("), "{report}");
     assert!(report.contains(
-        "| group | g | demonstrations | keyframes | scale | centre | extent | cell share |"
+        "| group | g | demonstrations | keyframes | scale | centre | extent | tolerance | cell share |"
     ));
+    // The gripper's grasp keeps the release tolerance, the resting place on the target the placement one.
+    assert!(report.contains(" | 5 mm | "), "{report}");
+    assert!(report.contains(" | 2 mm | "), "{report}");
 }
 
 /// Demonstrations in which a block stands still on a target from the first step to the last: no keyframe.

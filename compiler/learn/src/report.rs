@@ -146,15 +146,15 @@ fn selection_section(out: &mut String, selection: &Selection) {
     }
     let _ = writeln!(
         out,
-        "| group | g | demonstrations | keyframes | scale | centre | extent | cell share |"
+        "| group | g | demonstrations | keyframes | scale | centre | extent | tolerance | cell share |"
     );
-    let _ = writeln!(out, "| --- | --- | --- | --- | --- | --- | --- | --- |");
+    let _ = writeln!(out, "| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     for (index, group) in selection.groups.iter().enumerate() {
         let extent: Vec<String> =
             (0..3).map(|axis| format!("{:.4}", group.high[axis] - group.low[axis])).collect();
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {:.0} mm | {} | {} | {:.3} |",
+            "| {} | {} | {} | {} | {:.0} mm | {} | {} | {:.0} mm | {:.3} |",
             index + 1,
             group.g,
             group.demonstrations,
@@ -162,6 +162,7 @@ fn selection_section(out: &mut String, selection: &Selection) {
             group.scale * 1000.0,
             vector(&group.centre),
             extent.join(", "),
+            group.tolerance * 1000.0,
             group.share
         );
     }

@@ -93,6 +93,9 @@ pub struct Group {
     pub high: [f64; 3],
     /// The share of the pair's demonstrations that visit its best cell of the chosen grid.
     pub share: f64,
+    /// The least distance (m) its keyframes keep from its cell's edges: the release tolerance where the pair's
+    /// own grasp or release happens in it, else the placement tolerance.
+    pub tolerance: f64,
 }
 
 impl Selection {
@@ -233,7 +236,8 @@ pub fn select(
         .iter()
         .zip(&extents)
         .zip(&shares)
-        .map(|(((g, members, scale), (low, high)), share)| Group {
+        .zip(&floors)
+        .map(|((((g, members, scale), (low, high)), share), tolerance)| Group {
             g: *g,
             demonstrations: support(members),
             keyframes: members.len(),
@@ -242,6 +246,7 @@ pub fn select(
             low: *low,
             high: *high,
             share: *share,
+            tolerance: *tolerance,
         })
         .collect();
     Selection {
