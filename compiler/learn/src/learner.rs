@@ -164,8 +164,9 @@ fn find_regions(
 ) -> PairRegions {
     let type_pairs = [pair.clone()];
     let pinned = config.pinned(pair);
+    // One pass over the recordings: the selection and the occupancy both read these tracks.
+    let tracks = tracks(demonstrations, &type_pairs);
     let selection = pinned.leaves_a_choice().then(|| {
-        let tracks = tracks(demonstrations, &type_pairs);
         let occurring = tracks.iter().map(|track| track.demonstration).collect::<BTreeSet<_>>();
         selection::select(
             &pinned,
@@ -183,20 +184,17 @@ fn find_regions(
     let grid = Grid::new(&settings);
     let mut occupancy = Occupancy::default();
     let mut observations = Vec::new();
-    for (index, demonstration) in demonstrations.iter().enumerate() {
-        let instances = pairs::instances(&type_pairs, &demonstration.participants);
-        if instances.is_empty() {
-            continue;
-        }
+    // Tracks come per demonstration, in instance order; observations stay in step order within one.
+    for own in tracks.chunk_by(|a, b| a.demonstration == b.demonstration) {
         let mut visited = Vec::new();
-        for snapshot in &demonstration.steps {
-            for instance in &instances {
-                let pose = pairs::relative_pose(snapshot, *instance);
+        for step in 0..own[0].frames.len() {
+            for track in own {
+                let TrackFrame { g, pose, .. } = track.frames[step];
                 let Some(voxel) = grid.voxel(&pose) else { continue };
-                let g = pairs::held_flag(snapshot, *instance);
                 let rotation = grid.rotation_cell(&pose);
                 visited.push((g, voxel, rotation));
-                observations.push(Observation { demonstration: index, g, voxel, rotation, pose });
+                let demonstration = track.demonstration;
+                observations.push(Observation { demonstration, g, voxel, rotation, pose });
             }
         }
         occupancy.add_demonstration(visited);

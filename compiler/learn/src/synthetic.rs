@@ -24,22 +24,20 @@ pub fn packing_demonstrations(count: usize, seed: u64) -> Vec<Demonstration> {
 }
 
 fn participants() -> Vec<Participant> {
+    gripper_object_and_fixed(("can1", "can"), ("box1", "surface"))
+}
+
+/// A gripper `gripper1`, a movable object and a fixed one, each given as (name, type), in that order.
+fn gripper_object_and_fixed(object: (&str, &str), fixed: (&str, &str)) -> Vec<Participant> {
+    let participant = |(name, type_name): (&str, &str), role| Participant {
+        name: name.into(),
+        type_name: type_name.into(),
+        role,
+    };
     vec![
-        Participant {
-            name: "gripper1".into(),
-            type_name: "gripper".into(),
-            role: Role::RobotPart { gripper: true },
-        },
-        Participant {
-            name: "can1".into(),
-            type_name: "can".into(),
-            role: Role::Object { movable: true },
-        },
-        Participant {
-            name: "box1".into(),
-            type_name: "surface".into(),
-            role: Role::Object { movable: false },
-        },
+        participant(("gripper1", "gripper"), Role::RobotPart { gripper: true }),
+        participant(object, Role::Object { movable: true }),
+        participant(fixed, Role::Object { movable: false }),
     ]
 }
 
@@ -219,23 +217,7 @@ pub const PLACE_WAYPOINT: [f64; 3] = [0.0, 0.0, 0.3];
 
 /// The participants of a [`PlaceTask`]: a gripper, a block and a target, in that order.
 pub fn place_participants() -> Vec<Participant> {
-    vec![
-        Participant {
-            name: "gripper1".into(),
-            type_name: "gripper".into(),
-            role: Role::RobotPart { gripper: true },
-        },
-        Participant {
-            name: "block1".into(),
-            type_name: "block".into(),
-            role: Role::Object { movable: true },
-        },
-        Participant {
-            name: "target1".into(),
-            type_name: "target".into(),
-            role: Role::Object { movable: false },
-        },
-    ]
+    gripper_object_and_fixed(("block1", "block"), ("target1", "target"))
 }
 
 /// `count` demonstrations of a [`PlaceTask`] from one seed.
