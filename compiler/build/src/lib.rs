@@ -33,6 +33,7 @@ pub mod ros2;
 pub mod samplers;
 pub mod scene_issue;
 pub mod shapes;
+pub mod spec_sources;
 pub mod structure_goals;
 pub mod structure_issue;
 
@@ -63,5 +64,6 @@ pub use ros2::{
 };
 pub use samplers::{SAMPLERS_FORMAT, SAMPLERS_VERSION, SamplersFile};
 pub use shapes::SpecShapes;
+pub use spec_sources::SpecSources;
 pub use structure_goals::{placed_structure_issues, structure_goal_atoms};
 pub use structure_issue::StructureIssue;

@@ -17,13 +17,14 @@ use crate::error::BuildError;
 use crate::model_folder::ArtifactFile;
 use crate::provenance::Provenance;
 use crate::samplers::SamplersFile;
+use crate::spec_sources::SpecSources;
 
 /// The manifest's path inside the model folder.
 pub const MANIFEST_FILE: &str = "manifest.json";
 /// The `format` field of every manifest.
 pub const MANIFEST_FORMAT: &str = "lamp-build-manifest";
 /// The manifest version; bumped when its shape or meaning changes.
-pub const MANIFEST_VERSION: u32 = 1;
+pub const MANIFEST_VERSION: u32 = 2;
 /// The name of the per-file digest: FNV-1a (64 bit) over the file's bytes (see [`file_digest`]).
 pub const MANIFEST_DIGEST: &str = "fnv1a64";
 
@@ -36,6 +37,8 @@ pub struct Manifest {
     pub version: u32,
     /// What the model was built from: spec file, domain, seed, demonstrations and their digest.
     pub provenance: Provenance,
+    /// What the model and each problem file were made from in the spec ([`SpecSources`]).
+    pub sources: SpecSources,
     /// The algorithm of every file's `digest`, [`MANIFEST_DIGEST`].
     pub digest: String,
     /// Every artifact but the manifest, by path.
@@ -54,8 +57,8 @@ pub struct ManifestEntry {
 }
 
 impl Manifest {
-    /// The manifest of `files`, listed by path.
-    pub fn new(provenance: &Provenance, files: &[ArtifactFile]) -> Self {
+    /// The manifest of `files`, listed by path, made from `sources`.
+    pub fn new(provenance: &Provenance, sources: &SpecSources, files: &[ArtifactFile]) -> Self {
         let mut entries: Vec<ManifestEntry> = files
             .iter()
             .map(|file| ManifestEntry {
@@ -69,6 +72,7 @@ impl Manifest {
             format: MANIFEST_FORMAT.to_string(),
             version: MANIFEST_VERSION,
             provenance: provenance.clone(),
+            sources: sources.clone(),
             digest: MANIFEST_DIGEST.to_string(),
             files: entries,
         }
@@ -120,6 +124,26 @@ impl Manifest {
     /// Whether the manifest lists `path` (relative to the model folder, `/` separators).
     pub fn lists(&self, path: &str) -> bool {
         self.files.iter().any(|entry| entry.path == path)
+    }
+
+    /// Checks that the model and problem `problem` were made from the spec whose sources are
+    /// `current`: a spec edited since the build would otherwise be answered by the old model or
+    /// the old problem file (a goal the spec no longer has).
+    pub fn check_sources(
+        &self,
+        current: &SpecSources,
+        problem: &str,
+    ) -> Result<(), BuildFolderError> {
+        if self.sources.model != current.model {
+            return Err(BuildFolderError::SpecChanged { spec: self.provenance.spec.clone() });
+        }
+        if self.sources.problems.get(problem) != current.problems.get(problem) {
+            return Err(BuildFolderError::ProblemChanged {
+                problem: problem.to_string(),
+                spec: self.provenance.spec.clone(),
+            });
+        }
+        Ok(())
     }
 
     /// Checks `bytes` read from `path` against the manifest's entry.
@@ -279,6 +303,29 @@ pub enum BuildFolderError {
         )
     )]
     OtherDomain { found: String, expected: String },
+
+    /// The spec's robots, object types, demonstration sources, learning settings or seed changed
+    /// since the build.
+    #[error(
+        "the build is stale: {spec}'s seed, robots, object types, demonstration sources or learning settings changed since it was built"
+    )]
+    #[diagnostic(
+        code(lamp::solve::stale_build),
+        help("Run `lampc build SPEC` again to learn the model from the spec as it is now.")
+    )]
+    SpecChanged { spec: String },
+
+    /// The problem, a relation alias or a structure changed since the build.
+    #[error(
+        "problem `{problem}` changed in {spec} since the build (its scene or goal, a relation alias or a structure): its problem file answers the old one"
+    )]
+    #[diagnostic(
+        code(lamp::solve::changed_problem),
+        help(
+            "Run `lampc build SPEC` again to write the problem files from the spec as it is now."
+        )
+    )]
+    ProblemChanged { problem: String, spec: String },
 }
 
 #[cfg(test)]
@@ -290,6 +337,13 @@ mod tests {
         Provenance::new("packing.lamp", "packing", 1, 3, Digest(digest))
     }
 
+    fn sources(problem_digest: &str) -> SpecSources {
+        SpecSources {
+            model: "fnv1a64:0000000000000001".to_string(),
+            problems: [("p1".to_string(), problem_digest.to_string())].into(),
+        }
+    }
+
     fn files() -> Vec<ArtifactFile> {
         vec![
             ArtifactFile { path: "problems/p1.pddl".into(), contents: "(problem)".into() },
@@ -299,7 +353,7 @@ mod tests {
 
     #[test]
     fn lists_every_file_by_path_with_length_and_digest_and_reads_back() {
-        let manifest = Manifest::new(&provenance(7), &files());
+        let manifest = Manifest::new(&provenance(7), &sources("p1"), &files());
         let paths: Vec<&str> = manifest.files.iter().map(|entry| entry.path.as_str()).collect();
         assert_eq!(paths, ["domain.pddl", "problems/p1.pddl"]);
         assert_eq!(manifest.files[0].bytes, 8);
@@ -312,7 +366,7 @@ mod tests {
 
     #[test]
     fn an_edited_truncated_or_unlisted_file_is_tampered_and_named() {
-        let manifest = Manifest::new(&provenance(7), &files());
+        let manifest = Manifest::new(&provenance(7), &sources("p1"), &files());
         for (path, bytes, reason) in [
             ("domain.pddl", &b"(domaiN)"[..], "its digest is fnv1a64:"),
             ("domain.pddl", b"(dom", "it has 4 bytes, the manifest says 8"),
@@ -329,11 +383,11 @@ mod tests {
 
     #[test]
     fn refuses_another_format_version_algorithm_or_a_path_outside() {
-        let manifest = Manifest::new(&provenance(7), &files());
+        let manifest = Manifest::new(&provenance(7), &sources("p1"), &files());
         let text = manifest.to_json().expect("serialises");
         for (edited, reason) in [
             (text.replace(MANIFEST_FORMAT, "other"), "its format is `other`"),
-            (text.replace("\"version\": 1", "\"version\": 9"), "version 9"),
+            (text.replace("\"version\": 2", "\"version\": 9"), "version 9"),
             (text.replace("\"digest\": \"fnv1a64\"", "\"digest\": \"md5\""), "`md5`"),
             (text.replace("problems/p1.pddl", "../p1.pddl"), "outside the model folder"),
             ("{".to_string(), "EOF"),
@@ -341,6 +395,25 @@ mod tests {
             let error = Manifest::from_json(&edited, "m.json").expect_err("refused");
             assert!(error.to_string().contains(reason), "{error}");
         }
+    }
+
+    #[test]
+    fn a_spec_or_problem_changed_since_the_build_is_named() {
+        let manifest = Manifest::new(&provenance(7), &sources("p1"), &files());
+        assert!(manifest.check_sources(&sources("p1"), "p1").is_ok());
+        let code = |error: &BuildFolderError| {
+            miette::Diagnostic::code(error).map(|code| code.to_string()).unwrap_or_default()
+        };
+        let changed = manifest.check_sources(&sources("edited"), "p1").expect_err("refused");
+        assert_eq!(code(&changed), "lamp::solve::changed_problem");
+        assert!(
+            changed.to_string().starts_with("problem `p1` changed in packing.lamp"),
+            "{changed}"
+        );
+        let relearn =
+            SpecSources { model: "fnv1a64:0000000000000002".to_string(), ..sources("p1") };
+        let stale = manifest.check_sources(&relearn, "p1").expect_err("refused");
+        assert_eq!(code(&stale), "lamp::solve::stale_build");
     }
 
     #[test]

@@ -24,6 +24,7 @@ use crate::problems::{ProblemContext, ProblemOutcome, problem_pddl};
 use crate::provenance::Provenance;
 use crate::samplers::SamplersFile;
 use crate::shapes::SpecShapes;
+use crate::spec_sources::SpecSources;
 
 pub use crate::model_folder::{
     ArtifactFile, DOMAIN_FILE, MODEL_DIR, PROBLEMS_DIR, SAMPLERS_FILE, VOCABULARY_FILE,
@@ -152,7 +153,7 @@ pub fn artifacts(
         contents: vocabulary(&provenance, model, &plots),
     });
     files.extend(plots);
-    let manifest = Manifest::new(&provenance, &files);
+    let manifest = Manifest::new(&provenance, &SpecSources::of(spec), &files);
     files.push(ArtifactFile { path: MANIFEST_FILE.into(), contents: manifest.to_json()? });
     files.sort_by(|a, b| a.path.cmp(&b.path));
     Ok(Artifacts { files, summary })

@@ -7,8 +7,9 @@ use std::path::{Path, PathBuf};
 
 use lamp_build::{
     BuildFolderError, DOMAIN_FILE, MANIFEST_FILE, MODEL_DIR, Manifest, PROBLEMS_DIR, SAMPLERS_FILE,
-    SamplersFile,
+    SamplersFile, SpecSources,
 };
+use lamp_spec::Spec;
 
 use crate::files;
 use crate::output::OutputFolder;
@@ -40,13 +41,14 @@ pub(crate) fn model_dir(build_dir: &Path) -> PathBuf {
 }
 
 /// Reads the domain, the problem `problem` and the sampler file of the model in `build_dir`,
-/// for a spec of domain `domain`.
+/// checking that it was built from `spec` as it is now.
 pub(crate) fn read_model(
     build_dir: &Path,
     problem: &str,
-    domain: &str,
+    spec: &Spec,
     check: Check,
 ) -> Result<ModelFiles, ReadError> {
+    let domain = spec.domain.as_str();
     let model = OutputFolder::new(&model_dir(build_dir)).map_err(boxed)?;
     let _reading = model.lock_for_reading().map_err(boxed)?;
     layout(build_dir, &model)?;
@@ -89,6 +91,9 @@ pub(crate) fn read_model(
             if check == Check::Manifest && !manifest.lists(&problem_path) {
                 let problem = problem.to_string();
                 return Err(Box::new(BuildFolderError::NoProblemFile { problem }));
+            }
+            if let Err(error) = manifest.check_sources(&SpecSources::of(spec), problem) {
+                refuse_or_warn(error, check, &mut warnings)?;
             }
             // The files the solve uses are checked as read (so what is checked is what is used);
             // every other file of the manifest too, since a model is trusted only as a whole.

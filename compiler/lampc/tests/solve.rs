@@ -612,3 +612,63 @@ fn an_interrupted_old_or_incomplete_build_is_refused_naming_what_is_wrong() {
     assert!(text.contains(&format!("{} cannot be read", gone.display())), "{text}");
     assert!(!out.exists(), "nothing is written");
 }
+
+/// The Packing spec, edited by `edit`, beside a copy of the robot models (so that its paths read
+/// as in the original): `scratch/packing/packing.lamp`.
+fn edited_spec(scratch: &Path, edit: impl Fn(String) -> String) -> PathBuf {
+    let robots = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains/robots/");
+    copy_dir(&robots, &scratch.join("robots"));
+    let folder = scratch.join("packing");
+    std::fs::create_dir_all(&folder).expect("a spec folder");
+    let path = folder.join("packing.lamp");
+    let text = std::fs::read_to_string(spec()).expect("the bundled spec");
+    std::fs::write(&path, edit(text)).expect("writes the spec");
+    path
+}
+
+/// A build answers the spec it was made from: after a goal or a learning input is edited, solving
+/// with the old build is refused, naming what changed, instead of answering the old goal.
+#[test]
+fn a_spec_edited_since_the_build_is_refused_naming_what_changed() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let out = scratch.path().join("solution");
+    let build = build_copy(scratch.path());
+    let solve_with = |spec: &Path| {
+        let mut command = lampc();
+        command.arg("solve").arg(spec).args(["--problem", "pack4_03", "--build"]).arg(&build);
+        command.arg("--out").arg(&out).env("NO_COLOR", "1").env("COLUMNS", "10000");
+        command.output().expect("lampc runs")
+    };
+
+    let unchanged = edited_spec(scratch.path(), |text| text);
+    let same = solve_with(&unchanged);
+    assert!(same.status.success(), "{}", stderr(&same));
+    std::fs::remove_dir_all(&out).expect("removes the solution");
+
+    // pack4_03's goal trimmed to one can: the build's problem file still asks for four.
+    let goal_start = |text: &str| text.find("problem pack4_03").expect("pack4_03") + 1;
+    let trimmed = edited_spec(scratch.path(), |text| {
+        let start = goal_start(&text);
+        let goal = start + text[start..].find("    in_box(can2, box1)\n").expect("a can2 goal");
+        format!("{}{}", &text[..goal], &text[goal + "    in_box(can2, box1)\n".len()..])
+    });
+    let output = solve_with(&trimmed);
+    let text = stderr(&output);
+    assert!(!output.status.success(), "{text}");
+    assert!(text.contains("lamp::solve::changed_problem"), "{text}");
+    assert!(text.contains("problem `pack4_03` changed in packing.lamp since the build"), "{text}");
+    assert!(!out.exists(), "nothing is written");
+
+    // Another problem's edit leaves pack4_03's file valid.
+    let other =
+        edited_spec(scratch.path(), |text| text.replacen("    in_box(can2, box1)\n", "", 1));
+    let output = solve_with(&other);
+    assert!(output.status.success(), "{}", stderr(&output));
+    std::fs::remove_dir_all(&out).expect("removes the solution");
+
+    let reseeded = edited_spec(scratch.path(), |text| text.replacen("\nseed 1\n", "\nseed 2\n", 1));
+    let output = solve_with(&reseeded);
+    let text = stderr(&output);
+    assert!(text.contains("lamp::solve::stale_build"), "{text}");
+    assert!(!out.exists(), "nothing is written");
+}

@@ -143,7 +143,7 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
         );
     }
     let ModelFiles { domain, problem: problem_text, samplers, warnings } =
-        crate::build_folder::read_model(&build_dir, &problem.name, &spec.domain, check)
+        crate::build_folder::read_model(&build_dir, &problem.name, spec, check)
             .map_err(|error| crate::diagnostics::render_error(error.as_ref(), colour))?;
     for warning in &warnings {
         eprintln!("lampc solve: warning: {warning}");
