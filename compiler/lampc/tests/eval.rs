@@ -262,3 +262,49 @@ fn a_problem_glob_that_matches_nothing_and_bad_counts_are_refused() {
     assert!(message.contains("`--demos`: 50000 is out of range"), "{message}");
     assert!(!scratch.path().join("build").exists(), "nothing is generated or written");
 }
+
+/// A worker answers the spec the evaluation started with, whatever the file says by the time the
+/// worker runs: the job carries the text the settings key was made from. Here the file on disk
+/// has lost the problem by then, and the worker still solves it from the job.
+#[test]
+fn a_worker_solves_the_spec_the_evaluation_started_with_not_the_file_on_disk() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let (demos, build) = (scratch.path().join("demos"), scratch.path().join("build"));
+    run([OsStr::new("demos"), spec.as_os_str(), OsStr::new("--count"), OsStr::new("40")]
+        .into_iter()
+        .chain([OsStr::new("--out"), demos.as_os_str()]));
+    run([OsStr::new("build"), spec.as_os_str(), OsStr::new("--demos"), demos.as_os_str()]
+        .into_iter()
+        .chain([OsStr::new("--out"), build.as_os_str()]));
+    let model = |path: &str| std::fs::read_to_string(build.join("model").join(path)).expect("read");
+    let text = std::fs::read_to_string(&spec).expect("the spec");
+    let job = serde_json::json!({
+        "spec": spec,
+        "spec_text": text,
+        "problem": "pack2",
+        "seed": 1,
+        "timeout": null,
+        "domain": model("domain.pddl"),
+        "problem_pddl": model("problems/pack2.pddl"),
+        "samplers": model("samplers.json"),
+    });
+    let start = text.find("problem pack2 {").expect("pack2");
+    let end = start + text[start..].find("\n}\n").expect("its end") + 3;
+    std::fs::write(&spec, format!("{}{}", &text[..start], &text[end..])).expect("edits the spec");
+
+    let mut worker = Command::new(env!("CARGO_BIN_EXE_lampc"))
+        .arg("eval-worker")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the worker starts");
+    let mut input = worker.stdin.take().expect("its input");
+    std::io::Write::write_all(&mut input, job.to_string().as_bytes()).expect("writes the job");
+    drop(input);
+    let output = worker.wait_with_output().expect("the worker ends");
+    assert!(output.status.success(), "{}", stderr(&output));
+    let row: Value = serde_json::from_slice(&output.stdout).expect("one result row");
+    assert_eq!(row["outcome"], "solved", "{row}");
+}

@@ -225,8 +225,13 @@ fn evaluate_checked(
         adapter: &adapter,
     };
     let learn = |work: &SubsetWork| learn(&context, &pool.demonstrations, work);
-    let schedule_settings =
-        schedule::Settings { spec: &args.spec, seed, timeout: args.timeout, jobs };
+    let schedule_settings = schedule::Settings {
+        spec: &args.spec,
+        spec_text: checked.sources.text(lamp_lang::FileId(0)),
+        seed,
+        timeout: args.timeout,
+        jobs,
+    };
     let mut write_error = None;
     // Rows of crashed workers: reported, not journaled, so not kept for the next run.
     let mut crashed = BTreeSet::new();

@@ -44,6 +44,8 @@ pub(super) struct Model {
 /// What stays the same for every solve.
 pub(super) struct Settings<'a> {
     pub(super) spec: &'a std::path::Path,
+    /// The spec's text as checked when the evaluation started, handed to every worker.
+    pub(super) spec_text: &'a str,
     pub(super) seed: u64,
     pub(super) timeout: Option<f64>,
     pub(super) jobs: usize,
@@ -181,6 +183,7 @@ fn job_text(settings: &Settings<'_>, learned: &Learned, problem: &str) -> Result
         model.problems.get(problem).and_then(|p| p.as_ref().ok()).ok_or_else(unwritten)?;
     let job = Job {
         spec: settings.spec.to_path_buf(),
+        spec_text: settings.spec_text.to_string(),
         problem: problem.to_string(),
         seed: settings.seed,
         timeout: settings.timeout,

@@ -36,8 +36,12 @@ const STDERR_LINES: usize = 3;
 /// What a worker solves: the problem of the spec with the subset's learned model.
 #[derive(Serialize, Deserialize)]
 pub(super) struct Job {
-    /// The spec file (as the parent was given it; the worker runs in the same folder).
+    /// The spec file (as the parent was given it; the worker runs in the same folder): where its
+    /// relative paths start and what its messages name.
     pub(super) spec: PathBuf,
+    /// The spec's text as the parent read it when the evaluation started: every solve answers
+    /// that spec (the one the journal's settings key was made from), whatever the file says now.
+    pub(super) spec_text: String,
     pub(super) problem: String,
     /// The evaluation's seed.
     pub(super) seed: u64,
@@ -90,13 +94,15 @@ fn error(reason: impl std::fmt::Display) -> SolveResult {
 }
 
 fn solve(job: &Job) -> SolveResult {
-    let checked = lamp_lang::check(&job.spec, &crate::files::DiskLoader);
-    let Some(spec) = checked.spec else {
-        return error(format!("the spec {} has errors", job.spec.display()));
-    };
     let spec_dir = match job.spec.parent() {
         Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
         _ => PathBuf::from("."),
+    };
+    let name = job.spec.display().to_string();
+    let checked =
+        lamp_lang::check_source(&name, &job.spec_text, &spec_dir, &crate::files::DiskLoader);
+    let Some(spec) = checked.spec else {
+        return error(format!("the spec {name} has errors"));
     };
     let spec_file = job.spec.file_name().map_or_else(String::new, |n| n.to_string_lossy().into());
     let Some(problem) = spec.problems.iter().find(|problem| problem.name == job.problem) else {
