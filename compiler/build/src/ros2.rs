@@ -29,6 +29,14 @@ use nalgebra::Isometry3;
 /// (10 to 100 Hz); a frame that moves further is a tracking glitch or a wrong mapping.
 pub const MAX_FRAME_JUMP: f64 = 0.5;
 
+/// How far past its URDF limits a recorded joint value may be (rad or m): a real arm's encoders
+/// read a little beyond the limits its model states, never a tenth of a radian or 5 cm.
+pub const JOINT_LIMIT_SLACK: f64 = 0.05;
+
+/// The largest magnitude of a joint value without limits (a continuous joint, rad): beyond 2³²
+/// an `f64` no longer resolves a micro-radian, so the value says nothing about the angle.
+pub const MAX_UNLIMITED_JOINT: f64 = 4_294_967_296.0;
+
 /// How many links a chain of tf frames may have before it counts as a cycle.
 const MAX_TREE_DEPTH: usize = 1000;
 
@@ -148,6 +156,39 @@ pub enum Ros2Error {
     )]
     UnknownHeld { file: String, frame: String, time_nanoseconds: u64 },
 
+    /// The mapping's held topic is not in the bag.
+    #[error("{file} has no topic `{topic}`, the mapping's held topic; its topics are: {topics}")]
+    #[diagnostic(
+        code(lamp::ros2::held_topic),
+        help(
+            "Record which frame the gripper holds on the held topic (std_msgs/msg/String), or correct the topic's name in the mapping."
+        )
+    )]
+    NoHeldTopic { file: String, topic: String, topics: String },
+
+    /// A joint value no robot could have: far outside the joint's limits.
+    #[error(
+        "{file}, at {time_nanoseconds} ns: joint `{joint}` of robot `{robot}` is at {} on `/joint_states`, outside its limits [{}, {}]",
+        readable(*.value),
+        readable(*.lower),
+        readable(*.upper)
+    )]
+    #[diagnostic(
+        code(lamp::ros2::joint_range),
+        help(
+            "Check the joint's units (radians, metres) and the URDF's limits; a value may pass a limit by at most 0.05."
+        )
+    )]
+    JointOutOfRange {
+        file: String,
+        robot: String,
+        joint: String,
+        value: f64,
+        lower: f64,
+        upper: f64,
+        time_nanoseconds: u64,
+    },
+
     /// A joint of the robot has no value in `/joint_states`.
     #[error(
         "{file}: joint `{joint}` of robot `{robot}` has no value on `/joint_states` by the first step"
@@ -176,6 +217,28 @@ pub fn ros2_demo_file(
     Ok(crate::DemoFile { name: file.name.clone(), bytes })
 }
 
+/// A number as a person reads it: in scientific notation when it is very large or very small.
+fn readable(value: f64) -> String {
+    if value != 0.0 && !(1e-4..1e6).contains(&value.abs()) {
+        format!("{value:e}")
+    } else {
+        format!("{value}")
+    }
+}
+
+/// The values a joint may be recorded at (before [`JOINT_LIMIT_SLACK`]): its limits, or for a
+/// continuous joint, which a driver reports unwrapped, any angle an `f64` still resolves.
+fn recordable_range(coordinate: &lamp_robot::Coordinate) -> (f64, f64) {
+    let unlimited = coordinate.kind == lamp_robot::CoordinateKind::WrappedAngle
+        || !coordinate.lower.is_finite()
+        || !coordinate.upper.is_finite();
+    if unlimited {
+        (-MAX_UNLIMITED_JOINT, MAX_UNLIMITED_JOINT)
+    } else {
+        (coordinate.lower, coordinate.upper)
+    }
+}
+
 /// Reads the bag `bytes` (named `file` in errors) as a demonstration of `domain` with `mapping`.
 pub fn ros2_trajectory(
     bytes: &[u8],
@@ -188,6 +251,14 @@ pub fn ros2_trajectory(
     let recording = read_standard_channels(bytes, file, held_topic.as_slice())?;
     if recording.tf.is_empty() {
         return Err(Ros2Error::NoTf { file: file.to_string() });
+    }
+    if let Some(topic) = held_topic.filter(|topic| !recording.topics.contains(*topic)) {
+        let topics: Vec<&str> = recording.topics.iter().map(String::as_str).collect();
+        return Err(Ros2Error::NoHeldTopic {
+            file: file.to_string(),
+            topic: topic.to_string(),
+            topics: topics.join(", "),
+        });
     }
     let held_messages = held_topic.map(|topic| recording.strings[topic].as_slice()).unwrap_or(&[]);
 
@@ -357,12 +428,25 @@ pub fn ros2_trajectory(
             let base = poses[mapping.objects.len()].0;
             robot.model.mount().write_coordinates(&base, &mut q);
             for (joint, coordinate) in &joints {
-                q[*coordinate] =
+                let value =
                     joint_value(&joint_values, joint).ok_or_else(|| Ros2Error::MissingJoint {
                         file: file.to_string(),
                         robot: mapped.robot.clone(),
                         joint: joint.to_string(),
                     })?;
+                let (lower, upper) = recordable_range(&robot.model.coordinates()[*coordinate]);
+                if !(lower - JOINT_LIMIT_SLACK..=upper + JOINT_LIMIT_SLACK).contains(&value) {
+                    return Err(Ros2Error::JointOutOfRange {
+                        file: file.to_string(),
+                        robot: mapped.robot.clone(),
+                        joint: joint.to_string(),
+                        value,
+                        lower,
+                        upper,
+                        time_nanoseconds: time,
+                    });
+                }
+                q[*coordinate] = value;
             }
             if let Some(grasp) = &robot.grasp {
                 let joint = grasp.joint.joint.as_str();

@@ -324,6 +324,8 @@ fn each_of_two_robots_is_read_through_its_prefixed_frames_and_joints() {
             for (joint, value) in yumi_q.iter_mut().enumerate() {
                 *value += 0.1 * (t + joint as f64).sin();
             }
+            // Within the joints' limits, as a real arm records them.
+            yumi.clamp(&mut yumi_q);
             let plank = Isometry3::from_parts(
                 Translation3::new(0.2, 0.1 * t, 0.0),
                 UnitQuaternion::from_euler_angles(0.0, 0.0, t),
@@ -376,4 +378,60 @@ fn each_of_two_robots_is_read_through_its_prefixed_frames_and_joints() {
     let error =
         lamp_build::ros2_trajectory(&bag, "keva.mcap", "keva", &mapping, Some(&robot)).unwrap_err();
     assert!(matches!(&error, Ros2Error::MissingJoint { robot, .. } if robot == "yumi"), "{error}");
+}
+
+/// A held topic the bag lacks (a typo in the mapping, or a recorder that left it out) is refused
+/// naming the bag's topics, instead of being read as a gripper that never holds anything.
+#[test]
+fn a_held_topic_the_bag_lacks_is_refused_with_the_topics_it_has() {
+    let (world, trajectory, bag) = cafe_bag();
+    let robot =
+        MappedRobot { model: &world.robots["fetch"], gripper: Some("gripper".into()), grasp: None };
+    let mut mapping = cafe_mapping(&trajectory);
+    mapping.robot.as_mut().unwrap().held_topic = Some("/lamp/hold".into());
+    let error =
+        lamp_build::ros2_trajectory(&bag, "cafe.mcap", "cafe", &mapping, Some(&robot)).unwrap_err();
+    let message = error.to_string();
+    assert!(matches!(&error, Ros2Error::NoHeldTopic { topic, .. } if topic == "/lamp/hold"));
+    assert!(message.starts_with("cafe.mcap has no topic `/lamp/hold`"), "{message}");
+    assert!(message.contains("/lamp/held") && message.contains("/joint_states"), "{message}");
+}
+
+/// A joint value no robot could have is refused with the joint, the value and the limits; one a
+/// little past the URDF's limit, as real encoders read, and a continuous joint's unwrapped angle
+/// are kept.
+#[test]
+fn a_joint_value_far_outside_its_limits_is_refused() {
+    let (world, trajectory, _) = cafe_bag();
+    let robot =
+        MappedRobot { model: &world.robots["fetch"], gripper: Some("gripper".into()), grasp: None };
+    let with_joint = |joint: &str, value: f64| {
+        let (channels, mut values) = lamp_world::standard_channels(&world, &trajectory).unwrap();
+        let index = channels.joints.iter().position(|name| name == joint).unwrap();
+        values[3].joint_positions[index] = value;
+        let bag = strip(&trajectory.to_bytes_with(&channels, &values).unwrap());
+        lamp_build::ros2_trajectory(
+            &bag,
+            "cafe.mcap",
+            "cafe",
+            &cafe_mapping(&trajectory),
+            Some(&robot),
+        )
+    };
+    // shoulder_lift_joint is revolute, limited to [-1.221, 1.518] rad.
+    let error = with_joint("shoulder_lift_joint", 1e300).unwrap_err();
+    assert!(
+        matches!(&error, Ros2Error::JointOutOfRange { joint, .. } if joint == "shoulder_lift_joint"),
+        "{error}"
+    );
+    assert!(
+        error
+            .to_string()
+            .contains("is at 1e300 on `/joint_states`, outside its limits [-1.221, 1.518]"),
+        "{error}"
+    );
+    assert!(with_joint("shoulder_lift_joint", 1.518 + 0.01).is_ok());
+    // upperarm_roll_joint is continuous: a driver reports it unwrapped.
+    assert!(with_joint("upperarm_roll_joint", 7.0).is_ok());
+    assert!(with_joint("upperarm_roll_joint", 1e300).is_err());
 }

@@ -59,6 +59,8 @@ pub struct StandardRecording {
     pub joint_states: Vec<BagJointState>,
     /// The `std_msgs/msg/String` messages of the topics asked for: topic → (log time, text).
     pub strings: BTreeMap<String, Vec<(u64, String)>>,
+    /// Every topic the bag declares a channel for, whatever its type.
+    pub topics: std::collections::BTreeSet<String>,
 }
 
 /// What a channel holds, for decoding its messages.
@@ -125,6 +127,7 @@ pub fn read_standard_channels<R: Read>(
                         });
                     }
                 }
+                recording.topics.insert(channel.topic.clone());
                 channels.insert(channel.id, (kind, channel.topic.clone()));
             }
             Record::Message { header, data } => {
