@@ -3,10 +3,12 @@
 //!
 //! Per problem, in this order: every object's and robot's placement is finite and within
 //! [`MAX_DISTANCE`] of the origin (a scene that is not is not built further); bodies that touch
-//! or overlap, where at least one can move, closer than [`CONTACT_TOLERANCE`]; every robot's
-//! start configuration within its joint limits and free of collision with the bodies and itself,
-//! at the same tolerance; every AtGoal target finite, in range, putting its object into no
-//! static body, and where it can rest by lamp-world's resting rule. Findings are listed in spec order of problems, then in that order.
+//! or overlap, where at least one can move, closer than [`CONTACT_TOLERANCE`]; every movable
+//! object that touches nothing where it can rest by lamp-world's resting rule (not in the air, not
+//! over an edge); every AtGoal target putting its object into no static body, and where it can
+//! rest by the same rule; every robot's start configuration within its joint limits and free of
+//! collision with the bodies and itself, at the same tolerance. Findings are listed in spec order
+//! of problems, then in that order.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -62,8 +64,21 @@ pub fn problem_scene_issues(spec: &Spec, world: &SpecWorld, problem: &Problem) -
         }
     };
     scene.set_margin(CONTACT_TOLERANCE);
-    for (first, second) in scene.body_contacts() {
+    let contacts = scene.body_contacts();
+    let touching: BTreeSet<String> =
+        contacts.iter().flat_map(|(first, second)| [first.clone(), second.clone()]).collect();
+    for (first, second) in contacts {
         issues.push(SceneIssue::Contact { problem: name(), first, second });
+    }
+    // Every movable object starts at rest by the one resting rule (a touching one is named above).
+    for (index, body) in scene.bodies().iter().enumerate() {
+        if !body.movable || body.is_marker() || touching.contains(&body.name) {
+            continue;
+        }
+        if let Err(reason) = scene.resting_pose(index) {
+            let (object, reason) = (body.name.clone(), reason.to_string());
+            issues.push(SceneIssue::Unsupported { problem: name(), object, reason });
+        }
     }
     issues.extend(target_issues(world, problem));
     for (index, robot) in scene.robots().iter().enumerate() {

@@ -57,6 +57,17 @@ pub enum SceneIssue {
     )]
     TargetUnsupported { problem: String, object: String, reason: String },
 
+    /// A movable object of the initial scene cannot rest where it is placed: in the air, over
+    /// an edge.
+    #[error("problem `{problem}`: `{object}` cannot rest where the scene places it: {reason}")]
+    #[diagnostic(
+        code(lamp::build::scene_unsupported),
+        help(
+            "An object must start standing on something: place it 1 mm above the top of its support, as the bundled specs do, with its centre over that support."
+        )
+    )]
+    Unsupported { problem: String, object: String, reason: String },
+
     /// A robot starts in collision.
     #[error("problem `{problem}`: robot `{robot}` starts in collision: {contact}")]
     #[diagnostic(
@@ -99,6 +110,7 @@ impl SceneIssue {
             | SceneIssue::Contact { problem, .. }
             | SceneIssue::TargetContact { problem, .. }
             | SceneIssue::TargetUnsupported { problem, .. }
+            | SceneIssue::Unsupported { problem, .. }
             | SceneIssue::RobotCollision { problem, .. }
             | SceneIssue::RobotLimits { problem, .. }
             | SceneIssue::Unbuildable { problem, .. } => problem,

@@ -66,6 +66,29 @@ fn an_object_exactly_on_its_support_touches_it() {
     assert_eq!(initial_scene_issues(&spec, &world).len(), 1);
 }
 
+/// A can floating 2.5 m above the table would fall at the first step: the scene is refused, not
+/// "solved" with the can left in the air.
+#[test]
+fn an_object_in_the_air_or_over_an_edge_cannot_rest_and_is_named() {
+    let (spec, world) = first_problem("packing", |spec| {
+        spec.problems[0].scene.objects[2].pose.translation.z = 2.5;
+        // can2 with its centre 2 cm past the table's edge (the top is 0.9 by 0.9 m about the
+        // origin), its base still partly on it.
+        let can2 = &mut spec.problems[0].scene.objects[3];
+        can2.pose.translation.x = 0.47;
+    });
+    let found = findings(&spec, &world);
+    assert_eq!(found.len(), 2, "{found:?}");
+    assert!(
+        found[0].starts_with("problem `pack4_01`: `can1` cannot rest where the scene places it: `can1` would drop 2499.0 mm onto `table1`"),
+        "{found:?}"
+    );
+    assert!(found[1].starts_with("problem `pack4_01`: `can2` cannot rest"), "{found:?}");
+    let code =
+        miette::Diagnostic::code(&initial_scene_issues(&spec, &world)[0]).map(|c| c.to_string());
+    assert_eq!(code.as_deref(), Some("lamp::build::scene_unsupported"));
+}
+
 #[test]
 fn overlapping_objects_are_named() {
     let (spec, world) = first_problem("packing", |spec| {
