@@ -6,8 +6,7 @@ use crate::config::{LearnConfig, PinnedSettings, TypePair};
 use crate::error::LearnError;
 use crate::learner::{PairRegions, cells, induce};
 use crate::synthetic::{
-    PLACE_GRASP_DEPTH, PLACE_WAYPOINT, PLACED_YAW, PlaceTask, place_demonstrations,
-    place_participants,
+    PLACE_GRASP_DEPTH, PLACE_WAYPOINT, PlaceTask, place_demonstrations, place_participants,
 };
 
 const DEMONSTRATIONS: usize = 40;
@@ -31,7 +30,7 @@ fn contains(pair: &PairRegions, region: usize, position: [f64; 3]) -> bool {
 
 #[test]
 fn a_known_resting_offset_becomes_the_one_region_and_the_waypoint_none() {
-    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0, placed_yaw: PLACED_YAW };
+    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0 };
     let pairs = learn_pairs(&task, &LearnConfig::default());
     let target_block = pair(&pairs, "target_block");
     assert_eq!(target_block.regions.len(), 1, "{:?}", target_block.selection);
@@ -54,7 +53,7 @@ fn a_known_resting_offset_becomes_the_one_region_and_the_waypoint_none() {
 
 #[test]
 fn the_grasp_region_still_holds_an_object_that_settled_after_its_release() {
-    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0, placed_yaw: PLACED_YAW };
+    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0 };
     let config = LearnConfig { release_tolerance: 0.005, ..LearnConfig::default() };
     let pairs = learn_pairs(&task, &config);
     let gripper_block = pair(&pairs, "gripper_block");
@@ -66,46 +65,9 @@ fn the_grasp_region_still_holds_an_object_that_settled_after_its_release() {
     }
 }
 
-/// Whether a region's cells contain a pose of the secondary in the primary's frame.
-fn contains_pose(pair: &PairRegions, region: usize, pose: &crate::demo::Pose) -> bool {
-    let cells = &pair.regions[region].cells;
-    pair.grid
-        .voxel(pose)
-        .is_some_and(|voxel| cells.contains(cells.g, voxel, pair.grid.rotation_cell(pose)))
-}
-
-#[test]
-fn a_block_set_down_at_any_yaw_rests_upright_at_every_yaw_and_never_tilted() {
-    use std::f64::consts::PI;
-    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0, placed_yaw: PI };
-    let pairs = learn_pairs(&task, &LearnConfig::default());
-    let target_block = pair(&pairs, "target_block");
-    assert_eq!(target_block.regions.len(), 1, "{:?}", target_block.selection);
-    let turn = target_block.settings.free_turn.expect("the yaw is left free");
-    assert_eq!(turn.axis, 2);
-    let at = |roll: f64, yaw: f64| {
-        let rotation = nalgebra::UnitQuaternion::from_euler_angles(roll, 0.0, yaw);
-        crate::demo::Pose::from_parts(nalgebra::Translation3::new(0.0, 0.0, 0.05), rotation)
-    };
-    for yaw in [-3.1, -1.7, 0.0, 0.4, 2.2, PI] {
-        assert!(contains_pose(target_block, 0, &at(0.0, yaw)), "upright at yaw {yaw}");
-        assert!(!contains_pose(target_block, 0, &at(0.35, yaw)), "tilted 20° at yaw {yaw}");
-    }
-    // Set down square, the yaw is not free, and the rotation cells stay as fine.
-    let square = learn_pairs(
-        &PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0, placed_yaw: PLACED_YAW },
-        &LearnConfig::default(),
-    );
-    assert_eq!(pair(&square, "target_block").settings.free_turn, None);
-}
-
 #[test]
 fn two_resting_places_are_two_regions() {
-    let task = PlaceTask {
-        spots: vec![[0.08, 0.0, 0.05], [-0.08, 0.0, 0.05]],
-        noise: 0.0,
-        placed_yaw: PLACED_YAW,
-    };
+    let task = PlaceTask { spots: vec![[0.08, 0.0, 0.05], [-0.08, 0.0, 0.05]], noise: 0.0 };
     let pairs = learn_pairs(&task, &LearnConfig::default());
     let target_block = pair(&pairs, "target_block");
     assert_eq!(target_block.regions.len(), 2, "{:?}", target_block.selection);
@@ -117,11 +79,11 @@ fn two_resting_places_are_two_regions() {
 #[test]
 fn tracking_noise_leaves_the_regions_as_they_were() {
     let clean = learn_pairs(
-        &PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0, placed_yaw: PLACED_YAW },
+        &PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0 },
         &LearnConfig::default(),
     );
     let noisy = learn_pairs(
-        &PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.001, placed_yaw: PLACED_YAW },
+        &PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.001 },
         &LearnConfig::default(),
     );
     let shape = |pairs: &[PairRegions]| -> Vec<(String, Vec<u8>)> {
@@ -146,10 +108,7 @@ fn pinned_settings_are_kept_and_the_rest_chosen_around_them() {
             ..PinnedSettings::default()
         },
     );
-    let pairs = learn_pairs(
-        &PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0, placed_yaw: PLACED_YAW },
-        &config,
-    );
+    let pairs = learn_pairs(&PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0 }, &config);
     let target_block = pair(&pairs, "target_block");
     assert_eq!(
         (target_block.settings.rotation_bins, target_block.settings.half_range),
@@ -164,7 +123,7 @@ fn pinned_settings_are_kept_and_the_rest_chosen_around_them() {
 
 #[test]
 fn the_selection_is_deterministic() {
-    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.001, placed_yaw: PLACED_YAW };
+    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.001 };
     let first = learn_pairs(&task, &LearnConfig::default());
     let second = learn_pairs(&task, &LearnConfig::default());
     assert_eq!(first, second);
@@ -172,7 +131,7 @@ fn the_selection_is_deterministic() {
 
 #[test]
 fn the_report_says_what_was_chosen_and_how_to_pin_it() {
-    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0, placed_yaw: PLACED_YAW };
+    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0 };
     let demonstrations = place_demonstrations(&task, DEMONSTRATIONS, 5);
     let model = crate::learn(
         &demonstrations,

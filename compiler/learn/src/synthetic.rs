@@ -208,13 +208,7 @@ pub struct PlaceTask {
     pub spots: Vec<[f64; 3]>,
     /// Tracking noise: the most a recorded position is off (m); rotations are off by half as many radians.
     pub noise: f64,
-    /// The most the block's yaw on the target is off zero (rad): [`PLACED_YAW`], or π for a block set down at
-    /// any yaw.
-    pub placed_yaw: f64,
 }
-
-/// The yaw spread of a block set down square on the target (rad).
-pub const PLACED_YAW: f64 = 0.02;
 
 /// The block's offset below the gripper's frame while held.
 pub const PLACE_GRASP_DEPTH: f64 = 0.1;
@@ -249,7 +243,7 @@ fn place_demonstration(task: &PlaceTask, index: usize, rng: &mut ChaCha8Rng) -> 
             spot[1] + rng.random_range(-0.001..0.001),
             spot[2],
         ),
-        yaw(rng.random_range(-task.placed_yaw..task.placed_yaw)),
+        yaw(rng.random_range(-0.02..0.02)),
     );
     let grasp = Pose::translation(0.0, 0.0, PLACE_GRASP_DEPTH);
     let home = Pose::translation(rng.random_range(-0.2..0.2), rng.random_range(-0.2..0.2), 0.6);

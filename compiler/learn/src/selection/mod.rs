@@ -8,10 +8,7 @@
 //! 3. [`clusters`]: keyframe positions grouped where they stay the same over a fourfold change of scale, per
 //!    held flag; a group must come from at least the minimum support of demonstrations and from at least
 //!    [`MIN_RELATIVE_SUPPORT`] as many as the pair's best-supported group;
-//! 4. [`free_turn`]: whether every group shows the secondary at every angle about one axis of its own frame (a
-//!    round object set down or grasped at any yaw); rotation cells are then taken from a demonstrated rotation,
-//!    with one bin for that turn;
-//! 5. [`grid_choice`]: the finest grid that keeps every group in one cell, the rotation bins that keep its
+//! 4. [`grid_choice`]: the finest grid that keeps every group in one cell, the rotation bins that keep its
 //!    rotations in the cells learning keeps, and the threshold θ = the least share of demonstrations that
 //!    visits a group's cell, so that every group's cell is critical.
 //!
@@ -25,7 +22,6 @@
 
 pub mod clusters;
 pub mod fixed_axes;
-pub mod free_turn;
 pub mod grid_choice;
 pub mod keyframes;
 
@@ -218,16 +214,6 @@ pub fn select(
         position_bins[axis] = choice.bins;
         margins[axis] = choice.margin;
     }
-    let free_turn = {
-        // The best-supported group first: its first keyframe is the reference.
-        let best_group =
-            (0..found.len()).max_by_key(|&i| (support(&found[i].1), std::cmp::Reverse(i)));
-        let order =
-            best_group.into_iter().chain((0..found.len()).filter(|i| Some(*i) != best_group));
-        let rotations: Vec<Vec<nalgebra::UnitQuaternion<f64>>> =
-            order.map(|i| found[i].1.iter().map(|k| k.pose.rotation).collect()).collect();
-        free_turn::free_turn(&rotations)
-    };
     let rotation_bins = pinned.rotation_bins.unwrap_or_else(|| {
         let rotations: Vec<Vec<(usize, crate::demo::Pose)>> = found
             .iter()
@@ -237,11 +223,9 @@ pub fn select(
             &rotations,
             rotation_share,
             PairSettings::DEFAULT.rotation_bins,
-            free_turn,
         )
     });
-    let mut settings =
-        PairSettings { position_bins, half_range, rotation_bins, free_turn, ..fallback };
+    let mut settings = PairSettings { position_bins, half_range, rotation_bins, ..fallback };
     let grid = Grid::new(&settings);
     let (shares, cells) = best_cell_shares(&grid, &found, tracks, demonstrations);
     if chosen.threshold {
