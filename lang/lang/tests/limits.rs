@@ -200,3 +200,19 @@ fn the_demonstration_count_is_at_least_one_and_at_most_ten_thousand() {
     let rendered = render(&check(&VALID.replacen("count 20", "count 0", 1)));
     assert!(rendered.contains("a whole number from 1 to 10000"), "{rendered}");
 }
+
+/// The seed is read exactly: 2^53 + 1 is refused, not rounded to 2^53 (which is another seed).
+#[test]
+fn a_seed_beyond_2_to_the_53_is_refused_not_rounded() {
+    for seed in ["9007199254740993", "18446744073709551615", "1e300", "-1"] {
+        let source = VALID.replacen("seed 7", &format!("seed {seed}"), 1);
+        let outcome = check(&source);
+        assert!(outcome.spec.is_none(), "seed {seed}: {}", render(&outcome));
+        assert!(render(&outcome).contains("a whole number from 0 to 2^53"), "seed {seed}");
+    }
+    for (seed, value) in [("9007199254740992", 1u64 << 53), ("7.0", 7), ("1e3", 1000)] {
+        let source = VALID.replacen("seed 7", &format!("seed {seed}"), 1);
+        let spec = check(&source).spec.unwrap_or_else(|| panic!("seed {seed} is accepted"));
+        assert_eq!(spec.seed, value, "seed {seed}");
+    }
+}

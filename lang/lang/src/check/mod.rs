@@ -202,10 +202,24 @@ pub(crate) fn check_items(
             }
             Item::Seed { value, span } if checker.once(&mut seed_span, "`seed`", *span) => {
                 seed = checker.plain(value, "the seed").and_then(|v| {
-                    let ok = v >= 0.0 && v.fract() == 0.0 && v <= 2f64.powi(53);
+                    // Read from the literal: past 2^53 its f64 value is rounded, and 2^53 + 1
+                    // would silently become another seed.
+                    let seed = match checker.sources.slice(value.span).trim().parse::<u64>() {
+                        Ok(seed) => (seed <= 1 << 53).then_some(seed),
+                        // `7.0` or `1e3`: whole, and below 2^53 where every whole f64 is exact.
+                        Err(_) => {
+                            (v >= 0.0 && v.fract() == 0.0 && v < 2f64.powi(53)).then_some(v as u64)
+                        }
+                    };
                     checker
-                        .require(ok, value.span, "the seed", "a whole number from 0 to 2^53")
-                        .then_some(v as u64)
+                        .require(
+                            seed.is_some(),
+                            value.span,
+                            "the seed",
+                            "a whole number from 0 to 2^53",
+                        )
+                        .then_some(seed)
+                        .flatten()
                 });
             }
             _ => {}
