@@ -156,6 +156,13 @@ impl Row {
             seconds_learning,
         }
     }
+
+    /// Whether `solved` agrees with the outcome, as [`Row::new`] makes it: a row read back from a
+    /// file that says otherwise was edited or damaged, and would make the figures contradict
+    /// themselves.
+    pub fn is_consistent(&self) -> bool {
+        self.solved == (self.result.outcome == Outcome::Solved)
+    }
 }
 
 /// A test problem of the evaluation.

@@ -34,7 +34,7 @@ pub(super) struct Journal {
 }
 
 /// What an existing journal holds for `settings`: the rows by key, and how many lines were
-/// skipped because they do not parse.
+/// skipped because they do not parse or contradict themselves (`solved` against the outcome).
 pub(super) fn read(path: &Path, settings: &str) -> Result<(BTreeMap<Key, Row>, usize), String> {
     let text = match std::fs::read_to_string(path) {
         Ok(text) => text,
@@ -45,9 +45,10 @@ pub(super) fn read(path: &Path, settings: &str) -> Result<(BTreeMap<Key, Row>, u
     let mut skipped = 0;
     for line in text.lines().filter(|line| !line.trim().is_empty()) {
         match serde_json::from_str::<Entry>(line) {
-            Ok(entry) if entry.settings == settings => {
+            Ok(entry) if entry.settings == settings && entry.row.is_consistent() => {
                 rows.insert((entry.row.subset.clone(), entry.row.problem.clone()), entry.row);
             }
+            Ok(entry) if entry.settings == settings => skipped += 1,
             Ok(_) => {}
             Err(_) => skipped += 1,
         }
@@ -85,5 +86,29 @@ impl Journal {
             .write_all(line.as_bytes())
             .and_then(|()| self.file.flush())
             .map_err(|error| format!("cannot write {}: {error}", self.path.display()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lamp_eval::{Outcome, Row, SolveResult};
+
+    /// A row edited to say `solved` beside an outcome that is not is skipped (and so solved
+    /// again), never counted: the report would contradict itself.
+    #[test]
+    fn a_row_whose_solved_flag_contradicts_its_outcome_is_skipped() {
+        let scratch = tempfile::tempdir().expect("a scratch directory");
+        let path = scratch.path().join("journal.jsonl");
+        let failed = SolveResult::failed(Outcome::RefinementBudget, "no plan refined");
+        let honest = Row::new(40, 1, "pack2", 2, "fnv1a64:0000000000000001", failed.clone(), None);
+        let mut edited = Row::new(40, 1, "pack4", 4, "fnv1a64:0000000000000001", failed, None);
+        edited.solved = true;
+        let mut journal = Journal::open(&path, "key").expect("opens");
+        journal.append(&honest).expect("appends");
+        journal.append(&edited).expect("appends");
+        let (rows, skipped) = read(&path, "key").expect("reads");
+        assert_eq!(skipped, 1);
+        assert_eq!(rows.into_values().collect::<Vec<_>>(), [honest]);
     }
 }

@@ -182,7 +182,10 @@ fn evaluate_checked(
     let (mut results, skipped) = journal::read(&journal_path, &settings.key)?;
     results.retain(|key, _| slots.iter().any(|slot| slot.key == *key));
     if skipped > 0 {
-        note(&format!("skipped {skipped} unreadable line(s) of {}", journal_path.display()));
+        note(&format!(
+            "skipped {skipped} unreadable or self-contradicting line(s) of {}; their solves run again",
+            journal_path.display()
+        ));
     }
     let mut journal = Journal::open(&journal_path, &settings.key)?;
     // The subsets with solves still to do, in the order of their first solve.
