@@ -169,9 +169,9 @@ pub enum Ros2Error {
     /// A joint value no robot could have: far outside the joint's limits.
     #[error(
         "{file}, at {time_nanoseconds} ns: joint `{joint}` of robot `{robot}` is at {} on `/joint_states`, outside its limits [{}, {}]",
-        readable(*.value),
-        readable(*.lower),
-        readable(*.upper)
+        lamp_spec::limits::number(*.value),
+        lamp_spec::limits::number(*.lower),
+        lamp_spec::limits::number(*.upper)
     )]
     #[diagnostic(
         code(lamp::ros2::joint_range),
@@ -215,15 +215,6 @@ pub fn ros2_demo_file(
             .map_err(Box::new)?;
     let bytes = trajectory.to_bytes().map_err(|error| Box::new(Ros2Error::Read(error)))?;
     Ok(crate::DemoFile { name: file.name.clone(), bytes })
-}
-
-/// A number as a person reads it: in scientific notation when it is very large or very small.
-fn readable(value: f64) -> String {
-    if value != 0.0 && !(1e-4..1e6).contains(&value.abs()) {
-        format!("{value:e}")
-    } else {
-        format!("{value}")
-    }
 }
 
 /// The values a joint may be recorded at (before [`JOINT_LIMIT_SLACK`]): its limits, or for a

@@ -228,7 +228,7 @@ pub fn duration(seconds: f64) -> Result<Duration, RangeError> {
 
 /// A number for a message: plain notation for everyday magnitudes, scientific beyond them (so
 /// that `1e308` does not print as 309 digits).
-fn number(value: f64) -> String {
+pub fn number(value: f64) -> String {
     let magnitude = value.abs();
     if value.is_finite() && magnitude != 0.0 && !(1e-4..1e9).contains(&magnitude) {
         format!("{value:e}")
