@@ -6,9 +6,10 @@
 //! links inside it. Scales are tried from fine to coarse and a keyframe joins at most one cluster, so the
 //! tightest separated groups are found first. A cluster needs keyframes from at least the minimum support of
 //! demonstrations, and keeps the few keyframes it gains up to the coarse scale: they are the sparse edge of the
-//! same place. A coarser stable cluster replaces the clusters found inside it when each of them is seen in
+//! same place. A coarser stable cluster replaces the clusters found inside it when together they are seen in
 //! less than [`MIN_RELATIVE_SUPPORT`] of its demonstrations: three demonstrations that happened to stop within a
-//! millimetre of each other inside a place that eighty stop in are not a place of their own.
+//! millimetre of each other inside a place that eighty stop in are not a place of their own, but ten tight
+//! groups seen in most of the demonstrations of a cloud around them are ten places.
 //!
 //! Fewer demonstrations spread a group's keyframes further apart, so a second pass over the keyframes left
 //! asks for one doubling only, from a group seen in at least [`COMMON_SHARE`] of the demonstrations: common
@@ -118,8 +119,11 @@ fn support_of(members: &[usize], demonstration: &[usize]) -> usize {
 }
 
 /// The indices in `found` of the clusters that `members` (with `support` demonstrations) contains, if every
-/// cluster it meets lies wholly inside it and is seen in less than [`MIN_RELATIVE_SUPPORT`] of its support: a
-/// few demonstrations that stopped closer together within a common place do not make a place of their own.
+/// cluster it meets lies wholly inside it and all of them together are seen in less than
+/// [`MIN_RELATIVE_SUPPORT`] of its support: a few demonstrations that stopped closer together within a common
+/// place do not make a place of their own. Taken together, because many tight groups that between them hold
+/// most of a wide cloud (blocks placed across one another, among blocks lying anywhere on a table) are the
+/// places, and the cloud around them is the incidental part.
 fn incidental_inside(
     members: &[usize],
     support: usize,
@@ -128,19 +132,21 @@ fn incidental_inside(
 ) -> Option<Vec<usize>> {
     let inside: BTreeSet<usize> = members.iter().copied().collect();
     let mut contained = Vec::new();
+    let mut held = Vec::new();
     for (index, cluster) in found.iter().enumerate() {
         let meets = cluster.members.iter().filter(|i| inside.contains(i)).count();
         if meets == 0 {
             continue;
         }
-        let incidental = (support_of(&cluster.members, demonstration) as f64)
-            < MIN_RELATIVE_SUPPORT * support as f64;
-        if meets < cluster.members.len() || !incidental {
+        if meets < cluster.members.len() {
             return None;
         }
         contained.push(index);
+        held.extend_from_slice(&cluster.members);
     }
-    Some(contained)
+    let incidental =
+        (support_of(&held, demonstration) as f64) < MIN_RELATIVE_SUPPORT * support as f64;
+    incidental.then_some(contained)
 }
 
 fn scale(rung: usize) -> f64 {
@@ -242,6 +248,27 @@ mod tests {
         let found = stable_clusters(&points, &demos, 3, 43);
         assert_eq!(found.len(), 1, "{found:?}");
         assert_eq!((found[0].members.len(), found[0].scale), (43, 0.032));
+    }
+
+    #[test]
+    fn tight_groups_that_hold_much_of_a_wide_cloud_are_places_and_the_cloud_is_not() {
+        // Sixty rests 10 cm apart on a plane (blocks lying anywhere on a table, one per demonstration), and four
+        // groups of eight within half a millimetre, each at the middle of a square of the cloud: each group is
+        // seen in 8 of the cloud's 60 demonstrations, under a fifth, but together in 32 of them.
+        let mut points: Vec<[f64; 3]> =
+            (0..60).map(|i| [(i % 6) as f64 * 0.1, (i / 6) as f64 * 0.1, 0.0]).collect();
+        let mut demos: Vec<usize> = (0..60).collect();
+        for group in 0..4 {
+            let centre = [0.05 + group as f64 * 0.1, 0.05, 0.0];
+            for k in 0..8 {
+                points.push([centre[0] + k as f64 * 5e-5, centre[1], centre[2]]);
+                demos.push(group * 8 + k);
+            }
+        }
+        let found = stable_clusters(&points, &demos, 3, 60);
+        let groups: Vec<(usize, f64)> = found.iter().map(|c| (c.members.len(), c.scale)).collect();
+        assert_eq!(groups, [(8, FINEST_SCALE); 4]);
+        assert!(found.iter().all(|c| c.members.iter().all(|&i| i >= 60)), "{found:?}");
     }
 
     #[test]
