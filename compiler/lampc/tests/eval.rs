@@ -187,6 +187,28 @@ fn an_evaluation_writes_its_rows_report_and_plots_the_same_for_any_job_count_and
 #[cfg(unix)]
 #[test]
 fn ctrl_c_keeps_the_finished_rows_and_the_next_run_continues_from_them() {
+    interrupt_keeps_finished_rows_and_leaves_no_worker("-INT");
+}
+
+/// SIGTERM, what `timeout` and CI runners send, stops the evaluation as Ctrl-C does: its workers
+/// are killed rather than left running on their own, and the finished rows are kept.
+#[test]
+fn sigterm_stops_the_workers_and_keeps_the_finished_rows() {
+    interrupt_keeps_finished_rows_and_leaves_no_worker("-TERM");
+}
+
+/// The worker processes `pid` has started (Linux lists every thread's children).
+fn children_of(pid: u32) -> Vec<u32> {
+    let Ok(tasks) = std::fs::read_dir(format!("/proc/{pid}/task")) else { return Vec::new() };
+    let mut children = Vec::new();
+    for task in tasks.flatten() {
+        let text = std::fs::read_to_string(task.path().join("children")).unwrap_or_default();
+        children.extend(text.split_whitespace().filter_map(|child| child.parse::<u32>().ok()));
+    }
+    children
+}
+
+fn interrupt_keeps_finished_rows_and_leaves_no_worker(signal: &str) {
     let scratch = tempfile::tempdir().expect("a scratch directory");
     let spec = scratch_spec(scratch.path());
     let out = scratch.path().join("eval");
@@ -203,19 +225,27 @@ fn ctrl_c_keeps_the_finished_rows_and_the_next_run_continues_from_them() {
     // `unreachable` comes first in spec order and ends at once; `pack6` runs on.
     let journal = out.join("journal.jsonl");
     let started = Instant::now();
-    while std::fs::read_to_string(&journal).map_or(0, |text| text.lines().count()) < 1 {
+    // Until the first row is in and `pack6`'s worker runs.
+    while std::fs::read_to_string(&journal).map_or(0, |text| text.lines().count()) < 1
+        || children_of(child.id()).is_empty()
+    {
         assert!(started.elapsed() < Duration::from_secs(300), "the first row never came");
         assert!(child.try_wait().expect("waits").is_none(), "lampc ended before Ctrl-C");
         std::thread::sleep(Duration::from_millis(50));
     }
+    let workers = children_of(child.id());
     let pid = child.id().to_string();
-    let kill = Command::new("kill").args(["-INT", &pid]).status().expect("kill runs");
+    let kill = Command::new("kill").args([signal, &pid]).status().expect("kill runs");
     assert!(kill.success());
     let output = child.wait_with_output().expect("lampc ends");
     let message = stderr(&output);
     assert_eq!(output.status.code(), Some(130), "{message}");
     assert!(message.contains("interrupted; 1 of 2 solves are kept"), "{message}");
     assert!(!out.join("eval.json").exists(), "an interrupted evaluation writes no results");
+    for worker in workers {
+        let alive = Path::new(&format!("/proc/{worker}")).exists();
+        assert!(!alive, "worker {worker} outlives the evaluation after `kill {signal}`");
+    }
 
     let next = run([
         OsStr::new("eval"),
@@ -261,6 +291,48 @@ fn a_problem_glob_that_matches_nothing_and_bad_counts_are_refused() {
     let message = refused("--demos", "50000");
     assert!(message.contains("`--demos`: 50000 is out of range"), "{message}");
     assert!(!scratch.path().join("build").exists(), "nothing is generated or written");
+}
+
+/// An output folder that cannot keep the results is refused before any demonstration is made: one
+/// inside a build's model folder (the next build deletes it), and a journal that is a named pipe
+/// (reading it would wait forever) or a link to a device (it would never end).
+#[test]
+fn an_output_folder_that_cannot_keep_the_results_is_refused_before_any_work() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let refused = |out: &Path| {
+        let output = common::lampc([
+            OsStr::new("eval"),
+            spec.as_os_str(),
+            OsStr::new("--demos"),
+            OsStr::new("40"),
+            OsStr::new("--out"),
+            out.as_os_str(),
+        ]);
+        let message = stderr(&output);
+        assert_eq!(output.status.code(), Some(1), "{message}");
+        message
+    };
+    let model = scratch.path().join("built").join("model");
+    std::fs::create_dir_all(&model).expect("a model folder");
+    std::fs::write(model.join("manifest.json"), "{}").expect("a manifest");
+    let message = refused(&model.join("eval"));
+    assert!(message.contains("is inside the model folder"), "{message}");
+    assert!(message.contains("give `--out` a folder outside it"), "{message}");
+
+    let piped = scratch.path().join("piped");
+    std::fs::create_dir_all(&piped).expect("a folder");
+    let mkfifo = Command::new("mkfifo").arg(piped.join("journal.jsonl")).status();
+    assert!(mkfifo.expect("mkfifo runs").success());
+    let message = refused(&piped);
+    assert!(message.contains("journal.jsonl: it is a named pipe, not a file"), "{message}");
+
+    let endless = scratch.path().join("endless");
+    std::fs::create_dir_all(&endless).expect("a folder");
+    std::os::unix::fs::symlink("/dev/zero", endless.join("journal.jsonl")).expect("a link");
+    let message = refused(&endless);
+    assert!(message.contains("it is a character device, not a file"), "{message}");
+    assert!(!scratch.path().join("build").exists(), "no demonstration is generated");
 }
 
 /// A worker answers the spec the evaluation started with, whatever the file says by the time the

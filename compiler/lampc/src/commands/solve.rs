@@ -71,10 +71,10 @@ const SOLUTIONS_DIR: &str = "solutions";
 /// Not 2, which is the exit code of a command line that does not parse.
 pub(crate) const EXIT_PARTIAL: u8 = 3;
 
-/// The exit code after Ctrl-C, as shells report a process ended by SIGINT.
+/// The exit code after Ctrl-C or SIGTERM, as shells report a process ended by SIGINT.
 const EXIT_INTERRUPTED: u8 = 130;
 
-/// Set by the first Ctrl-C; the solver polls it through its cancellation check.
+/// Set by the first Ctrl-C or SIGTERM; the solver polls it through its cancellation check.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 pub(crate) fn run(args: &Args) -> ExitCode {
@@ -98,7 +98,7 @@ pub(crate) fn run(args: &Args) -> ExitCode {
     }
 }
 
-/// The first Ctrl-C asks the search to stop at its next check (it then reports how far it got
+/// The first Ctrl-C or SIGTERM asks the search to stop at its next check (it then reports how far it got
 /// and writes nothing); a second one ends the process at once.
 fn watch_interrupts() {
     // Without a handler (one was already set) Ctrl-C keeps its default, ending the process;

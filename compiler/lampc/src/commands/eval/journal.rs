@@ -17,6 +17,10 @@ use serde::{Deserialize, Serialize};
 /// The journal's file name in the output folder.
 pub(super) const JOURNAL_FILE: &str = "journal.jsonl";
 
+/// The largest journal read: a row is under a kilobyte, so this holds hundreds of thousands of
+/// solves, while a wrong file (a link to a device, a named pipe) is refused before it is read.
+const JOURNAL_FILE_LIMIT: u64 = 256 << 20;
+
 /// A solve's key: the subset digest and the problem (the settings key is the journal's filter).
 pub(super) type Key = (String, String);
 
@@ -36,10 +40,18 @@ pub(super) struct Journal {
 /// What an existing journal holds for `settings`: the rows by key, and how many lines were
 /// skipped because they do not parse or contradict themselves (`solved` against the outcome).
 pub(super) fn read(path: &Path, settings: &str) -> Result<(BTreeMap<Key, Row>, usize), String> {
-    let text = match std::fs::read_to_string(path) {
+    let text = match crate::files::read_text_limited(path, JOURNAL_FILE_LIMIT, "journal") {
         Ok(text) => text,
-        Err(error) if error.kind() == std::io::ErrorKind::NotFound => String::new(),
-        Err(error) => return Err(format!("cannot read {}: {error}", path.display())),
+        Err(crate::files::ReadError::Io(error)) if error.kind() == std::io::ErrorKind::NotFound => {
+            String::new()
+        }
+        Err(error) => {
+            return Err(format!(
+                "cannot read the journal {}: {error}; move it away (a new journal is started), or \
+                 give `--out` another folder",
+                path.display()
+            ));
+        }
     };
     let mut rows = BTreeMap::new();
     let mut skipped = 0;

@@ -69,16 +69,18 @@ const MAX_RUNS: i64 = 10_000;
 /// The most solves at once: far more processes than cores help nothing, and each holds a
 /// robot world and a learned model in memory.
 const MAX_JOBS: i64 = 1024;
-/// The exit code after Ctrl-C, as shells report a process ended by SIGINT.
+/// The exit code after Ctrl-C or SIGTERM, as shells report a process ended by SIGINT.
 const EXIT_INTERRUPTED: u8 = 130;
 
-/// Set by the first Ctrl-C: the evaluation stops, keeping the rows it finished.
+/// Set by the first Ctrl-C or SIGTERM: the evaluation stops its workers, keeping the rows it
+/// finished.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 pub(crate) fn run(args: &Args) -> ExitCode {
     let colour = crate::terminal::colour();
-    // The first Ctrl-C stops the evaluation at once, keeping finished rows; a second one ends
-    // the process (the journal holds every finished row either way).
+    // The first Ctrl-C or SIGTERM stops the evaluation at once, killing its workers and keeping
+    // finished rows; a second one ends the process (the journal holds every finished row either
+    // way).
     let _ = ctrlc::set_handler(|| {
         if INTERRUPTED.swap(true, Ordering::Relaxed) {
             std::process::exit(i32::from(EXIT_INTERRUPTED));
@@ -148,13 +150,19 @@ fn evaluate_checked(
         None => std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
     };
 
+    refuse_out_in_a_model_folder(&out)?;
+    let settings = settings_info(&spec, spec_dir, args.timeout)?;
+    // Read before any demonstration is generated: a journal that cannot be read stops the
+    // evaluation before its slow part.
+    let journal_path = out.join(JOURNAL_FILE);
+    let (mut results, skipped) = journal::read(&journal_path, &settings.key)?;
+
     let world = SpecWorld::load(spec_dir, &spec).map_err(|error| render(&error))?;
     let adapter = Adapter::new(&spec, &world.robots).map_err(|error| render(&error))?;
     let largest = counts.as_ref().and_then(|counts| counts.iter().copied().max());
     let note = |message: &str| eprintln!("{}: {message}", checked.file_name);
     let pool = pool::gather(&spec, spec_dir, &build_dir, &world, &adapter, largest, &note)?;
     let counts = counts.unwrap_or_else(|| vec![pool.files.len()]);
-    let settings = settings_info(&spec, spec_dir, args.timeout)?;
 
     // Every solve in order; subsets drawn, their digests taken.
     let mut slots = Vec::new();
@@ -178,8 +186,6 @@ fn evaluate_checked(
         }
     }
 
-    let journal_path = out.join(JOURNAL_FILE);
-    let (mut results, skipped) = journal::read(&journal_path, &settings.key)?;
     results.retain(|key, _| slots.iter().any(|slot| slot.key == *key));
     if skipped > 0 {
         note(&format!(
@@ -352,6 +358,25 @@ fn objects_of(spec: &Spec, problem: &Problem) -> usize {
 
 /// What every solve uses, described, and the digest that keys the journal: lampc's version and
 /// executable, the whole checked spec (with the evaluation's seed) and the time limit.
+/// Refuses an output folder inside a build's model folder (one holding a build manifest): the next
+/// `lampc build` replaces that folder whole, and the evaluation's journal and results with it.
+fn refuse_out_in_a_model_folder(out: &Path) -> Result<(), String> {
+    let absolute = std::path::absolute(out).unwrap_or_else(|_| out.to_path_buf());
+    for folder in absolute.ancestors() {
+        // Links resolved where they exist, so that a link into a model folder is seen too.
+        let folder = std::fs::canonicalize(folder).unwrap_or_else(|_| folder.to_path_buf());
+        if folder.join(lamp_build::MANIFEST_FILE).is_file() {
+            return Err(format!(
+                "`--out` {} is inside the model folder {} of a build, which the next `lampc build` \
+                 replaces whole, results and journal included; give `--out` a folder outside it",
+                out.display(),
+                folder.display()
+            ));
+        }
+    }
+    Ok(())
+}
+
 fn settings_info(
     spec: &Spec,
     spec_dir: &Path,

@@ -299,13 +299,15 @@ fn reader(mut pipe: impl std::io::Read + Send + 'static) -> std::thread::JoinHan
     })
 }
 
-/// Whether the worker ended on SIGINT (Ctrl-C on a terminal reaches the whole process group).
+/// Whether the worker ended on SIGINT or SIGTERM: Ctrl-C on a terminal reaches the whole process
+/// group, and so may a SIGTERM sent to it (by a CI runner, or `kill` of a negative pid).
 #[cfg(unix)]
 fn interrupted_by_signal(status: Option<std::process::ExitStatus>) -> bool {
     use std::os::unix::process::ExitStatusExt as _;
-    /// SIGINT's number on every Unix.
+    /// SIGINT's and SIGTERM's numbers on every Unix.
     const SIGINT: i32 = 2;
-    status.and_then(|status| status.signal()) == Some(SIGINT)
+    const SIGTERM: i32 = 15;
+    matches!(status.and_then(|status| status.signal()), Some(SIGINT | SIGTERM))
 }
 
 #[cfg(not(unix))]
