@@ -53,8 +53,8 @@ pub use manifest::{
     ManifestEntry, check_same_demonstrations,
 };
 pub use pipeline::{
-    ArtifactFile, Artifacts, BuildContext, DOMAIN_FILE, MODEL_DIR, PROBLEMS_DIR, SAMPLERS_FILE,
-    Summary, VOCABULARY_FILE, artifacts, build, learn_model,
+    ArtifactFile, Artifacts, BuildContext, DOMAIN_FILE, MODEL_DIR, MODEL_FILE_LIMIT, PROBLEMS_DIR,
+    SAMPLERS_FILE, Summary, VOCABULARY_FILE, artifacts, build, learn_model,
 };
 pub use problems::{ProblemOutcome, problem_pddl};
 pub use provenance::Provenance;

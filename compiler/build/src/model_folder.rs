@@ -13,6 +13,10 @@ pub const PROBLEMS_DIR: &str = "problems";
 pub const SAMPLERS_FILE: &str = "samplers.json";
 /// The vocabulary report's path inside the model folder.
 pub const VOCABULARY_FILE: &str = "vocabulary.md";
+/// The largest model file a solve reads, and so the largest a build writes: the bundled models'
+/// are tens of KiB; 256 MiB leaves room for models a thousand times larger without letting a
+/// wrong path fill the memory.
+pub const MODEL_FILE_LIMIT: u64 = 256 << 20;
 
 /// One artifact: where it goes (relative to the model folder) and its full text.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -27,7 +27,8 @@ use crate::shapes::SpecShapes;
 use crate::spec_sources::SpecSources;
 
 pub use crate::model_folder::{
-    ArtifactFile, DOMAIN_FILE, MODEL_DIR, PROBLEMS_DIR, SAMPLERS_FILE, VOCABULARY_FILE,
+    ArtifactFile, DOMAIN_FILE, MODEL_DIR, MODEL_FILE_LIMIT, PROBLEMS_DIR, SAMPLERS_FILE,
+    VOCABULARY_FILE,
 };
 
 /// What a build learned and wrote, for the front end to report.
@@ -72,6 +73,9 @@ pub struct BuildContext<'a> {
     pub spec_file: &'a str,
     pub world: &'a SpecWorld,
     pub adapter: &'a Adapter,
+    /// The largest model file written ([`MODEL_FILE_LIMIT`] for a solve to read it): a problem
+    /// whose PDDL is larger is skipped, saying why.
+    pub model_file_limit: u64,
 }
 
 /// Learns a model from demonstrations with the spec's settings and seed; the world's object shapes decide the
@@ -125,6 +129,12 @@ pub fn artifacts(
     let mut refused = 0;
     for problem in &spec.problems {
         match problem_pddl(&problem_context, problem)? {
+            ProblemOutcome::Written { name, text, .. }
+                if text.len() as u64 > context.model_file_limit =>
+            {
+                let reason = too_large(text.len() as u64, context.model_file_limit);
+                summary.problems_skipped.push((name, reason));
+            }
             ProblemOutcome::Written { name, text, warnings } => {
                 files.push(ArtifactFile {
                     path: PathBuf::from(PROBLEMS_DIR).join(format!("{name}.pddl")),
@@ -157,6 +167,15 @@ pub fn artifacts(
     files.push(ArtifactFile { path: MANIFEST_FILE.into(), contents: manifest.to_json()? });
     files.sort_by(|a, b| a.path.cmp(&b.path));
     Ok(Artifacts { files, summary })
+}
+
+/// Why a problem of `size` bytes is not written when model files may be `limit` bytes: a solve
+/// would refuse to read it.
+fn too_large(size: u64, limit: u64) -> String {
+    format!(
+        "its PDDL would be {size} bytes, more than the {limit} a solve reads; split it into \
+         problems of fewer objects"
+    )
 }
 
 /// The vocabulary report with the provenance under its title.
@@ -205,7 +224,13 @@ pub fn build(
         return Err(BuildError::NoDemonstrations { searched: "the given files".into() });
     }
     let model = learn_model(spec, world, &demonstrations)?;
-    let context = BuildContext { spec, spec_file, world, adapter: &adapter };
+    let context = BuildContext {
+        spec,
+        spec_file,
+        world,
+        adapter: &adapter,
+        model_file_limit: MODEL_FILE_LIMIT,
+    };
     let artifacts = artifacts(&context, &model, &demonstrations, demonstration_digest(files))?;
     Ok((model, artifacts))
 }

@@ -44,6 +44,56 @@ fn every_artifact_is_produced_with_a_summary() {
     assert_eq!(summary.aliases["in_box"], "surface_can_1", "the box has one region");
 }
 
+/// A problem whose PDDL is larger than a solve reads is skipped, saying why and what to do, rather
+/// than written for the solve to refuse with advice to rebuild. The limit is lowered here to just
+/// under the largest bundled problem; the real one is 256 MiB, a structure of thousands of blocks.
+#[test]
+fn a_problem_larger_than_a_solve_reads_is_skipped_saying_why() {
+    let (model, built) = &*PACKING_BUILD;
+    let (spec, world) = packing();
+    let adapter = lamp_build::Adapter::new(&spec, &world.robots).expect("the robots adapt");
+    let demonstrations: Vec<_> = PACKING_DEMOS
+        .iter()
+        .map(|file| adapter.demonstration(file).expect("a demonstration"))
+        .collect();
+    let problems: Vec<(String, usize)> = built
+        .files
+        .iter()
+        .filter(|file| file.path.starts_with("problems"))
+        .map(|file| {
+            let name = file.path.file_stem().expect("a name").to_string_lossy().into_owned();
+            (name, file.contents.len())
+        })
+        .collect();
+    let largest = problems.iter().map(|(_, size)| *size).max().expect("problems are written");
+    let limit = largest as u64 - 1;
+    let context = lamp_build::BuildContext {
+        spec: &spec,
+        spec_file: "packing.lamp",
+        world: &world,
+        adapter: &adapter,
+        model_file_limit: limit,
+    };
+    let digest = lamp_build::demonstration_digest(&PACKING_DEMOS);
+    let artifacts =
+        lamp_build::artifacts(&context, model, &demonstrations, digest).expect("builds");
+    let reason = format!(
+        "its PDDL would be {largest} bytes, more than the {limit} a solve reads; split it into \
+         problems of fewer objects"
+    );
+    let (skipped, kept): (Vec<_>, Vec<_>) =
+        problems.into_iter().partition(|(_, size)| *size == largest);
+    let expected: Vec<(String, String)> =
+        skipped.iter().map(|(name, _)| (name.clone(), reason.clone())).collect();
+    assert_eq!(artifacts.summary.problems_skipped, expected);
+    let kept: Vec<String> = kept.into_iter().map(|(name, _)| name).collect();
+    assert_eq!(artifacts.summary.problems_written, kept);
+    for (name, _) in &skipped {
+        let path = PathBuf::from(format!("problems/{name}.pddl"));
+        assert!(!artifacts.files.iter().any(|file| file.path == path), "{name} is not written");
+    }
+}
+
 #[test]
 fn domain_and_report_snapshots() {
     let (_, artifacts) = &*PACKING_BUILD;

@@ -83,9 +83,8 @@ fn with_causes(error: &dyn std::error::Error) -> String {
 /// beyond any hand-written spec, while checking that much still takes seconds, not minutes.
 pub(crate) const SPEC_FILE_LIMIT: u64 = 16 << 20;
 /// The largest file of a build folder read (`domain.pddl`, a problem, `samplers.json`,
-/// `manifest.json`): the bundled models' are tens of KiB; 256 MiB leaves room for models a
-/// thousand times larger without letting a wrong path fill the memory.
-pub(crate) const MODEL_FILE_LIMIT: u64 = 256 << 20;
+/// `manifest.json`): the build's own limit, so that a build never writes what a solve refuses.
+pub(crate) const MODEL_FILE_LIMIT: u64 = lamp_build::MODEL_FILE_LIMIT;
 /// The largest demonstration or trajectory file read (MCAP): a bundled demonstration is about
 /// 40 KiB, a recorded one with many objects may be far longer; every file is held in memory
 /// while it is read.

@@ -125,8 +125,13 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
         model
     })?;
 
-    let context =
-        BuildContext { spec: &spec, spec_file: &spec_file, world: &world, adapter: &adapter };
+    let context = BuildContext {
+        spec: &spec,
+        spec_file: &spec_file,
+        world: &world,
+        adapter: &adapter,
+        model_file_limit: crate::files::MODEL_FILE_LIMIT,
+    };
     let digest = lamp_build::demonstration_digest(&files);
     let emitted =
         timings.time("emit", || lamp_build::artifacts(&context, &model, &demonstrations, digest));

@@ -232,6 +232,7 @@ fn evaluate_checked(
         spec_file: &checked.file_name,
         world: &world,
         adapter: &adapter,
+        model_file_limit: crate::files::MODEL_FILE_LIMIT,
     };
     let learn = |work: &SubsetWork| learn(&context, &pool.demonstrations, work);
     let schedule_settings = schedule::Settings {
