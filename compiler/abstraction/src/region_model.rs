@@ -6,11 +6,13 @@
 //! pose. How a model is fitted to a region's cells is the learner's (`lamp_learn::region_model`).
 
 use lamp_gmm::GaussianMixture;
+use rand::RngExt as _;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::abstraction::RegionClassifier;
 use crate::features::{FEATURE_DIMENSION, features_pose, pose_features};
+use crate::free_turn::FreeTurn;
 use crate::snapshot::Pose;
 
 /// Draws of the mixture per sample before one outside the region's extent is returned anyway.
@@ -25,8 +27,12 @@ pub const EXTENT_DRAWS: usize = 64;
 /// features match closely), and such a pose was never seen in a demonstration — a can beside the
 /// box would count as in it.
 ///
-/// Serialised as `{ "g", "mixture", "threshold", "extent" }`, the mixture in lamp-gmm's parameter
-/// layout; deserialising the mixture validates it, and [`RegionModel::validate`] checks the rest.
+/// A region that leaves a turn of the secondary free ([`FreeTurn`]) models poses with that turn's
+/// angle removed, and draws the angle uniformly.
+///
+/// Serialised as `{ "g", "mixture", "threshold", "extent" }` and, for a free turn, `"free_turn"`,
+/// the mixture in lamp-gmm's parameter layout; deserialising the mixture validates it, and
+/// [`RegionModel::validate`] checks the rest.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RegionModel {
     g: u8,
@@ -35,6 +41,9 @@ pub struct RegionModel {
     threshold: f64,
     /// Per axis, the lowest and highest position coordinate of the region's cells.
     extent: [[f64; 2]; 3],
+    /// The turn of the secondary the region leaves free, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    free_turn: Option<FreeTurn>,
 }
 
 impl RegionModel {
@@ -45,9 +54,40 @@ impl RegionModel {
         threshold: f64,
         extent: [[f64; 2]; 3],
     ) -> Result<Self, String> {
-        let model = RegionModel { g, mixture, threshold, extent };
+        let model = RegionModel { g, mixture, threshold, extent, free_turn: None };
         model.validate()?;
         Ok(model)
+    }
+
+    /// The model, leaving `free_turn` free.
+    pub fn with_free_turn(self, free_turn: Option<FreeTurn>) -> Result<Self, String> {
+        let model = RegionModel { free_turn, ..self };
+        model.validate()?;
+        Ok(model)
+    }
+
+    /// The turn the region leaves free, if any.
+    pub fn free_turn(&self) -> Option<FreeTurn> {
+        self.free_turn
+    }
+
+    /// The features the mixture is over: a pose's, its free turn's angle removed.
+    pub fn features(&self, relative: &Pose) -> [f64; FEATURE_DIMENSION] {
+        Self::features_with(self.free_turn.as_ref(), relative)
+    }
+
+    /// The features of a pose for a model that leaves `free_turn` free (for fitting one).
+    pub fn features_with(
+        free_turn: Option<&FreeTurn>,
+        relative: &Pose,
+    ) -> [f64; FEATURE_DIMENSION] {
+        match free_turn {
+            Some(turn) => {
+                let rotation = turn.untwisted(&relative.rotation);
+                pose_features(&Pose::from_parts(relative.translation, rotation))
+            }
+            None => pose_features(relative),
+        }
     }
 
     /// Draws a relative pose: a feature from the mixture, its rotation columns projected to a
@@ -60,6 +100,10 @@ impl RegionModel {
                 break;
             }
             pose = features_pose(&self.mixture.sample(rng));
+        }
+        if let Some(turn) = &self.free_turn {
+            let angle = rng.random_range(-std::f64::consts::PI..std::f64::consts::PI);
+            pose.rotation = turn.turned(&pose.rotation, angle);
         }
         pose
     }
@@ -136,6 +180,9 @@ impl RegionModel {
         {
             return Err("the region's extent is not a box".to_string());
         }
+        if let Some(turn) = &self.free_turn {
+            turn.validate()?;
+        }
         Ok(())
     }
 }
@@ -147,6 +194,6 @@ impl RegionClassifier for RegionModel {
             // Below zero, and lower the further out.
             return -1.0 - outside;
         }
-        self.mixture.log_density(&pose_features(relative)) - self.threshold
+        self.mixture.log_density(&self.features(relative)) - self.threshold
     }
 }

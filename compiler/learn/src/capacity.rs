@@ -14,7 +14,6 @@
 //! before it goes to another (without it, the relation to the object left behind would stay true in the model).
 
 use std::collections::BTreeSet;
-use std::f64::consts::PI;
 use std::fmt;
 
 use crate::config::{PairSettings, Switch, TypePair};
@@ -152,16 +151,8 @@ pub fn candidate_poses(grid: &Grid, cells: &RegionCells) -> Vec<Pose> {
     let rotations: BTreeSet<[usize; 3]> = cells.voxels.values().flatten().copied().collect();
     let low = grid.voxel_bounds([0; 3]);
     let width: Vec<f64> = (0..3).map(|axis| low[axis].1 - low[axis].0).collect();
-    let rotation_width = 2.0 * PI / grid.rotation_bins() as f64;
-    let rotations: Vec<nalgebra::UnitQuaternion<f64>> = rotations
-        .into_iter()
-        .map(|cell| {
-            let vector = nalgebra::Vector3::from_fn(|axis, _| {
-                -PI + (cell[axis] as f64 + 0.5) * rotation_width
-            });
-            nalgebra::UnitQuaternion::from_scaled_axis(vector)
-        })
-        .collect();
+    let rotations: Vec<nalgebra::UnitQuaternion<f64>> =
+        rotations.into_iter().map(|cell| grid.rotation_cell_centre(cell)).collect();
     let mut poses = Vec::with_capacity(corners.len() * rotations.len());
     for corner in corners {
         let position =
@@ -178,6 +169,7 @@ mod tests {
     use super::*;
     use std::cell::RefCell;
     use std::collections::BTreeMap;
+    use std::f64::consts::PI;
 
     /// Answers from a table by type, and remembers the poses it was asked about.
     struct Table {

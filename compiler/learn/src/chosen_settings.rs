@@ -6,7 +6,8 @@ use crate::config::{LearnConfig, PinnedSettings, TypePair};
 use crate::error::LearnError;
 use crate::learner::{PairRegions, cells, induce};
 use crate::synthetic::{
-    PLACE_GRASP_DEPTH, PLACE_WAYPOINT, PlaceTask, place_demonstrations, place_participants,
+    PLACE_GRASP_DEPTH, PLACE_WAYPOINT, PLACED_YAW, PlaceTask, place_demonstrations,
+    place_participants,
 };
 
 const DEMONSTRATIONS: usize = 40;
@@ -30,7 +31,12 @@ fn contains(pair: &PairRegions, region: usize, position: [f64; 3]) -> bool {
 
 #[test]
 fn a_known_resting_offset_becomes_the_one_region_and_the_waypoint_none() {
-    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0 };
+    let task = PlaceTask {
+        spots: vec![[0.0, 0.0, 0.05]],
+        noise: 0.0,
+        placed_yaw: PLACED_YAW,
+        grasp_yaw: None,
+    };
     let pairs = learn_pairs(&task, &LearnConfig::default());
     let target_block = pair(&pairs, "target_block");
     assert_eq!(target_block.regions.len(), 1, "{:?}", target_block.selection);
@@ -53,7 +59,12 @@ fn a_known_resting_offset_becomes_the_one_region_and_the_waypoint_none() {
 
 #[test]
 fn the_grasp_region_still_holds_an_object_that_settled_after_its_release() {
-    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0 };
+    let task = PlaceTask {
+        spots: vec![[0.0, 0.0, 0.05]],
+        noise: 0.0,
+        placed_yaw: PLACED_YAW,
+        grasp_yaw: None,
+    };
     let config = LearnConfig { release_tolerance: 0.005, ..LearnConfig::default() };
     let pairs = learn_pairs(&task, &config);
     let gripper_block = pair(&pairs, "gripper_block");
@@ -65,9 +76,75 @@ fn the_grasp_region_still_holds_an_object_that_settled_after_its_release() {
     }
 }
 
+/// Whether a region's cells contain a pose of the secondary in the primary's frame.
+fn contains_pose(pair: &PairRegions, region: usize, pose: &crate::demo::Pose) -> bool {
+    let cells = &pair.regions[region].cells;
+    pair.grid
+        .voxel(pose)
+        .is_some_and(|voxel| cells.contains(cells.g, voxel, pair.grid.rotation_cell(pose)))
+}
+
+#[test]
+fn a_block_set_down_at_any_yaw_keeps_plain_cells_that_hold_it_upright_at_every_yaw() {
+    use std::f64::consts::PI;
+    // A turn about one fixed axis, which a few bins of one rotation-vector component hold: plain cells tell
+    // upright from lying, so no turn is left free.
+    let task =
+        PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0, placed_yaw: PI, grasp_yaw: None };
+    let pairs = learn_pairs(&task, &LearnConfig::default());
+    let target_block = pair(&pairs, "target_block");
+    assert_eq!(target_block.regions.len(), 1, "{:?}", target_block.selection);
+    assert_eq!(target_block.settings.free_turn, None);
+    assert!(target_block.settings.rotation_bins > 1);
+    let at = |roll: f64, yaw: f64| {
+        let rotation = nalgebra::UnitQuaternion::from_euler_angles(roll, 0.0, yaw);
+        crate::demo::Pose::from_parts(nalgebra::Translation3::new(0.0, 0.0, 0.05), rotation)
+    };
+    for yaw in [-3.1, -1.7, 0.0, 0.4, 2.2, PI] {
+        assert!(contains_pose(target_block, 0, &at(0.0, yaw)), "upright at yaw {yaw}");
+        assert!(!contains_pose(target_block, 0, &at(PI / 2.0, yaw)), "lying at yaw {yaw}");
+    }
+}
+
+#[test]
+fn a_block_taken_by_a_magnet_at_any_yaw_turns_freely_and_is_never_held_tilted() {
+    use std::f64::consts::PI;
+    // Flipped under a magnet at every yaw: a half turn about every horizontal axis, which only one bin per
+    // rotation-vector component holds. The turn about the block's own axis is left free instead.
+    let task = PlaceTask {
+        spots: vec![[0.0, 0.0, 0.05]],
+        noise: 0.0,
+        placed_yaw: PLACED_YAW,
+        grasp_yaw: Some(PI),
+    };
+    let pairs = learn_pairs(&task, &LearnConfig::default());
+    let gripper_block = pair(&pairs, "gripper_block");
+    let turn = gripper_block.settings.free_turn.expect("the grasp's yaw is left free");
+    assert_eq!(turn.axis, 2);
+    let held = gripper_block.regions.iter().position(|region| region.cells.g == 1).expect("a hold");
+    let at = |roll: f64, yaw: f64| {
+        let flipped = nalgebra::UnitQuaternion::from_euler_angles(PI, 0.0, 0.0);
+        let rotation = flipped * nalgebra::UnitQuaternion::from_euler_angles(roll, 0.0, yaw);
+        let depth = crate::synthetic::PLACE_GRASP_DEPTH;
+        crate::demo::Pose::from_parts(nalgebra::Translation3::new(0.0, 0.0, depth), rotation)
+    };
+    for yaw in [-3.1, -1.7, 0.0, 0.4, 2.2, PI] {
+        assert!(contains_pose(gripper_block, held, &at(0.0, yaw)), "held at yaw {yaw}");
+        assert!(!contains_pose(gripper_block, held, &at(0.35, yaw)), "tilted 20° at yaw {yaw}");
+    }
+    // Taken square, nothing turns freely.
+    let square = learn_pairs(&PlaceTask { grasp_yaw: None, ..task }, &LearnConfig::default());
+    assert_eq!(pair(&square, "gripper_block").settings.free_turn, None);
+}
+
 #[test]
 fn two_resting_places_are_two_regions() {
-    let task = PlaceTask { spots: vec![[0.08, 0.0, 0.05], [-0.08, 0.0, 0.05]], noise: 0.0 };
+    let task = PlaceTask {
+        spots: vec![[0.08, 0.0, 0.05], [-0.08, 0.0, 0.05]],
+        noise: 0.0,
+        placed_yaw: PLACED_YAW,
+        grasp_yaw: None,
+    };
     let pairs = learn_pairs(&task, &LearnConfig::default());
     let target_block = pair(&pairs, "target_block");
     assert_eq!(target_block.regions.len(), 2, "{:?}", target_block.selection);
@@ -79,11 +156,21 @@ fn two_resting_places_are_two_regions() {
 #[test]
 fn tracking_noise_leaves_the_regions_as_they_were() {
     let clean = learn_pairs(
-        &PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0 },
+        &PlaceTask {
+            spots: vec![[0.0, 0.0, 0.05]],
+            noise: 0.0,
+            placed_yaw: PLACED_YAW,
+            grasp_yaw: None,
+        },
         &LearnConfig::default(),
     );
     let noisy = learn_pairs(
-        &PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.001 },
+        &PlaceTask {
+            spots: vec![[0.0, 0.0, 0.05]],
+            noise: 0.001,
+            placed_yaw: PLACED_YAW,
+            grasp_yaw: None,
+        },
         &LearnConfig::default(),
     );
     let shape = |pairs: &[PairRegions]| -> Vec<(String, Vec<u8>)> {
@@ -108,7 +195,15 @@ fn pinned_settings_are_kept_and_the_rest_chosen_around_them() {
             ..PinnedSettings::default()
         },
     );
-    let pairs = learn_pairs(&PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0 }, &config);
+    let pairs = learn_pairs(
+        &PlaceTask {
+            spots: vec![[0.0, 0.0, 0.05]],
+            noise: 0.0,
+            placed_yaw: PLACED_YAW,
+            grasp_yaw: None,
+        },
+        &config,
+    );
     let target_block = pair(&pairs, "target_block");
     assert_eq!(
         (target_block.settings.rotation_bins, target_block.settings.half_range),
@@ -123,7 +218,12 @@ fn pinned_settings_are_kept_and_the_rest_chosen_around_them() {
 
 #[test]
 fn the_selection_is_deterministic() {
-    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.001 };
+    let task = PlaceTask {
+        spots: vec![[0.0, 0.0, 0.05]],
+        noise: 0.001,
+        placed_yaw: PLACED_YAW,
+        grasp_yaw: None,
+    };
     let first = learn_pairs(&task, &LearnConfig::default());
     let second = learn_pairs(&task, &LearnConfig::default());
     assert_eq!(first, second);
@@ -131,7 +231,12 @@ fn the_selection_is_deterministic() {
 
 #[test]
 fn the_report_says_what_was_chosen_and_how_to_pin_it() {
-    let task = PlaceTask { spots: vec![[0.0, 0.0, 0.05]], noise: 0.0 };
+    let task = PlaceTask {
+        spots: vec![[0.0, 0.0, 0.05]],
+        noise: 0.0,
+        placed_yaw: PLACED_YAW,
+        grasp_yaw: None,
+    };
     let demonstrations = place_demonstrations(&task, DEMONSTRATIONS, 5);
     let model = crate::learn(
         &demonstrations,

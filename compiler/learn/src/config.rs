@@ -7,6 +7,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use crate::error::LearnError;
+use lamp_abstraction::FreeTurn;
 
 pub use lamp_abstraction::TypePair;
 
@@ -19,6 +20,9 @@ pub struct PairSettings {
     pub half_range: [f64; 3],
     /// Bins per rotation-vector component over `[-π, π]`.
     pub rotation_bins: usize,
+    /// A turn of the secondary the demonstrations leave free, found by the selection (never pinned): rotation
+    /// cells are then taken from its reference, with one bin along its axis.
+    pub free_turn: Option<FreeTurn>,
     /// Criticality threshold θ ∈ (0, 1]: the share of demonstrations that must visit a cell.
     pub threshold: f64,
     /// The largest number of mixture components BIC may choose.
@@ -50,6 +54,7 @@ impl PairSettings {
         position_bins: [35, 35, 35],
         half_range: [0.3, 0.3, 0.3],
         rotation_bins: 61,
+        free_turn: None,
         threshold: 0.5,
         max_components: 6,
         cover: 0.99,
@@ -114,6 +119,7 @@ impl PinnedSettings {
             position_bins: self.position_bins.unwrap_or(chosen.position_bins),
             half_range: self.half_range.unwrap_or(chosen.half_range),
             rotation_bins: self.rotation_bins.unwrap_or(chosen.rotation_bins),
+            free_turn: chosen.free_turn,
             threshold: self.threshold.unwrap_or(chosen.threshold),
             max_components: self.max_components.unwrap_or(chosen.max_components),
             cover: self.cover.unwrap_or(chosen.cover),

@@ -3,6 +3,9 @@
 //! Positions use `n` bins over the closed interval `[-R, R]` per axis; the upper edge belongs to the last bin and
 //! anything outside falls in no cell.
 //! Rotations use the rotation vector (axis · angle, angle in `[0, π]`), each component in `n` bins over `[-π, π]`.
+//! Where the demonstrations leave a turn about an axis of the secondary free ([`FreeTurn`]), the rotation vector is
+//! that of the turn from a reference rotation, in the secondary's frame, and its component along the axis has one
+//! bin: "upright, at any yaw" is then one cell.
 //! The rotation vector jumps where the angle passes π, but regions are connected over position only and each voxel
 //! keeps a *set* of rotation cells, so a region around a half turn simply keeps cells on both sides of the jump.
 //! Sampling a cell keeps rotation vectors inside the π ball, so every sample lies in the cell it was drawn from.
@@ -13,6 +16,7 @@ use rand::RngExt;
 
 use crate::config::PairSettings;
 use crate::demo::Pose;
+pub use lamp_abstraction::FreeTurn;
 
 /// Rotation draws per sample before a too-long rotation vector is shortened onto the π sphere.
 const MAX_ROTATION_DRAWS: usize = 256;
@@ -23,11 +27,12 @@ pub type Voxel = [usize; 3];
 pub type RotationCell = [usize; 3];
 
 /// The discretisation of one type pair.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Grid {
     bins: [usize; 3],
     half_range: [f64; 3],
     rotation_bins: usize,
+    free_turn: Option<FreeTurn>,
 }
 
 impl Grid {
@@ -37,6 +42,7 @@ impl Grid {
             bins: settings.position_bins,
             half_range: settings.half_range,
             rotation_bins: settings.rotation_bins,
+            free_turn: settings.free_turn,
         }
     }
 
@@ -45,9 +51,48 @@ impl Grid {
         self.bins
     }
 
-    /// Bins per rotation-vector component.
+    /// Bins per rotation-vector component (but a free turn's, which has one).
     pub fn rotation_bins(&self) -> usize {
         self.rotation_bins
+    }
+
+    /// The turn left free, if any.
+    pub fn free_turn(&self) -> Option<FreeTurn> {
+        self.free_turn
+    }
+
+    /// Bins of each rotation-vector component.
+    fn component_bins(&self) -> [usize; 3] {
+        [0, 1, 2].map(|component| match self.free_turn {
+            Some(turn) if turn.axis == component => 1,
+            _ => self.rotation_bins,
+        })
+    }
+
+    /// The rotation vector cells are taken of.
+    fn cell_vector(&self, rotation: &nalgebra::UnitQuaternion<f64>) -> nalgebra::Vector3<f64> {
+        match self.free_turn {
+            Some(turn) => (turn.reference.inverse() * rotation).scaled_axis(),
+            None => rotation.scaled_axis(),
+        }
+    }
+
+    /// The rotation of a cell vector.
+    fn cell_rotation(&self, vector: nalgebra::Vector3<f64>) -> nalgebra::UnitQuaternion<f64> {
+        let rotation = nalgebra::UnitQuaternion::from_scaled_axis(vector);
+        match self.free_turn {
+            Some(turn) => turn.reference * rotation,
+            None => rotation,
+        }
+    }
+
+    /// The rotation at the centre of a rotation cell.
+    pub fn rotation_cell_centre(&self, cell: RotationCell) -> nalgebra::UnitQuaternion<f64> {
+        let bins = self.component_bins();
+        let vector = nalgebra::Vector3::from_fn(|component, _| {
+            -PI + (cell[component] as f64 + 0.5) * 2.0 * PI / bins[component] as f64
+        });
+        self.cell_rotation(vector)
     }
 
     /// The voxel of a position, or `None` outside the range.
@@ -62,13 +107,12 @@ impl Grid {
 
     /// The rotation cell of a pose's rotation.
     pub fn rotation_cell(&self, pose: &Pose) -> RotationCell {
-        let vector = pose.rotation.scaled_axis();
-        let mut cell = [0; 3];
-        for (component, value) in cell.iter_mut().zip(vector.iter()) {
-            // A rotation vector's components never leave [-π, π], so a cell always exists.
-            *component = bin(*value, PI, self.rotation_bins).unwrap_or(self.rotation_bins - 1);
-        }
-        cell
+        let vector = self.cell_vector(&pose.rotation);
+        let bins = self.component_bins();
+        // A rotation vector's components never leave [-π, π], so a cell always exists.
+        [0, 1, 2].map(|component| {
+            bin(vector[component], PI, bins[component]).unwrap_or(bins[component] - 1)
+        })
     }
 
     /// The centre of a voxel.
@@ -102,11 +146,11 @@ impl Grid {
         let bounds = self.voxel_bounds(voxel);
         let position =
             nalgebra::Vector3::from_fn(|axis, _| rng.random_range(bounds[axis].0..bounds[axis].1));
-        let width = 2.0 * PI / self.rotation_bins as f64;
+        let widths = self.component_bins().map(|bins| 2.0 * PI / bins as f64);
         let mut draw = || {
             nalgebra::Vector3::from_fn(|axis, _| {
-                let low = -PI + rotation[axis] as f64 * width;
-                rng.random_range(low..low + width)
+                let low = -PI + rotation[axis] as f64 * widths[axis];
+                rng.random_range(low..low + widths[axis])
             })
         };
         // A rotation vector longer than π names the same rotation as a shorter one in another cell, so such draws
@@ -121,7 +165,7 @@ impl Grid {
         if vector.norm() > PI {
             vector *= PI / vector.norm();
         }
-        Pose::from_parts(position.into(), nalgebra::UnitQuaternion::from_scaled_axis(vector))
+        Pose::from_parts(position.into(), self.cell_rotation(vector))
     }
 }
 

@@ -12,7 +12,6 @@ use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 
 use crate::discretise::{RotationCell, Voxel};
-use crate::features::pose_features;
 use crate::learner::PairRegions;
 use crate::regions::RegionCells;
 pub use lamp_abstraction::region_model::{EXTENT_DRAWS, RegionModel};
@@ -32,10 +31,12 @@ pub fn fit(
     if samples == 0 {
         return Err("no samples to fit the mixture to".to_string());
     }
+    let free_turn = pair.grid.free_turn();
     let features: Vec<Vec<f64>> = (0..samples)
         .map(|_| {
             let (voxel, rotation) = cells[rng.random_range(0..cells.len())];
-            pose_features(&pair.grid.sample_cell(voxel, rotation, rng)).to_vec()
+            let pose = pair.grid.sample_cell(voxel, rotation, rng);
+            RegionModel::features_with(free_turn.as_ref(), &pose).to_vec()
         })
         .collect();
     let config = FitConfig { max_components: pair.settings.max_components, ..FitConfig::default() };
@@ -49,7 +50,7 @@ pub fn fit(
             extent[axis][1] = extent[axis][1].max(high);
         }
     }
-    RegionModel::new(region.g, mixture, threshold, extent)
+    RegionModel::new(region.g, mixture, threshold, extent)?.with_free_turn(free_turn)
 }
 
 fn cell_list(cells: &RegionCells) -> Vec<(Voxel, RotationCell)> {
@@ -146,6 +147,43 @@ mod tests {
     }
 
     #[test]
+    fn a_free_turn_is_neither_tested_nor_fitted_and_drawn_at_every_angle() {
+        // A can upright on a surface at any yaw: one voxel, the middle rotation cell, the yaw left free.
+        let mut pair = pair_with(RegionCells {
+            g: 0,
+            voxels: BTreeMap::from([([8, 8, 8], BTreeSet::from([[12, 12, 0]]))]),
+        });
+        let free_turn = Some(crate::discretise::FreeTurn {
+            reference: nalgebra::UnitQuaternion::from_euler_angles(0.0, 0.0, 1.0),
+            axis: 2,
+        });
+        pair.settings.free_turn = free_turn;
+        pair.grid = Grid::new(&pair.settings);
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let model = fit(&pair, 0, SAMPLES, &mut rng).expect("fits");
+        assert_eq!(model.free_turn(), free_turn);
+        let at = |roll: f64, yaw: f64| {
+            Pose::from_parts(
+                nalgebra::Translation3::new(0.0125, 0.0125, 0.0125),
+                nalgebra::UnitQuaternion::from_euler_angles(roll, 0.0, yaw),
+            )
+        };
+        let upright = model.margin(&at(0.0, 0.0));
+        assert!(upright >= 0.0);
+        for yaw in [-3.0, -1.2, 0.7, 2.5, PI] {
+            assert!((model.margin(&at(0.0, yaw)) - upright).abs() < 1e-6, "yaw {yaw}");
+            assert!(model.margin(&at(0.5, yaw)) < 0.0, "tilted at yaw {yaw}");
+        }
+        let yaws: Vec<f64> =
+            (0..400).map(|_| model.sample(&mut rng).rotation.euler_angles().2).collect();
+        for quarter in 0..4 {
+            let low = -PI + f64::from(quarter) * PI / 2.0;
+            let count = yaws.iter().filter(|yaw| (low..low + PI / 2.0).contains(*yaw)).count();
+            assert!(count > 60, "{count} of 400 draws in the quarter turn from {low}");
+        }
+    }
+
+    #[test]
     fn the_threshold_accepts_the_cover_share_of_uniform_draws() {
         let pair = half_turn_pair();
         let model = fit(&pair, 0, SAMPLES, &mut ChaCha8Rng::seed_from_u64(3)).expect("fits");
@@ -163,7 +201,8 @@ mod tests {
         assert!(accepted > 0.95 && accepted <= 1.0, "accepted {accepted}, cover 0.99");
         // The margin is the log density above ε.
         let pose = model.sample(&mut rng);
-        let expected = model.mixture().log_density(&pose_features(&pose)) - model.threshold();
+        let expected =
+            model.mixture().log_density(&crate::features::pose_features(&pose)) - model.threshold();
         assert_eq!(model.margin(&pose), expected);
     }
 

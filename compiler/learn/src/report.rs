@@ -69,6 +69,18 @@ fn pair_section(out: &mut String, learned: &LearnedPair) {
         settings.cover,
         pair.demonstrations
     );
+    if let Some(turn) = settings.free_turn {
+        let (roll, pitch, yaw) = turn.reference.euler_angles();
+        let _ = writeln!(
+            out,
+            "The {secondary} turns freely about its {axis} axis in every group: rotation cells are taken from the rotation {} {} {} (roll pitch yaw, degrees), with one bin for that turn.\n",
+            rounded(roll.to_degrees(), 0),
+            rounded(pitch.to_degrees(), 0),
+            rounded(yaw.to_degrees(), 0),
+            secondary = pair.pair.secondary,
+            axis = ["x", "y", "z"][turn.axis],
+        );
+    }
     if let Some(selection) = &pair.selection {
         selection_section(out, selection);
     }

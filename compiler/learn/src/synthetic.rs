@@ -208,7 +208,16 @@ pub struct PlaceTask {
     pub spots: Vec<[f64; 3]>,
     /// Tracking noise: the most a recorded position is off (m); rotations are off by half as many radians.
     pub noise: f64,
+    /// The most the block's yaw on the target is off zero (rad): [`PLACED_YAW`], or π for a block set down at
+    /// any yaw.
+    pub placed_yaw: f64,
+    /// How the gripper takes the block: `None`, square, its frame as the block's; `Some(y)`, as a magnet
+    /// pointing down (its frame turned half a turn about x), at a yaw about the block's axis within ±y (rad).
+    pub grasp_yaw: Option<f64>,
 }
+
+/// The yaw spread of a block set down square on the target (rad).
+pub const PLACED_YAW: f64 = 0.02;
 
 /// The block's offset below the gripper's frame while held.
 pub const PLACE_GRASP_DEPTH: f64 = 0.1;
@@ -243,9 +252,16 @@ fn place_demonstration(task: &PlaceTask, index: usize, rng: &mut ChaCha8Rng) -> 
             spot[1] + rng.random_range(-0.001..0.001),
             spot[2],
         ),
-        yaw(rng.random_range(-0.02..0.02)),
+        yaw(rng.random_range(-task.placed_yaw..task.placed_yaw)),
     );
-    let grasp = Pose::translation(0.0, 0.0, PLACE_GRASP_DEPTH);
+    let grasp = match task.grasp_yaw {
+        None => Pose::translation(0.0, 0.0, PLACE_GRASP_DEPTH),
+        Some(spread) => Pose::from_parts(
+            Translation3::new(0.0, 0.0, PLACE_GRASP_DEPTH),
+            yaw(rng.random_range(-spread..=spread))
+                * UnitQuaternion::from_euler_angles(PI, 0.0, 0.0),
+        ),
+    };
     let home = Pose::translation(rng.random_range(-0.2..0.2), rng.random_range(-0.2..0.2), 0.6);
     let waypoint = Pose::translation(PLACE_WAYPOINT[0], PLACE_WAYPOINT[1], PLACE_WAYPOINT[2]);
     // (gripper, block, held) per step, before noise.

@@ -14,7 +14,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use crate::config::PairSettings;
 use crate::demo::Pose;
-use crate::discretise::Grid;
+use crate::discretise::{FreeTurn, Grid};
 
 /// The least distance of a cluster from its cell's edges, as a share of the cell's width.
 pub const MIN_MARGIN: f64 = 0.1;
@@ -100,14 +100,17 @@ fn margin(intervals: &[(f64, f64)], half_range: f64, bins: usize) -> Option<f64>
     Some(least)
 }
 
-/// The rotation bins for the clusters' keyframe rotations, each with its demonstration, at most `most`.
+/// The rotation bins for the clusters' keyframe rotations, each with its demonstration, at most `most`, with
+/// rotation cells taken as `free_turn` says.
 pub fn choose_rotation_bins(
     clusters: &[Vec<(usize, Pose)>],
     rotation_share: f64,
     most: usize,
+    free_turn: Option<FreeTurn>,
 ) -> usize {
     let fits = |bins: usize| {
-        let grid = Grid::new(&PairSettings { rotation_bins: bins, ..PairSettings::DEFAULT });
+        let grid =
+            Grid::new(&PairSettings { rotation_bins: bins, free_turn, ..PairSettings::DEFAULT });
         clusters.iter().all(|keyframes| {
             let demonstrations: BTreeSet<usize> = keyframes.iter().map(|(d, _)| *d).collect();
             let mut cells: BTreeMap<[usize; 3], BTreeSet<usize>> = BTreeMap::new();
@@ -173,11 +176,11 @@ mod tests {
         // One yaw within a degree: the finest count is kept.
         let upright: Vec<(usize, Pose)> =
             (0..40).map(|d| (d, yaw((d as f64 - 20.0) * 0.0008))).collect();
-        assert_eq!(choose_rotation_bins(&[upright], 0.1, 61), 61);
+        assert_eq!(choose_rotation_bins(&[upright], 0.1, 61, None), 61);
         // Yaws spread over the whole turn: each kept cell must hold a tenth of the demonstrations.
         let any: Vec<(usize, Pose)> =
             (0..90).map(|d| (d, yaw(-PI + (d as f64 + 0.5) * 2.0 * PI / 90.0))).collect();
-        let bins = choose_rotation_bins(&[any], 0.1, 61);
+        let bins = choose_rotation_bins(&[any], 0.1, 61, None);
         assert_eq!(bins, 9);
     }
 }

@@ -8,7 +8,10 @@
 //! 3. [`clusters`]: keyframe positions grouped where they stay the same over a fourfold change of scale, per
 //!    held flag; a group must come from at least the minimum support of demonstrations and from at least
 //!    [`MIN_RELATIVE_SUPPORT`] as many as the pair's best-supported group;
-//! 4. [`grid_choice`]: the finest grid that keeps every group in one cell, the rotation bins that keep its
+//! 4. [`free_turn`]: whether every group shows the secondary at every angle about one axis of its own frame (a
+//!    round object set down or grasped at any yaw); rotation cells are then taken from a demonstrated rotation,
+//!    with one bin for that turn;
+//! 5. [`grid_choice`]: the finest grid that keeps every group in one cell, the rotation bins that keep its
 //!    rotations in the cells learning keeps, and the threshold θ = the least share of demonstrations that
 //!    visits a group's cell, so that every group's cell is critical.
 //!
@@ -22,6 +25,7 @@
 
 pub mod clusters;
 pub mod fixed_axes;
+pub mod free_turn;
 pub mod grid_choice;
 pub mod keyframes;
 
@@ -214,18 +218,44 @@ pub fn select(
         position_bins[axis] = choice.bins;
         margins[axis] = choice.margin;
     }
-    let rotation_bins = pinned.rotation_bins.unwrap_or_else(|| {
-        let rotations: Vec<Vec<(usize, crate::demo::Pose)>> = found
-            .iter()
-            .map(|(_, members, _)| members.iter().map(|k| (k.demonstration, k.pose)).collect())
-            .collect();
-        grid_choice::choose_rotation_bins(
-            &rotations,
-            rotation_share,
-            PairSettings::DEFAULT.rotation_bins,
-        )
-    });
-    let mut settings = PairSettings { position_bins, half_range, rotation_bins, ..fallback };
+    let (rotation_bins, free_turn) = match pinned.rotation_bins {
+        Some(bins) => (bins, None),
+        None => {
+            let rotations: Vec<Vec<(usize, crate::demo::Pose)>> = found
+                .iter()
+                .map(|(_, members, _)| members.iter().map(|k| (k.demonstration, k.pose)).collect())
+                .collect();
+            let most = PairSettings::DEFAULT.rotation_bins;
+            let plain = grid_choice::choose_rotation_bins(&rotations, rotation_share, most, None);
+            // A free turn only where plain cells tell no rotation apart: one bin per component
+            // admits an object held on its side as well as upright. Where plain cells keep some
+            // rotation (a can on a table at any yaw is a turn about one fixed axis, which a few
+            // bins of one component hold), they stay: the region's mixture then splits a wide top
+            // along the turn, which it cannot once the turn is taken out.
+            let turn = if plain == 1 {
+                // The best-supported group first: its first keyframe is the reference.
+                let best_group =
+                    (0..found.len()).max_by_key(|&i| (support(&found[i].1), std::cmp::Reverse(i)));
+                let order = best_group
+                    .into_iter()
+                    .chain((0..found.len()).filter(|i| Some(*i) != best_group));
+                let rotations: Vec<Vec<nalgebra::UnitQuaternion<f64>>> =
+                    order.map(|i| found[i].1.iter().map(|k| k.pose.rotation).collect()).collect();
+                free_turn::free_turn(&rotations)
+            } else {
+                None
+            };
+            match turn {
+                Some(turn) => (
+                    grid_choice::choose_rotation_bins(&rotations, rotation_share, most, Some(turn)),
+                    Some(turn),
+                ),
+                None => (plain, None),
+            }
+        }
+    };
+    let mut settings =
+        PairSettings { position_bins, half_range, rotation_bins, free_turn, ..fallback };
     let grid = Grid::new(&settings);
     let (shares, cells) = best_cell_shares(&grid, &found, tracks, demonstrations);
     if chosen.threshold {
