@@ -15,7 +15,7 @@ use crate::snapshot::{Participant, Pose, Snapshot};
 use crate::type_pair::TypePair;
 
 /// The artifact format version; bumped on any change to the serialised shape or its meaning.
-pub const SAMPLER_ARTIFACT_VERSION: u32 = 5;
+pub const SAMPLER_ARTIFACT_VERSION: u32 = 6;
 
 /// Everything the run time needs from learning besides the PDDL text.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -4,7 +4,8 @@
 //!
 //! A rotation splits into a swing and a twist about the axis, both taken from a reference rotation in the
 //! secondary's frame: `reference⁻¹ · rotation = swing · twist`. Removing the twist leaves `reference · swing`,
-//! which is the same for every angle of the turn.
+//! which is the same for every angle of the turn; its swing, a rotation about an axis across the turn's, has
+//! two degrees of freedom, which is what a region model with a free turn is over.
 
 use std::f64::consts::{PI, TAU};
 
@@ -34,6 +35,33 @@ impl FreeTurn {
     /// `rotation` turned by `angle` about the axis, in the secondary's frame.
     pub fn turned(&self, rotation: &UnitQuaternion<f64>, angle: f64) -> UnitQuaternion<f64> {
         *rotation * self.turn(angle)
+    }
+
+    /// The two components, across the axis, of the rotation vector of `rotation`'s swing from the
+    /// reference (`reference⁻¹ · rotation = swing · twist`): what is left of a rotation once its turn
+    /// is taken out, with no wrap near the reference.
+    pub fn swing(&self, rotation: &UnitQuaternion<f64>) -> [f64; 2] {
+        let swing = (self.reference.inverse() * self.untwisted(rotation)).scaled_axis();
+        let [first, second] = self.across();
+        [swing[first], swing[second]]
+    }
+
+    /// The rotation `reference · swing · turn(angle)` of a swing given as by [`FreeTurn::swing`].
+    pub fn rotation(&self, swing: [f64; 2], angle: f64) -> UnitQuaternion<f64> {
+        let [first, second] = self.across();
+        let mut vector = Vector3::zeros();
+        vector[first] = swing[0];
+        vector[second] = swing[1];
+        self.turned(&(self.reference * UnitQuaternion::from_scaled_axis(vector)), angle)
+    }
+
+    /// The two axes across the turn's, in order.
+    fn across(&self) -> [usize; 2] {
+        match self.axis {
+            0 => [1, 2],
+            1 => [0, 2],
+            _ => [0, 1],
+        }
     }
 
     fn turn(&self, angle: f64) -> UnitQuaternion<f64> {
@@ -118,5 +146,28 @@ mod tests {
         assert!(back.reference.angle_to(&reference) < 1e-12 && back.axis == 2);
         assert!(serde_json::from_str::<FreeTurn>(r#"{"reference":[0,0,0,0],"axis":2}"#).is_err());
         assert!(serde_json::from_str::<FreeTurn>(r#"{"reference":[1,0,0,0],"axis":3}"#).is_err());
+    }
+
+    #[test]
+    fn a_rotation_is_its_swing_and_twist_about_any_axis() {
+        let reference = UnitQuaternion::from_euler_angles(PI, 0.0, 0.3);
+        for axis in 0..3 {
+            let turn = FreeTurn { reference, axis };
+            for (roll, pitch, yaw) in [(0.02, -0.01, 1.0), (0.3, 0.2, -2.5), (-0.4, 0.1, 3.1)] {
+                let rotation = reference * UnitQuaternion::from_euler_angles(roll, pitch, yaw);
+                let swing = turn.swing(&rotation);
+                let back = turn.rotation(swing, turn.twist(&rotation));
+                assert!(back.angle_to(&rotation) < 1e-9, "axis {axis}: {back} for {rotation}");
+                // The swing is the same whatever the turn.
+                let turned = turn.turned(&rotation, 0.7);
+                let again = turn.swing(&turned);
+                assert!((again[0] - swing[0]).abs() + (again[1] - swing[1]).abs() < 1e-9);
+            }
+        }
+        // A tilt across the axis is the swing itself.
+        let turn = FreeTurn { reference: UnitQuaternion::identity(), axis: 2 };
+        let tilted = UnitQuaternion::from_euler_angles(0.1, 0.0, 0.0);
+        let swing = turn.swing(&tilted);
+        assert!((swing[0] - 0.1).abs() < 1e-12 && swing[1].abs() < 1e-12, "{swing:?}");
     }
 }

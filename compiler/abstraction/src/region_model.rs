@@ -15,6 +15,9 @@ use crate::features::{FEATURE_DIMENSION, features_pose, pose_features};
 use crate::free_turn::FreeTurn;
 use crate::snapshot::Pose;
 
+/// The features of a region with a free turn: the position and the swing's two components.
+pub const SWING_FEATURE_DIMENSION: usize = 5;
+
 /// Draws of the mixture per sample before one outside the region's extent is returned anyway.
 pub const EXTENT_DRAWS: usize = 64;
 
@@ -27,8 +30,9 @@ pub const EXTENT_DRAWS: usize = 64;
 /// features match closely), and such a pose was never seen in a demonstration — a can beside the
 /// box would count as in it.
 ///
-/// A region that leaves a turn of the secondary free ([`FreeTurn`]) models poses with that turn's
-/// angle removed, and draws the angle uniformly.
+/// A region that leaves a turn of the secondary free ([`FreeTurn`]) models poses by their position
+/// and the swing left once the turn is taken out (five features), and draws the turn's angle
+/// uniformly.
 ///
 /// Serialised as `{ "g", "mixture", "threshold", "extent" }` and, for a free turn, `"free_turn"`,
 /// the mixture in lamp-gmm's parameter layout; deserialising the mixture validates it, and
@@ -47,21 +51,16 @@ pub struct RegionModel {
 }
 
 impl RegionModel {
-    /// A model from its parts, checked as a deserialised one is ([`RegionModel::validate`]).
+    /// A model from its parts, checked as a deserialised one is ([`RegionModel::validate`]); with a
+    /// free turn, the mixture is over [`RegionModel::feature_dimension`] features.
     pub fn new(
         g: u8,
         mixture: GaussianMixture,
         threshold: f64,
         extent: [[f64; 2]; 3],
+        free_turn: Option<FreeTurn>,
     ) -> Result<Self, String> {
-        let model = RegionModel { g, mixture, threshold, extent, free_turn: None };
-        model.validate()?;
-        Ok(model)
-    }
-
-    /// The model, leaving `free_turn` free.
-    pub fn with_free_turn(self, free_turn: Option<FreeTurn>) -> Result<Self, String> {
-        let model = RegionModel { free_turn, ..self };
+        let model = RegionModel { g, mixture, threshold, extent, free_turn };
         model.validate()?;
         Ok(model)
     }
@@ -71,35 +70,53 @@ impl RegionModel {
         self.free_turn
     }
 
-    /// The features the mixture is over: a pose's, its free turn's angle removed.
-    pub fn features(&self, relative: &Pose) -> [f64; FEATURE_DIMENSION] {
+    /// The number of features the mixture of a model that leaves `free_turn` free is over: the
+    /// position and the 6-D rotation, or the position and the swing's two components.
+    pub fn feature_dimension(free_turn: Option<&FreeTurn>) -> usize {
+        if free_turn.is_some() { SWING_FEATURE_DIMENSION } else { FEATURE_DIMENSION }
+    }
+
+    /// The features the mixture is over.
+    pub fn features(&self, relative: &Pose) -> Vec<f64> {
         Self::features_with(self.free_turn.as_ref(), relative)
     }
 
-    /// The features of a pose for a model that leaves `free_turn` free (for fitting one).
-    pub fn features_with(
-        free_turn: Option<&FreeTurn>,
-        relative: &Pose,
-    ) -> [f64; FEATURE_DIMENSION] {
+    /// The features of a pose for a model that leaves `free_turn` free (for fitting one): with a
+    /// free turn, the position and the two components of the rotation's swing, so that the mixture
+    /// spends no component on following the circle that every angle of the turn makes.
+    pub fn features_with(free_turn: Option<&FreeTurn>, relative: &Pose) -> Vec<f64> {
         match free_turn {
             Some(turn) => {
-                let rotation = turn.untwisted(&relative.rotation);
-                pose_features(&Pose::from_parts(relative.translation, rotation))
+                let position = relative.translation.vector;
+                let [first, second] = turn.swing(&relative.rotation);
+                vec![position.x, position.y, position.z, first, second]
             }
-            None => pose_features(relative),
+            None => pose_features(relative).to_vec(),
+        }
+    }
+
+    /// The pose of a feature drawn from the mixture; with a free turn, at the turn's reference angle.
+    fn feature_pose(&self, features: &[f64]) -> Pose {
+        match &self.free_turn {
+            Some(turn) => {
+                let at = |index: usize| features.get(index).copied().unwrap_or(0.0);
+                let rotation = turn.rotation([at(3), at(4)], 0.0);
+                Pose::from_parts(nalgebra::Translation3::new(at(0), at(1), at(2)), rotation)
+            }
+            None => features_pose(features),
         }
     }
 
     /// Draws a relative pose: a feature from the mixture, its rotation columns projected to a
     /// rotation, redrawn (up to [`EXTENT_DRAWS`] times) while its position is outside the
-    /// region's extent.
+    /// region's extent; with a free turn, its angle drawn uniformly.
     pub fn sample(&self, rng: &mut ChaCha8Rng) -> Pose {
-        let mut pose = features_pose(&self.mixture.sample(rng));
+        let mut pose = self.feature_pose(&self.mixture.sample(rng));
         for _ in 1..EXTENT_DRAWS {
             if self.outside(&pose) == 0.0 {
                 break;
             }
-            pose = features_pose(&self.mixture.sample(rng));
+            pose = self.feature_pose(&self.mixture.sample(rng));
         }
         if let Some(turn) = &self.free_turn {
             let angle = rng.random_range(-std::f64::consts::PI..std::f64::consts::PI);
@@ -161,9 +178,10 @@ impl RegionModel {
 
     /// Checks a deserialised model (the mixture itself was validated when it was built).
     pub fn validate(&self) -> Result<(), String> {
-        if self.mixture.dimension() != FEATURE_DIMENSION {
+        let expected = Self::feature_dimension(self.free_turn.as_ref());
+        if self.mixture.dimension() != expected {
             return Err(format!(
-                "the mixture is over {} features, not {FEATURE_DIMENSION}",
+                "the mixture is over {} features, not {expected}",
                 self.mixture.dimension()
             ));
         }

@@ -36,7 +36,7 @@ pub fn fit(
         .map(|_| {
             let (voxel, rotation) = cells[rng.random_range(0..cells.len())];
             let pose = pair.grid.sample_cell(voxel, rotation, rng);
-            RegionModel::features_with(free_turn.as_ref(), &pose).to_vec()
+            RegionModel::features_with(free_turn.as_ref(), &pose)
         })
         .collect();
     let config = FitConfig { max_components: pair.settings.max_components, ..FitConfig::default() };
@@ -50,7 +50,7 @@ pub fn fit(
             extent[axis][1] = extent[axis][1].max(high);
         }
     }
-    RegionModel::new(region.g, mixture, threshold, extent)?.with_free_turn(free_turn)
+    RegionModel::new(region.g, mixture, threshold, extent, free_turn)
 }
 
 fn cell_list(cells: &RegionCells) -> Vec<(Voxel, RotationCell)> {
