@@ -1,8 +1,8 @@
 //! `lampc demos`: generate simulated demonstrations as MCAP files.
 //!
 //! The demonstrations are lamp-demonstrators'; this module loads the spec, applies the command
-//! line's overrides, shows progress, writes each file through a temporary file renamed into
-//! place, and prints the summary.
+//! line's overrides, shows progress, writes the folder whole (staged beside it and swapped in,
+//! under the folder's lock, as `lampc build` writes its model), and prints the summary.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -12,6 +12,7 @@ use indicatif::ProgressBar;
 use lamp_demonstrators::{DemoError, Simulation, file_name, generate_all};
 
 use crate::commands::failure::Failure;
+use crate::output::{OutputError, OutputFolder};
 
 /// Arguments of `lampc demos`.
 #[derive(clap::Args)]
@@ -61,25 +62,30 @@ fn demos(args: &Args, colour: bool) -> Result<(), Failure> {
     simulation.count = args.count.unwrap_or(simulation.count);
     simulation.seed = args.seed.unwrap_or(simulation.seed);
     let world = lamp_world::SpecWorld::load(&spec_dir, &spec).map_err(Failure::from)?;
+    // Taken before the slow part: a second `lampc demos` into the folder is refused at once.
+    let folder = OutputFolder::new(&out)?;
+    let lock = folder.lock("demos")?;
+    replaceable(folder.path(), &spec.domain)?;
+    folder.remove_leftovers(&lock);
 
     let progress = progress_bar(u64::from(simulation.count), simulation.demonstrator.name());
     let demonstrations =
         generate_all(&world, &simulation, |_| progress.inc(1)).map_err(demo_failure)?;
     progress.finish_and_clear();
 
-    std::fs::create_dir_all(&out)
-        .map_err(|error| Failure::Message(format!("cannot create {}: {error}", out.display())))?;
-    let (mut steps, mut bytes, mut cut) = (0, 0, 0);
+    let (mut steps, mut cut) = (0, 0);
+    let mut files = Vec::with_capacity(demonstrations.len());
     for demonstration in &demonstrations {
         let contents =
             viewable_bytes(&world, &demonstration.trajectory, None).map_err(Failure::Report)?;
-        write_file(&out, &file_name(&spec.domain, demonstration.index), &contents)
-            .map_err(Failure::Message)?;
+        files.push((PathBuf::from(file_name(&spec.domain, demonstration.index)), contents));
         steps += demonstration.trajectory.steps.len();
-        bytes += contents.len();
         cut += usize::from(demonstration.cut_at.is_some());
     }
-    let stale = remove_stale(&out, &spec.domain, simulation.count);
+    let bytes: usize = files.iter().map(|(_, contents)| contents.len()).sum();
+    let listed: Vec<(&Path, &[u8])> =
+        files.iter().map(|(name, contents)| (name.as_path(), contents.as_slice())).collect();
+    let replaced = folder.replace(&lock, &listed)?;
     println!(
         "{spec_file}: {} {} demonstrations ({cut} cut) of seed {} into {}: {steps} steps, {:.1} MB, {:.1} s",
         demonstrations.len(),
@@ -89,10 +95,52 @@ fn demos(args: &Args, colour: bool) -> Result<(), Failure> {
         bytes as f64 / 1e6,
         start.elapsed().as_secs_f64()
     );
-    if stale > 0 {
-        println!("  removed {stale} file(s) of an earlier, larger run");
+    if let Some((kept, reason)) = replaced.kept {
+        eprintln!(
+            "lampc demos: warning: the previous demonstrations, moved to {}, could not be removed: {reason}",
+            kept.display()
+        );
     }
     Ok(())
+}
+
+/// Refuses to replace a folder that holds anything but the demonstrations `lampc demos` writes for
+/// `domain` (`<domain>_NNNN.mcap`, and the `.<name>.tmp` files an earlier version wrote through):
+/// the whole folder is replaced, and a user's own files must not go with it.
+fn replaceable(folder: &Path, domain: &str) -> Result<(), OutputError> {
+    let Ok(metadata) = std::fs::symlink_metadata(folder) else { return Ok(()) };
+    let occupied =
+        |reason: String| OutputError::Occupied { folder: folder.display().to_string(), reason };
+    if !metadata.is_dir() {
+        let kind = crate::output::kind_of(&metadata);
+        return Err(occupied(format!("it is {kind}, not a folder of demonstrations")));
+    }
+    let entries = std::fs::read_dir(folder).map_err(|error| occupied(error.to_string()))?;
+    let mut foreign: Vec<String> = entries
+        .flatten()
+        .map(|entry| entry.file_name().to_string_lossy().into_owned())
+        .filter(|name| !is_demonstration_name(name, domain))
+        .collect();
+    foreign.sort();
+    match foreign.first() {
+        None => Ok(()),
+        Some(first) => Err(occupied(format!(
+            "it holds {first}{}, which `lampc demos` did not write for {domain}",
+            match foreign.len() {
+                1 => String::new(),
+                more => format!(" and {} more", more - 1),
+            }
+        ))),
+    }
+}
+
+/// Whether `name` is one that `lampc demos` writes into its folder for `domain`.
+fn is_demonstration_name(name: &str, domain: &str) -> bool {
+    let name = name.strip_prefix('.').and_then(|rest| rest.strip_suffix(".tmp")).unwrap_or(name);
+    name.strip_prefix(domain)
+        .and_then(|rest| rest.strip_prefix('_'))
+        .and_then(|rest| rest.strip_suffix(".mcap"))
+        .is_some_and(|digits| digits.len() >= 4 && digits.bytes().all(|b| b.is_ascii_digit()))
 }
 
 /// The file's bytes with the standard ROS 2 and Foxglove channels beside `/lamp/world`, so
@@ -125,28 +173,6 @@ pub(crate) fn write_file(folder: &Path, name: &str, contents: &[u8]) -> Result<(
         let _ = std::fs::remove_file(&temporary);
         format!("cannot move {} to {}: {error}", temporary.display(), path.display())
     })
-}
-
-/// Removes `<domain>_NNNN.mcap` files numbered `count` or above: left by an earlier run with a
-/// larger count, `lampc build` would otherwise learn from them too.
-fn remove_stale(folder: &Path, domain: &str, count: u32) -> usize {
-    let Ok(entries) = std::fs::read_dir(folder) else { return 0 };
-    let prefix = format!("{domain}_");
-    let mut removed = 0;
-    for entry in entries.flatten() {
-        let name = entry.file_name().to_string_lossy().into_owned();
-        let index = name
-            .strip_prefix(&prefix)
-            .and_then(|rest| rest.strip_suffix(".mcap"))
-            .filter(|digits| digits.len() >= 4 && digits.bytes().all(|b| b.is_ascii_digit()))
-            .and_then(|digits| digits.parse::<u64>().ok());
-        if index.is_some_and(|index| index >= u64::from(count))
-            && std::fs::remove_file(entry.path()).is_ok()
-        {
-            removed += 1;
-        }
-    }
-    removed
 }
 
 /// A bar on a terminal, nothing at all otherwise (CI logs stay clean).

@@ -123,6 +123,11 @@ fn generate_missing(
         simulation.demonstrator.name(),
         folder.display()
     ));
+    // Held while files are added: a `lampc demos` into the same folder must not replace it
+    // meanwhile.
+    let _lock = crate::output::OutputFolder::new(folder)
+        .and_then(|demos| demos.lock("eval"))
+        .map_err(|error| crate::diagnostics::render_error(&error, false))?;
     std::fs::create_dir_all(folder)
         .map_err(|error| format!("cannot create {}: {error}", folder.display()))?;
     let next = AtomicUsize::new(0);
