@@ -335,6 +335,59 @@ fn an_output_folder_that_cannot_keep_the_results_is_refused_before_any_work() {
     assert!(!scratch.path().join("build").exists(), "no demonstration is generated");
 }
 
+/// One evaluation writes into a folder at a time, and its five outputs are one set: a write that
+/// fails leaves the previous set whole, never new figures beside an old report.
+#[test]
+fn outputs_are_replaced_as_one_set_by_one_evaluation_at_a_time() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let out = scratch.path().join("eval");
+    let quick = |problems: &str| {
+        common::lampc([
+            OsStr::new("eval"),
+            spec.as_os_str(),
+            OsStr::new("--demos"),
+            OsStr::new("30"),
+            OsStr::new("--problems"),
+            OsStr::new(problems),
+            OsStr::new("--out"),
+            out.as_os_str(),
+        ])
+    };
+    let first = quick("pack2");
+    assert!(first.status.success(), "{}", stderr(&first));
+    let outputs = ["eval.json", "eval.csv", "report.md", "success.svg", "sample_efficiency.svg"];
+    let before: Vec<Vec<u8>> =
+        outputs.iter().map(|name| std::fs::read(out.join(name)).expect("written")).collect();
+
+    // Another evaluation holds the folder.
+    let lock = std::fs::File::create(scratch.path().join(".eval.lock")).expect("a lock file");
+    lock.lock().expect("locked");
+    let refused = quick("pack2,unreachable");
+    let message = stderr(&refused);
+    assert_eq!(refused.status.code(), Some(1), "{message}");
+    assert!(message.contains("lamp::output::locked"), "{message}");
+    drop(lock);
+
+    // The third output cannot be written: nothing of the new set replaces the old one.
+    std::fs::create_dir(out.join(".report.md.tmp")).expect("a folder in the way");
+    let failed = quick("pack2,unreachable");
+    let message = stderr(&failed);
+    assert_eq!(failed.status.code(), Some(1), "{message}");
+    assert!(message.contains("the previous results in"), "{message}");
+    for (name, bytes) in outputs.iter().zip(&before) {
+        assert_eq!(&std::fs::read(out.join(name)).expect("kept"), bytes, "{name} is the old one");
+    }
+    let mut names: Vec<String> = std::fs::read_dir(&out)
+        .expect("readable")
+        .flatten()
+        .map(|entry| entry.file_name().to_string_lossy().into_owned())
+        .filter(|name| name.ends_with(".tmp"))
+        .collect();
+    names.sort();
+    assert_eq!(names, [".report.md.tmp"], "no other temporary file is left");
+}
+
 /// A worker answers the spec the evaluation started with, whatever the file says by the time the
 /// worker runs: the job carries the text the settings key was made from. Here the file on disk
 /// has lost the problem by then, and the worker still solves it from the job.

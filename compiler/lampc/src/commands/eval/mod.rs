@@ -15,6 +15,7 @@ pub(crate) mod worker;
 
 use std::cell::RefCell;
 use std::collections::{BTreeMap, BTreeSet};
+use std::io::Write as _;
 use std::num::NonZeroUsize;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -151,6 +152,11 @@ fn evaluate_checked(
     };
 
     refuse_out_in_a_model_folder(&out)?;
+    // Held to the end: a second evaluation into the folder would interleave its journal lines
+    // and outputs with this one's.
+    let _lock = crate::output::OutputFolder::new(&out)
+        .and_then(|folder| folder.lock("eval"))
+        .map_err(|error| render(&error))?;
     let settings = settings_info(&spec, spec_dir, args.timeout)?;
     // Read before any demonstration is generated: a journal that cannot be read stops the
     // evaluation before its slow part.
@@ -513,8 +519,9 @@ fn learn(
     }
 }
 
-/// Writes the five outputs, each through a temporary file renamed into place (the journal beside
-/// them stays).
+/// Writes the five outputs as one set: every one into a temporary file beside it first, and only
+/// when all are written are they renamed into place, so that a failed write (a full disk) leaves
+/// the previous set whole, never new figures beside an old report. The journal beside them stays.
 fn write_outputs(out: &Path, info: &EvalInfo, rows: &[Row]) -> Result<(), String> {
     let json = EvalDocument::new(info.clone(), rows.to_vec())
         .to_json()
@@ -532,8 +539,31 @@ fn write_outputs(out: &Path, info: &EvalInfo, rows: &[Row]) -> Result<(), String
     ];
     std::fs::create_dir_all(out)
         .map_err(|error| format!("cannot create {}: {error}", out.display()))?;
-    for (name, contents) in files {
-        crate::commands::demos::write_file(out, name, contents)?;
+    let temporary = |name: &str| out.join(format!(".{name}.tmp"));
+    let remove_temporaries = || {
+        for (name, _) in &files {
+            let _ = std::fs::remove_file(temporary(name));
+        }
+    };
+    for (name, contents) in &files {
+        let path = temporary(name);
+        let written = std::fs::File::create(&path)
+            .and_then(|mut file| file.write_all(contents).and_then(|()| file.sync_all()));
+        if let Err(error) = written {
+            remove_temporaries();
+            return Err(format!(
+                "cannot write {}: {error}; the previous results in {} are unchanged",
+                path.display(),
+                out.display()
+            ));
+        }
+    }
+    for (name, _) in &files {
+        let path = out.join(name);
+        if let Err(error) = std::fs::rename(temporary(name), &path) {
+            remove_temporaries();
+            return Err(format!("cannot move the new {name} into place: {error}"));
+        }
     }
     Ok(())
 }
