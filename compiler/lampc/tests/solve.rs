@@ -168,6 +168,32 @@ fn plugin_libraries() -> &'static BTreeMap<&'static str, PathBuf> {
     })
 }
 
+/// A planner library that never returns and never checks for cancellation cannot hold a solve
+/// past its time limit: the host stops waiting a few seconds after it and says why.
+#[test]
+fn a_plugin_that_never_returns_cannot_hold_a_solve_past_its_time_limit() {
+    let profile_dir = lamp_test_support::cargo_build_like_this_test(&[
+        "--package",
+        "echo-planner",
+        "--example",
+        "hanging_planner",
+    ]);
+    let library = profile_dir
+        .join("examples")
+        .join(lamp_test_support::shared_library_file("hanging_planner"));
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let out = scratch.path().join("solution");
+    let started = std::time::Instant::now();
+    let output = solve_into(built(), &out, &["--planner", path_text(&library), "--timeout", "1"]);
+    let elapsed = started.elapsed();
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{message}");
+    assert!(message.contains("lamp::solve::unresponsive"), "{message}");
+    assert!(message.contains("the time limit of 1 s (`--timeout`) ran out 5 s ago"), "{message}");
+    assert!(elapsed < std::time::Duration::from_secs(60), "stopped after {elapsed:?}");
+    assert!(!out.exists(), "nothing is written");
+}
+
 fn path_text(path: &Path) -> &str {
     path.to_str().expect("a UTF-8 path")
 }

@@ -10,8 +10,9 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use lamp_participants::ParticipantMap;
 use lamp_tamp::{SolveError, SolveInput};
@@ -106,6 +107,50 @@ fn watch_interrupts() {
     let _ = ctrlc::set_handler(|| {
         if INTERRUPTED.swap(true, Ordering::Relaxed) {
             std::process::exit(i32::from(EXIT_INTERRUPTED));
+        }
+    });
+}
+
+/// How long after the time limit a solve that has not stopped is abandoned: the solver and the
+/// built-in plugins stop within about a second of it.
+const UNRESPONSIVE_GRACE: Duration = Duration::from_secs(5);
+
+/// The time limit ran out and the solve did not stop: a plugin is in a call that never checks the
+/// host's cancellation.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
+#[error(
+    "the time limit of {seconds} s (`--timeout`) ran out {grace} s ago and the solve has not stopped: \
+     a plugin is in a call that does not check for cancellation; stopped without waiting for it, \
+     nothing was written"
+)]
+#[diagnostic(
+    code(lamp::solve::unresponsive),
+    help(
+        "A plugin should poll `HostServices::is_cancelled` in long work (docs/plugins.md); try the built-in plugins, which do."
+    )
+)]
+struct Unresponsive {
+    seconds: f64,
+    grace: u64,
+}
+
+/// Holds the time limit whatever a plugin does: if the solve has not finished
+/// [`UNRESPONSIVE_GRACE`] after `deadline`, says so and ends the process. Nothing is half
+/// written then, since the solution folder is written only after the solve returns.
+fn watch_deadline(deadline: Instant, seconds: f64, finished: Arc<AtomicBool>, colour: bool) {
+    /// How often the watch looks whether the solve has finished.
+    const POLL: Duration = Duration::from_millis(100);
+    let Some(abandon) = deadline.checked_add(UNRESPONSIVE_GRACE) else { return };
+    std::thread::spawn(move || {
+        while !finished.load(Ordering::Relaxed) {
+            let now = Instant::now();
+            if now >= abandon {
+                let error = Unresponsive { seconds, grace: UNRESPONSIVE_GRACE.as_secs() };
+                eprintln!("{}", crate::diagnostics::render_error(&error, colour));
+                eprintln!("lampc solve: failed; {NOTHING_WRITTEN}");
+                std::process::exit(i32::from(crate::EXIT_DIAGNOSTICS));
+            }
+            std::thread::sleep(POLL.min(abandon - now));
         }
     });
 }
@@ -207,7 +252,12 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
     };
     let spinner = crate::terminal::spinner();
     let report = |phase: &str| spinner.set_message(format!("{}: {phase}", problem.name));
+    let finished = Arc::new(AtomicBool::new(false));
+    if let (Some(deadline), Some(seconds)) = (deadline, args.timeout) {
+        watch_deadline(deadline, seconds, Arc::clone(&finished), colour);
+    }
     let outcome = lamp_tamp::solve(&input, &mut plugins.as_plugins(), &settings, &report);
+    finished.store(true, Ordering::Relaxed);
     spinner.finish_and_clear();
     let solution = outcome.map_err(|error| {
         let model = crate::build_folder::model_dir(&build_dir);
