@@ -33,7 +33,8 @@ pub enum SolveError {
         help("rebuild with `lampc build` after changing the spec or the demonstrations")
     )]
     StaleProblem { problem: String, difference: String },
-    /// The planner returned a plan that names an unknown action or the wrong arity.
+    /// The planner returned a plan that names an unknown action, the wrong arity, or an argument
+    /// that is no object of the problem or of the wrong type.
     #[error("the planner returned a bad step {step}: {reason}")]
     #[diagnostic(code(lamp::solve::bad_plan))]
     BadPlan { step: String, reason: String },

@@ -4,13 +4,19 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use lamp_learn::GroundAtom;
-use lamp_pddl::{Atom, Condition, Domain, Term};
+use lamp_pddl::{Atom, Condition, Domain, Problem, Term};
 use lamp_plugin_api::{GroundAtom as WireAtom, GroundedAction, PlanStep};
 
 use crate::error::SolveError;
 
-/// The grounded action of a plan step.
-pub fn ground_step(domain: &Domain, step: &PlanStep) -> Result<GroundedAction, SolveError> {
+/// The grounded action of a plan step, whose arguments must be objects of `problem` (or the
+/// domain's constants) of the action's parameter types: a planner's plan that names anything else
+/// is a bad plan at once, not a plan that no sample can ever refine.
+pub fn ground_step(
+    domain: &Domain,
+    problem: &Problem,
+    step: &PlanStep,
+) -> Result<GroundedAction, SolveError> {
     let action = domain
         .actions
         .iter()
@@ -24,6 +30,22 @@ pub fn ground_step(domain: &Domain, step: &PlanStep) -> Result<GroundedAction, S
             step: step_text(step),
             reason: format!("the action takes {} arguments", action.parameters.len()),
         });
+    }
+    for (parameter, argument) in action.parameters.iter().zip(&step.arguments) {
+        let object = problem
+            .objects
+            .iter()
+            .chain(&domain.constants)
+            .find(|object| object.name.eq_ignore_ascii_case(argument));
+        let reason = match object {
+            None => format!("`{argument}` is no object of problem `{}`", problem.name),
+            Some(object) if !is_a(domain, &object.type_name, &parameter.type_name) => format!(
+                "`{argument}` is a {}, and the action's `?{}` is a {}",
+                object.type_name, parameter.name, parameter.type_name
+            ),
+            Some(_) => continue,
+        };
+        return Err(SolveError::BadPlan { step: step_text(step), reason });
     }
     let binding: BTreeMap<&str, &str> = action
         .parameters
@@ -62,6 +84,22 @@ pub fn ground_step(domain: &Domain, step: &PlanStep) -> Result<GroundedAction, S
         add_effects: action.add.iter().map(ground).collect(),
         delete_effects: action.delete.iter().map(ground).collect(),
     })
+}
+
+/// Whether type `kind` is `wanted` or one of its descendants (every type is an `object`).
+fn is_a(domain: &Domain, kind: &str, wanted: &str) -> bool {
+    let mut current = kind;
+    // A type chain is no longer than the declarations; a cycle is cut off there.
+    for _ in 0..=domain.types.len() {
+        if current.eq_ignore_ascii_case(wanted) || wanted.eq_ignore_ascii_case("object") {
+            return true;
+        }
+        match domain.types.iter().find(|declared| declared.name.eq_ignore_ascii_case(current)) {
+            Some(declared) => current = &declared.parent,
+            None => return false,
+        }
+    }
+    false
 }
 
 /// The state after `action` from `before`: deletes removed, then adds added.
@@ -214,6 +252,41 @@ mod tests {
         assert_eq!(
             broken,
             Broken { index: 0, missing: Vec::new(), unwanted: vec![learned_atom(&on_none)] }
+        );
+    }
+
+    /// A plan step naming an object the problem does not have, or one of another type, is a bad
+    /// plan, said at once and naming the argument.
+    #[test]
+    fn a_step_naming_an_unknown_object_or_one_of_another_type_is_a_bad_plan() {
+        let domain = lamp_pddl::parse_domain(
+            "(define (domain d) (:requirements :strips :typing) (:types can surface gripper)
+               (:predicates (on ?s - surface ?c - can))
+               (:action put :parameters (?g - gripper ?c - can ?s - surface)
+                 :precondition (and) :effect (on ?s ?c)))",
+        )
+        .expect("a domain");
+        let problem = lamp_pddl::parse_problem(
+            "(define (problem p) (:domain d)
+               (:objects g1 - gripper can1 - can box1 - surface)
+               (:init) (:goal (on box1 can1)))",
+            &domain,
+        )
+        .expect("a problem");
+        let step = |arguments: &[&str]| PlanStep {
+            action: "put".to_string(),
+            arguments: arguments.iter().map(ToString::to_string).collect(),
+        };
+        let grounded = ground_step(&domain, &problem, &step(&["g1", "can1", "box1"]));
+        assert_eq!(grounded.expect("a good step").add_effects, [wire("on", &["box1", "can1"])]);
+        let reason = |arguments: &[&str]| match ground_step(&domain, &problem, &step(arguments)) {
+            Err(SolveError::BadPlan { reason, .. }) => reason,
+            other => panic!("not a bad plan: {other:?}"),
+        };
+        assert_eq!(reason(&["g1", "can7", "box1"]), "`can7` is no object of problem `p`");
+        assert_eq!(
+            reason(&["g1", "box1", "can1"]),
+            "`box1` is a surface, and the action's `?c` is a can"
         );
     }
 }

@@ -64,7 +64,11 @@ pub fn plan_from(
         return Ok(None);
     };
     let Some(plan) = found.into_iter().next() else { return Ok(None) };
-    plan.steps.iter().map(|step| ground_step(domain, step)).collect::<Result<Vec<_>, _>>().map(Some)
+    plan.steps
+        .iter()
+        .map(|step| ground_step(domain, problem, step))
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
 }
 
 /// Drops the goal atom whose predicate appears least often in action preconditions (ties: the

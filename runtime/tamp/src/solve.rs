@@ -155,7 +155,7 @@ fn solve_with(
                 let actions = plan
                     .steps
                     .iter()
-                    .map(|step| ground_step(domain, step))
+                    .map(|step| ground_step(domain, problem, step))
                     .collect::<Result<Vec<GroundedAction>, _>>()?;
                 let mut recorder = Recorder::default();
                 recorder.record(input.scene);
