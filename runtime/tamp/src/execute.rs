@@ -120,6 +120,9 @@ pub fn execute(
             }
             Err(error) => return Err(Rejection::Fatal(SolveError::from_plugin("motion", error))),
         };
+        if let Some(reason) = malformed_waypoint(&waypoints, start.len()) {
+            return Err(bad_path(&reason));
+        }
         let states = densify(&model, &waypoints, &settings.motion.config)
             .map_err(|error| Rejection::Candidate(error.to_string()))?;
         let joins = |a: &[f64], b: &[f64]| model.distance(a, b) < PATH_END_TOLERANCE;
@@ -163,6 +166,25 @@ pub fn execute(
         recorder.record(scene);
     }
     Ok(())
+}
+
+/// What is wrong with a motion plugin's waypoint, if anything: a waypoint with another number of
+/// coordinates than the robot has, or one that is not a number (NaN or infinite), which no
+/// straight edge or collision check can make sense of.
+fn malformed_waypoint(waypoints: &[Vec<f64>], coordinates: usize) -> Option<String> {
+    waypoints.iter().enumerate().find_map(|(index, waypoint)| {
+        if waypoint.len() != coordinates {
+            return Some(format!(
+                "its waypoint {index} has {} coordinates, and the robot has {coordinates}",
+                waypoint.len()
+            ));
+        }
+        let coordinate = waypoint.iter().position(|value| !value.is_finite())?;
+        Some(format!(
+            "its waypoint {index} has coordinate {coordinate} = {}, not a number a robot can take",
+            waypoint[coordinate]
+        ))
+    })
 }
 
 fn bad_path(reason: &str) -> Rejection {
@@ -214,4 +236,31 @@ fn motion_group<'r>(robot: &'r Robot, start: &[f64], goal: &[f64]) -> &'r str {
         .collect();
     groups.sort_by_key(|group| (group.coordinates.len(), group.name.clone()));
     groups.first().map_or(lamp_robot::ALL_GROUP, |group| group.name.as_str())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A motion plugin's NaN, infinite or short waypoint is named, with its index and coordinate,
+    /// instead of surfacing as a straight move of NaN rad.
+    #[test]
+    fn a_waypoint_that_is_not_a_configuration_is_named() {
+        let good = vec![vec![0.0, 1.0], vec![0.5, 1.5]];
+        assert_eq!(malformed_waypoint(&good, 2), None);
+        let not_a_number = vec![vec![0.0, 1.0], vec![f64::NAN, 1.5]];
+        assert_eq!(
+            malformed_waypoint(&not_a_number, 2).as_deref(),
+            Some("its waypoint 1 has coordinate 0 = NaN, not a number a robot can take")
+        );
+        let infinite = vec![vec![0.0, f64::INFINITY]];
+        assert_eq!(
+            malformed_waypoint(&infinite, 2).as_deref(),
+            Some("its waypoint 0 has coordinate 1 = inf, not a number a robot can take")
+        );
+        assert_eq!(
+            malformed_waypoint(&[vec![0.0]], 2).as_deref(),
+            Some("its waypoint 0 has 1 coordinates, and the robot has 2")
+        );
+    }
 }
