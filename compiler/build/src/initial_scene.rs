@@ -6,7 +6,7 @@
 //! or overlap, where at least one can move, closer than [`CONTACT_TOLERANCE`]; every movable
 //! object that touches nothing where it can rest by lamp-world's resting rule (not in the air, not
 //! over an edge); every AtGoal target putting its object into no static body, and where it can
-//! rest by the same rule; every robot's start configuration within its joint limits and free of
+//! rest by the same rule, and no two targets putting their objects into each other; every robot's start configuration within its joint limits and free of
 //! collision with the bodies and itself, at the same tolerance. Findings are listed in spec order
 //! of problems, then in that order.
 
@@ -140,6 +140,23 @@ fn target_issues(world: &SpecWorld, problem: &Problem) -> Vec<SceneIssue> {
                 object: target.object.clone(),
                 reason: reason.to_string(),
             });
+        }
+    }
+    // Then all of them at once: two targets on one place can never both be reached.
+    let all: Vec<(String, Pose)> =
+        problem.goal.at.iter().map(|target| (target.object.clone(), target.pose)).collect();
+    let targeted: BTreeSet<&str> = all.iter().map(|(object, _)| object.as_str()).collect();
+    if targeted.len() > 1
+        && let Ok(scene) = objects_at_targets(world, problem, &all)
+    {
+        for (first, second) in scene.body_contacts() {
+            if targeted.contains(first.as_str()) && targeted.contains(second.as_str()) {
+                issues.push(SceneIssue::TargetsOverlap {
+                    problem: problem.name.clone(),
+                    first,
+                    second,
+                });
+            }
         }
     }
     issues

@@ -47,6 +47,18 @@ pub enum SceneIssue {
     )]
     TargetContact { problem: String, object: String, body: String },
 
+    /// Two AtGoal targets put their objects into each other: no plan can leave both there.
+    #[error(
+        "problem `{problem}`: the `at` goals put `{first}` and `{second}` where they touch or overlap"
+    )]
+    #[diagnostic(
+        code(lamp::build::targets_overlap),
+        help(
+            "Two objects cannot be at one place: move one of the targets clear of the other (a copied line with the pose left unchanged is the usual cause)."
+        )
+    )]
+    TargetsOverlap { problem: String, first: String, second: String },
+
     /// An AtGoal target leaves its object where it cannot rest: in the air, over an edge.
     #[error("problem `{problem}`: the `at` goal puts `{object}` where it cannot rest: {reason}")]
     #[diagnostic(
@@ -109,6 +121,7 @@ impl SceneIssue {
             | SceneIssue::OutOfRange { problem, .. }
             | SceneIssue::Contact { problem, .. }
             | SceneIssue::TargetContact { problem, .. }
+            | SceneIssue::TargetsOverlap { problem, .. }
             | SceneIssue::TargetUnsupported { problem, .. }
             | SceneIssue::Unsupported { problem, .. }
             | SceneIssue::RobotCollision { problem, .. }

@@ -213,3 +213,27 @@ fn a_target_inside_the_table_names_the_object_and_the_table() {
     let far = initial_scene_issues(&spec, &world);
     assert!(matches!(&far[..], [SceneIssue::OutOfRange { what: "the target of", .. }]), "{far:?}");
 }
+
+/// Two `at` goals on one pose (a copied line, its pose left unchanged) can never both be met:
+/// refused with both objects named, instead of a solve that searches until it gives up.
+#[test]
+fn two_targets_on_one_place_are_named() {
+    let (spec, world) = first_problem("dinner", |spec| {
+        let goal = &mut spec.problems[0].goal.at;
+        goal[1].pose = goal[0].pose;
+    });
+    let goal = &spec.problems[0].goal.at;
+    let (first, second) = (goal[0].object.clone(), goal[1].object.clone());
+    let issues = initial_scene_issues(&spec, &world);
+    assert_eq!(issues.len(), 1, "{issues:?}");
+    let SceneIssue::TargetsOverlap { problem, first: a, second: b } = &issues[0] else {
+        panic!("expected overlapping targets, got {issues:?}");
+    };
+    assert_eq!(problem, "set_table_2");
+    let mut named = [a.clone(), b.clone()];
+    named.sort();
+    let mut expected = [first, second];
+    expected.sort();
+    assert_eq!(named, expected);
+    assert!(issues[0].to_string().contains("where they touch or overlap"));
+}
