@@ -24,7 +24,7 @@ pub const MANIFEST_FILE: &str = "manifest.json";
 /// The `format` field of every manifest.
 pub const MANIFEST_FORMAT: &str = "lamp-build-manifest";
 /// The manifest version; bumped when its shape or meaning changes.
-pub const MANIFEST_VERSION: u32 = 2;
+pub const MANIFEST_VERSION: u32 = 3;
 /// The name of the per-file digest: FNV-1a (64 bit) over the file's bytes (see [`file_digest`]).
 pub const MANIFEST_DIGEST: &str = "fnv1a64";
 
@@ -304,10 +304,10 @@ pub enum BuildFolderError {
     )]
     OtherDomain { found: String, expected: String },
 
-    /// The spec's robots, object types, demonstration sources, learning settings or seed changed
-    /// since the build.
+    /// The spec's robots, object types, demonstration sources, learning settings or seed, or a
+    /// robot model or mesh file it names, changed since the build.
     #[error(
-        "the build is stale: {spec}'s seed, robots, object types, demonstration sources or learning settings changed since it was built"
+        "the build is stale: {spec}'s seed, robots, object types, demonstration sources or learning settings, or a robot model or mesh file it names, changed since it was built"
     )]
     #[diagnostic(
         code(lamp::solve::stale_build),
@@ -387,7 +387,10 @@ mod tests {
         let text = manifest.to_json().expect("serialises");
         for (edited, reason) in [
             (text.replace(MANIFEST_FORMAT, "other"), "its format is `other`"),
-            (text.replace("\"version\": 2", "\"version\": 9"), "version 9"),
+            (
+                text.replace(&format!("\"version\": {MANIFEST_VERSION}"), "\"version\": 9"),
+                "version 9",
+            ),
             (text.replace("\"digest\": \"fnv1a64\"", "\"digest\": \"md5\""), "`md5`"),
             (text.replace("problems/p1.pddl", "../p1.pddl"), "outside the model folder"),
             ("{".to_string(), "EOF"),

@@ -163,7 +163,7 @@ pub fn artifacts(
         contents: vocabulary(&provenance, model, &plots),
     });
     files.extend(plots);
-    let manifest = Manifest::new(&provenance, &SpecSources::of(spec), &files);
+    let manifest = Manifest::new(&provenance, &SpecSources::of(spec, context.world), &files);
     files.push(ArtifactFile { path: MANIFEST_FILE.into(), contents: manifest.to_json()? });
     files.sort_by(|a, b| a.path.cmp(&b.path));
     Ok(Artifacts { files, summary })

@@ -41,11 +41,13 @@ pub(crate) fn model_dir(build_dir: &Path) -> PathBuf {
 }
 
 /// Reads the domain, the problem `problem` and the sampler file of the model in `build_dir`,
-/// checking that it was built from `spec` as it is now.
+/// checking that it was built from `spec` as it is now, with the robot models and object shapes
+/// `world` loaded from the files it names.
 pub(crate) fn read_model(
     build_dir: &Path,
     problem: &str,
     spec: &Spec,
+    world: &lamp_world::SpecWorld,
     check: Check,
 ) -> Result<ModelFiles, ReadError> {
     let domain = spec.domain.as_str();
@@ -92,7 +94,7 @@ pub(crate) fn read_model(
                 let problem = problem.to_string();
                 return Err(Box::new(BuildFolderError::NoProblemFile { problem }));
             }
-            if let Err(error) = manifest.check_sources(&SpecSources::of(spec), problem) {
+            if let Err(error) = manifest.check_sources(&SpecSources::of(spec, world), problem) {
                 refuse_or_warn(error, check, &mut warnings)?;
             }
             // The files the solve uses are checked as read (so what is checked is what is used);

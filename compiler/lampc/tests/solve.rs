@@ -697,4 +697,17 @@ fn a_spec_edited_since_the_build_is_refused_naming_what_changed() {
     let text = stderr(&output);
     assert!(text.contains("lamp::solve::stale_build"), "{text}");
     assert!(!out.exists(), "nothing is written");
+
+    // The spec as built, but the robot's URDF edited: a collision box 2 mm longer.
+    let spec = edited_spec(scratch.path(), |text| text);
+    let urdf = scratch.path().join("robots/magnetic_gripper.urdf");
+    let model = std::fs::read_to_string(&urdf).expect("the copied URDF");
+    let longer = model.replacen("0.025 0.025 0.11168", "0.025 0.025 0.11368", 1);
+    assert_ne!(longer, model, "the box is in the URDF");
+    std::fs::write(&urdf, longer).expect("writes the URDF");
+    let output = solve_with(&spec);
+    let text = stderr(&output);
+    assert!(text.contains("lamp::solve::stale_build"), "{text}");
+    assert!(text.contains("or a robot model or mesh file it names"), "{text}");
+    assert!(!out.exists(), "nothing is written");
 }

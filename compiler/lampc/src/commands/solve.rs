@@ -187,8 +187,11 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
             crate::build_folder::model_dir(&build_dir).display()
         );
     }
+    // Loaded first: the build is checked against the robot models and shapes as they are now.
+    let world = SpecWorld::load(spec_dir, spec)
+        .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
     let ModelFiles { domain, problem: problem_text, samplers, warnings } =
-        crate::build_folder::read_model(&build_dir, &problem.name, spec, check)
+        crate::build_folder::read_model(&build_dir, &problem.name, spec, &world, check)
             .map_err(|error| crate::diagnostics::render_error(error.as_ref(), colour))?;
     for warning in &warnings {
         eprintln!("lampc solve: warning: {warning}");
@@ -204,8 +207,6 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
     replaceable(&out).map_err(rendered)?;
     folder.remove_leftovers(&lock);
 
-    let world = SpecWorld::load(spec_dir, spec)
-        .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
     let participants = ParticipantMap::new(spec, &world.robots)
         .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
     let scene = world
