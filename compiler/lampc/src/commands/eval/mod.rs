@@ -590,8 +590,16 @@ fn print_summary(info: &EvalInfo, rows: &[Row], out: &Path, elapsed: Duration) {
         ),
         _ => println!("  generalization  none: no test problem solved"),
     }
-    let solving: f64 = rows.iter().filter_map(|row| row.result.seconds_solving).sum();
-    println!("  time            {:.1} s of solving in {:.1} s", solving, elapsed.as_secs_f64());
+    println!("{}", time_line(rows, elapsed));
+}
+
+/// The summary's last line: the solving time of the rows and the wall time of the evaluation.
+fn time_line(rows: &[Row], elapsed: Duration) -> String {
+    // Summed from +0.0: `Sum` for floats starts at -0.0, which prints as "-0.0 s" when no row
+    // was solved (every build failed, or every row came from the journal without a time).
+    let solving =
+        rows.iter().filter_map(|row| row.result.seconds_solving).fold(0.0, |sum, s| sum + s);
+    format!("  time            {:.1} s of solving in {:.1} s", solving, elapsed.as_secs_f64())
 }
 
 /// One bar for the whole evaluation on a terminal, nothing otherwise.
@@ -604,4 +612,19 @@ fn progress_bar(length: u64) -> ProgressBar {
         bar.enable_steady_tick(Duration::from_millis(200));
     }
     bar
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lamp_eval::{Outcome, SolveResult};
+
+    #[test]
+    fn rows_without_a_solving_time_add_up_to_zero_seconds_not_minus_zero() {
+        let failed = SolveResult::failed(Outcome::BuildFailed, "learning failed");
+        let rows = [Row::new(30, 1, "pack2", 2, "fnv1a64:0", failed, Some(0.5))];
+        let line = time_line(&rows, Duration::from_millis(1500));
+        assert_eq!(line, "  time            0.0 s of solving in 1.5 s");
+        assert_eq!(time_line(&[], Duration::ZERO), "  time            0.0 s of solving in 0.0 s");
+    }
 }
