@@ -4,7 +4,7 @@
 
 use lamp_spec::limits::{self, Limit};
 
-/// A time limit in seconds (`--timeout`): more than 0 s, at most a week.
+/// A time limit in seconds (`--timeout`): at least a millisecond, at most a week.
 pub(crate) fn seconds(text: &str) -> Result<f64, String> {
     limits::SECONDS.check(number(text)?).map_err(|error| error.to_string())
 }
@@ -39,9 +39,10 @@ mod tests {
         assert_eq!(seconds("2.5"), Ok(2.5));
         assert_eq!(
             seconds("1e308"),
-            Err("1e308 is out of range; the value must be greater than 0 s and at most 604800 s (one week)".to_string())
+            Err("1e308 is out of range; the value must be from 0.001 s to 604800 s (one week)"
+                .to_string())
         );
-        for refused in ["0", "-3", "1e19", "inf", "NaN"] {
+        for refused in ["0", "-3", "1e-300", "0.0005", "1e19", "inf", "NaN"] {
             assert!(seconds(refused).is_err(), "{refused}");
         }
         assert_eq!(seconds("soon"), Err("`soon` is not a number".to_string()));

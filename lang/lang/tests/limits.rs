@@ -41,17 +41,21 @@ fn refused(block: &str, code: &str, text: &str) -> String {
 }
 
 #[test]
-fn time_limits_are_positive_finite_and_at_most_a_week() {
+fn time_limits_are_at_least_a_millisecond_and_at_most_a_week() {
     let rendered =
         refused("  planner gbfs-ff { timeout -30 s }", "lamp::check::out_of_range", "-30 s");
     assert!(rendered.contains("`timeout` of the planner is out of range"), "{rendered}");
     assert!(
-        rendered.contains("greater than 0 s and at most 604800 s (one week)"),
+        rendered.contains("from 0.001 s to 604800 s (one week)"),
         "the help names the range: {rendered}"
     );
     refused("  planner gbfs-ff { timeout 1e308 s }", "lamp::check::out_of_range", "1e308 s");
     refused("  planner gbfs-ff { timeout 1e400 s }", "lamp::check::out_of_range", "1e400 s");
     refused("  planner gbfs-ff { timeout 0 ms }", "lamp::check::out_of_range", "0 ms");
+    let rendered =
+        refused("  planner gbfs-ff { timeout 1e-300 s }", "lamp::check::out_of_range", "1e-300 s");
+    assert!(rendered.contains("from 0.001 s to 604800 s"), "{rendered}");
+    refused("  motion rrt-connect { timeout 0.5 ms }", "lamp::check::out_of_range", "0.5 ms");
     refused("  motion rrt-connect { timeout -1 s }", "lamp::check::out_of_range", "-1 s");
     refused("  motion rrt-connect { timeout 30 }", "lamp::check::unit_required", "30");
     refused("  planner topk { timeout 3 m }", "lamp::check::wrong_unit", "m");

@@ -12,8 +12,12 @@ use std::time::Duration;
 /// where a `Duration` (or an `Instant` plus it) could overflow.
 pub const MAX_SECONDS: f64 = 7.0 * 24.0 * 3600.0;
 
-/// A time limit (`--timeout`, a plugin's `timeout`): more than nothing, at most a week.
-pub const SECONDS: Limit = Limit::above(0.0, MAX_SECONDS, "s").noting("one week");
+/// The shortest time limit anywhere: one millisecond. A shorter one ends every solve before its
+/// first step, and a value like `1e-300` would be echoed back in hundreds of digits.
+pub const MIN_SECONDS: f64 = 0.001;
+
+/// A time limit (`--timeout`, a plugin's `timeout`): at least a millisecond, at most a week.
+pub const SECONDS: Limit = Limit::closed(MIN_SECONDS, MAX_SECONDS, "s").noting("one week");
 
 /// Plans asked of the planner (`--plans`, the planner's `plans`): refinement tries them one by
 /// one, so more than a thousand is a search that could never be refined in a useful time.
@@ -73,7 +77,7 @@ pub const ITERATIONS: Limit = Limit::whole(1, 10_000_000);
 pub struct Limit {
     /// The smallest value allowed, or, when `open_min` is set, the largest one refused.
     pub min: f64,
-    /// Whether `min` itself is refused (a duration must be more than 0 s).
+    /// Whether `min` itself is refused (a displacement must be more than 0 m).
     pub open_min: bool,
     /// The largest value allowed.
     pub max: f64,
@@ -157,7 +161,7 @@ impl Limit {
     }
 
     /// The allowed range in words, as the end of "the value must be …": "a whole number from 1
-    /// to 1000", "greater than 0 s and at most 604800 s (one week)", "from 0.001 m to 0.05 m".
+    /// to 1000", "greater than 0 m and at most 10 m", "from 0.001 s to 604800 s (one week)".
     #[must_use]
     pub fn expected(&self) -> String {
         let unit = |value: f64| match self.unit {
@@ -242,10 +246,23 @@ mod tests {
     use super::*;
 
     #[test]
-    fn seconds_are_finite_positive_and_at_most_a_week() {
+    fn seconds_are_finite_at_least_a_millisecond_and_at_most_a_week() {
         assert_eq!(SECONDS.check(30.0), Ok(30.0));
+        assert_eq!(SECONDS.check(MIN_SECONDS), Ok(MIN_SECONDS));
         assert_eq!(SECONDS.check(MAX_SECONDS), Ok(MAX_SECONDS));
-        for refused in [0.0, -30.0, -0.0, MAX_SECONDS + 1.0, 1e19, 1e308, f64::INFINITY, f64::NAN] {
+        let refused_values = [
+            0.0,
+            -30.0,
+            -0.0,
+            1e-300,
+            0.0009,
+            MAX_SECONDS + 1.0,
+            1e19,
+            1e308,
+            f64::INFINITY,
+            f64::NAN,
+        ];
+        for refused in refused_values {
             assert!(SECONDS.check(refused).is_err(), "{refused}");
             assert!(duration(refused).is_err(), "{refused}");
         }
@@ -253,7 +270,12 @@ mod tests {
         let message = SECONDS.check(1e308).expect_err("refused").to_string();
         assert_eq!(
             message,
-            "1e308 is out of range; the value must be greater than 0 s and at most 604800 s (one week)"
+            "1e308 is out of range; the value must be from 0.001 s to 604800 s (one week)"
+        );
+        let message = SECONDS.check(1e-300).expect_err("refused").to_string();
+        assert_eq!(
+            message,
+            "1e-300 is out of range; the value must be from 0.001 s to 604800 s (one week)"
         );
     }
 
