@@ -299,13 +299,17 @@ pub enum SpecError {
     #[error("`{object}` cannot be moved to a goal pose")]
     #[diagnostic(
         code(lamp::goal::not_movable),
-        help("Its type `{type_name}` is static; only movable objects can have `at` goals.")
+        help("Its type `{type_name}` is {kind}; only movable objects can have `at` goals.")
     )]
     NotMovable {
         object: String,
         type_name: String,
-        #[label("a static object")]
+        /// What the type is instead of movable: "static", "a marker".
+        kind: &'static str,
+        #[label("{label}")]
         at: SourceSpan,
+        /// The object as what it is: "a static object", "a marker".
+        label: &'static str,
     },
 
     #[error("structure `{structure}` places `{object}`, {problem}")]

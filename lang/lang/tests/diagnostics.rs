@@ -309,6 +309,24 @@ fn goal_not_movable() {
     );
 }
 
+/// An `at` goal on a marker names it a marker, not a static object.
+#[test]
+fn goal_not_movable_marker() {
+    let source = VALID
+        .replacen("type can {", "type spot { marker }\ntype can {", 1)
+        .replacen(
+            "    can c1 at (-0.2, 0, 0) m\n",
+            "    can c1 at (-0.2, 0, 0) m\n    spot coaster1 at (0.3, 0, 0) m\n",
+            1,
+        )
+        .replacen("    in_box(c1, box1)", "    at coaster1 (0, 0, 0) m within 0.01 m 5 deg", 1);
+    let outcome = check(&source);
+    assert_eq!(codes(&outcome), ["lamp::goal::not_movable"], "{}", render(&outcome));
+    let rendered = render(&outcome);
+    assert!(!rendered.contains("static"), "{rendered}");
+    insta::assert_snapshot!("goal_not_movable_marker", rendered);
+}
+
 #[test]
 fn marker_with_a_shape() {
     case(

@@ -280,10 +280,18 @@ impl Checker<'_> {
                         declared.object_types.get(ty).is_none_or(|(_, movable)| *movable)
                     });
                     if let (Some(false), Some(type_name)) = (movable, object_type.cloned()) {
+                        let marker = declared.marker_types.contains_key(&type_name);
+                        let (kind, label) = if marker {
+                            ("a marker (a named pose that nothing picks up)", "a marker")
+                        } else {
+                            ("static", "a static object")
+                        };
                         self.report(at(object.span, |at| SpecError::NotMovable {
                             object: object.text.clone(),
                             type_name,
+                            kind,
                             at,
+                            label,
                         }));
                     }
                     let pose = self.pose(pose);
@@ -296,7 +304,7 @@ impl Checker<'_> {
                             "a positive angle",
                         )
                     });
-                    // A static object's goal is already refused; its marker would add noise.
+                    // A goal on a static object or a marker is already refused; its marker would add noise.
                     let marker_type = match movable {
                         Some(false) => None,
                         _ => self.at_goal_marker(object, declared, scene),
