@@ -327,6 +327,20 @@ fn goal_not_movable_marker() {
     insta::assert_snapshot!("goal_not_movable_marker", rendered);
 }
 
+/// An `at` goal on a robot's part (an object a goal may name, but no object of the scene) is
+/// refused by the checker, not left for the build to find.
+#[test]
+fn goal_not_movable_robot_part() {
+    let source = VALID.replacen("type can {", "type spot { marker }\ntype can {", 1).replacen(
+        "    in_box(c1, box1)",
+        "    at gripper_gripper (0, 0, 0.3) m within 0.01 m 5 deg",
+        1,
+    );
+    let outcome = check(&source);
+    assert_eq!(codes(&outcome), ["lamp::goal::not_movable"], "{}", render(&outcome));
+    insta::assert_snapshot!("goal_not_movable_robot_part", render(&outcome));
+}
+
 #[test]
 fn marker_with_a_shape() {
     case(

@@ -276,12 +276,16 @@ impl Checker<'_> {
                 }
                 GoalItem::At { object, pose, distance, angle } => {
                     let object_type = self.scene_object(object, objects).flatten();
+                    // A type that is no object type is a robot part's: the robot moves itself.
                     let movable = object_type.map(|ty| {
-                        declared.object_types.get(ty).is_none_or(|(_, movable)| *movable)
+                        declared.object_types.get(ty).is_some_and(|(_, movable)| *movable)
                     });
                     if let (Some(false), Some(type_name)) = (movable, object_type.cloned()) {
                         let marker = declared.marker_types.contains_key(&type_name);
-                        let (kind, label) = if marker {
+                        let part = !declared.object_types.contains_key(&type_name);
+                        let (kind, label) = if part {
+                            ("a robot's part, not an object of the scene", "a robot's part")
+                        } else if marker {
                             ("a marker (a named pose that nothing picks up)", "a marker")
                         } else {
                             ("static", "a static object")
