@@ -144,6 +144,21 @@ pub enum SpecError {
         at: SourceSpan,
     },
 
+    #[error("{kind} name is {length} bytes long, more than the {max} allowed")]
+    #[diagnostic(
+        code(lamp::check::name_too_long),
+        help(
+            "A {kind}'s name names its files and folders, and a file name holds at most 255 bytes: shorten the name to at most {max} bytes."
+        )
+    )]
+    NameTooLong {
+        kind: &'static str,
+        length: usize,
+        max: usize,
+        #[label("this name")]
+        at: SourceSpan,
+    },
+
     #[error("{dimension} needs a unit")]
     #[diagnostic(
         code(lamp::check::unit_required),
@@ -341,6 +356,7 @@ impl SpecError {
             | SpecError::MissingDeclaration { at, .. }
             | SpecError::DuplicateSetting { at, .. }
             | SpecError::OutOfRange { at, .. }
+            | SpecError::NameTooLong { at, .. }
             | SpecError::UnitRequired { at, .. }
             | SpecError::WrongUnit { at, .. }
             | SpecError::UnexpectedUnit { at, .. }

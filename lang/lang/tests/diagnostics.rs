@@ -341,6 +341,21 @@ fn goal_not_movable_robot_part() {
     insta::assert_snapshot!("goal_not_movable_robot_part", render(&outcome));
 }
 
+/// A problem's name names its files, so it must fit in a file name with room to spare.
+#[test]
+fn check_name_too_long() {
+    let long = format!("p{}", "1".repeat(239));
+    case(
+        "check_name_too_long",
+        "problem p1 {",
+        &format!("problem {long} {{"),
+        &["lamp::check::name_too_long"],
+    );
+    let longest = format!("p{}", "1".repeat(199));
+    let outcome = check(&VALID.replacen("problem p1 {", &format!("problem {longest} {{"), 1));
+    assert!(outcome.diagnostics.is_empty(), "{}", render(&outcome));
+}
+
 #[test]
 fn marker_with_a_shape() {
     case(

@@ -19,6 +19,11 @@ pub const MIN_SECONDS: f64 = 0.001;
 /// A time limit (`--timeout`, a plugin's `timeout`): at least a millisecond, at most a week.
 pub const SECONDS: Limit = Limit::closed(MIN_SECONDS, MAX_SECONDS, "s").noting("one week");
 
+/// The longest problem name, in bytes: a problem's name names its files (`problems/NAME.pddl`,
+/// the solution folder `solutions/NAME/` and the temporary files written beside them), and a file
+/// name holds at most 255 bytes on common file systems; 200 leaves room for what is appended.
+pub const MAX_PROBLEM_NAME_BYTES: usize = 200;
+
 /// Plans asked of the planner (`--plans`, the planner's `plans`): refinement tries them one by
 /// one, so more than a thousand is a search that could never be refined in a useful time.
 pub const PLANS: Limit = Limit::whole(1, 1_000);

@@ -25,6 +25,16 @@ impl Checker<'_> {
             if !self.declare(&mut seen, "problem", &problem.name) {
                 continue;
             }
+            let length = problem.name.text.len();
+            if length > lamp_spec::limits::MAX_PROBLEM_NAME_BYTES {
+                self.report(at(problem.name.span, |at| SpecError::NameTooLong {
+                    kind: "problem",
+                    length,
+                    max: lamp_spec::limits::MAX_PROBLEM_NAME_BYTES,
+                    at,
+                }));
+                continue;
+            }
             if let Some(problem) = self.problem(problem, declared) {
                 problems.push(problem);
             }
