@@ -27,8 +27,10 @@ const ARTIFACTS: [&str; 7] = [
     "samplers.json",
     "vocabulary.md",
 ];
-/// A problem name too long for a file name.
-const LONG: usize = 300;
+/// The longest problem name the checker accepts (bytes).
+const LONG: usize = 200;
+/// The longest path the operating system takes (Linux's `PATH_MAX`, bytes).
+const PATH_MAX: usize = 4096;
 /// The bundled Packing spec has twelve four-can problems.
 const PROBLEMS: usize = 12;
 
@@ -190,9 +192,8 @@ fn a_truncated_demonstration_is_named_and_nothing_is_written() {
     assert_eq!(left, [PathBuf::from(".model.lock")], "no output files but the lock");
 }
 
-/// A copy of the Packing spec whose first problem has a name too long for a file name (300
-/// characters and `.pddl`; file systems allow 255 bytes), with the robot path made absolute so
-/// that it loads from anywhere.
+/// A copy of the Packing spec whose first problem has the longest name the checker accepts (200
+/// characters), with the robot path made absolute so that it loads from anywhere.
 fn spec_with_a_long_problem_name(dir: &Path) -> PathBuf {
     let robots = fixture::workspace_root().join("domains/robots/");
     let text = std::fs::read_to_string(fixture::packing_spec_path())
@@ -204,14 +205,27 @@ fn spec_with_a_long_problem_name(dir: &Path) -> PathBuf {
     path
 }
 
-/// A build that fails while writing (here: "File name too long" for one problem) leaves the
-/// previous model whole — no new artifact beside old ones — and says so.
+/// A build that fails while writing (here: "File name too long" for one problem, whose path is
+/// longer than the system takes) leaves the previous model whole — no new artifact beside old
+/// ones — and says so.
 #[test]
 fn a_build_that_fails_half_way_leaves_the_previous_model_whole() {
     let scratch = tempfile::tempdir().expect("scratch");
     let demos = scratch.path().join("demos");
     fixture::write_packing_fixture(&demos, DEMOS, SEED);
-    let out = scratch.path().join("out");
+    // An output folder so deep that a staging folder's `problems/` and the short names of the
+    // first build fit in a path, and a problem file named by a 200-character name does not.
+    const STAGING_PROBLEMS: usize =
+        "/.model.staging-4294967295-99-1800000000000000000/problems".len();
+    let wanted = PATH_MAX - STAGING_PROBLEMS - 100;
+    let mut deep = scratch.path().to_path_buf();
+    while deep.as_os_str().len() + "/out".len() < wanted {
+        let room = wanted - deep.as_os_str().len() - "/out".len() - 1;
+        deep.push("d".repeat(room.clamp(1, 100)));
+    }
+    std::fs::create_dir_all(&deep).expect("a deep folder");
+    let out = deep.join("out");
+    assert!(out.as_os_str().len() + STAGING_PROBLEMS + "/.pddl".len() + LONG > PATH_MAX);
     let first = build(&fixture::packing_spec_path(), &demos, &out);
     assert!(first.status.success(), "{}", text(&first.stderr));
     let before = tree(&out.join("model"));
