@@ -163,18 +163,6 @@ fn demo_failure(error: DemoError) -> Failure {
     Failure::from(error)
 }
 
-/// Writes through a temporary file renamed into place, so a file is never seen half written.
-pub(crate) fn write_file(folder: &Path, name: &str, contents: &[u8]) -> Result<(), String> {
-    let path = folder.join(name);
-    let temporary = folder.join(format!(".{name}.tmp"));
-    std::fs::write(&temporary, contents)
-        .map_err(|error| format!("cannot write {}: {error}", temporary.display()))?;
-    std::fs::rename(&temporary, &path).map_err(|error| {
-        let _ = std::fs::remove_file(&temporary);
-        format!("cannot move {} to {}: {error}", temporary.display(), path.display())
-    })
-}
-
 /// A bar on a terminal, nothing at all otherwise (CI logs stay clean).
 fn progress_bar(length: u64, prefix: &'static str) -> ProgressBar {
     crate::terminal::progress_bar(length, "{prefix} [{bar:30}] {pos}/{len} {elapsed} (eta {eta})")

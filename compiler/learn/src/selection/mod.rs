@@ -32,7 +32,7 @@ pub mod keyframes;
 use std::collections::{BTreeMap, BTreeSet};
 
 use crate::config::{PairSettings, PinnedSettings};
-use crate::discretise::Grid;
+use crate::discretise::{FreeTurn, Grid};
 pub use clusters::MIN_RELATIVE_SUPPORT;
 pub use keyframes::{Stillness, Track, TrackFrame};
 
@@ -232,19 +232,7 @@ pub fn select(
             // rotation (a can on a table at any yaw is a turn about one fixed axis, which a few
             // bins of one component hold), they stay: the region's mixture then splits a wide top
             // along the turn, which it cannot once the turn is taken out.
-            let turn = if plain == 1 {
-                // The best-supported group first: its first keyframe is the reference.
-                let best_group =
-                    (0..found.len()).max_by_key(|&i| (support(&found[i].1), std::cmp::Reverse(i)));
-                let order = best_group
-                    .into_iter()
-                    .chain((0..found.len()).filter(|i| Some(*i) != best_group));
-                let rotations: Vec<Vec<nalgebra::UnitQuaternion<f64>>> =
-                    order.map(|i| found[i].1.iter().map(|k| k.pose.rotation).collect()).collect();
-                free_turn::free_turn(&rotations)
-            } else {
-                None
-            };
+            let turn = if plain == 1 { free_turn_of(&found) } else { None };
             match turn {
                 Some(turn) => (
                     grid_choice::choose_rotation_bins(&rotations, rotation_share, most, Some(turn)),
@@ -290,6 +278,19 @@ pub fn select(
         fixed_axes,
         cells,
     }
+}
+
+/// The turn the groups leave free, if any, measured from the first keyframe of the
+/// best-supported group (ties: the earlier group).
+fn free_turn_of(found: &[(u8, Vec<keyframes::Keyframe>, f64)]) -> Option<FreeTurn> {
+    let support = |members: &[keyframes::Keyframe]| {
+        members.iter().map(|k| k.demonstration).collect::<BTreeSet<_>>().len()
+    };
+    let best = (0..found.len()).max_by_key(|&i| (support(&found[i].1), std::cmp::Reverse(i)));
+    let order = best.into_iter().chain((0..found.len()).filter(|i| Some(*i) != best));
+    let rotations: Vec<Vec<nalgebra::UnitQuaternion<f64>>> =
+        order.map(|i| found[i].1.iter().map(|k| k.pose.rotation).collect()).collect();
+    free_turn::free_turn(&rotations)
 }
 
 fn bounds(members: &[keyframes::Keyframe]) -> ([f64; 3], [f64; 3]) {

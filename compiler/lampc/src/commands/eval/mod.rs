@@ -363,8 +363,6 @@ fn objects_of(spec: &Spec, problem: &Problem) -> usize {
         .count()
 }
 
-/// What every solve uses, described, and the digest that keys the journal: lampc's version and
-/// executable, the whole checked spec (with the evaluation's seed) and the time limit.
 /// Refuses an output folder inside a build's model folder (one holding a build manifest): the next
 /// `lampc build` replaces that folder whole, and the evaluation's journal and results with it.
 fn refuse_out_in_a_model_folder(out: &Path) -> Result<(), String> {
@@ -384,6 +382,8 @@ fn refuse_out_in_a_model_folder(out: &Path) -> Result<(), String> {
     Ok(())
 }
 
+/// What every solve uses, described, and the digest that keys the journal: lampc's version and
+/// executable, the whole checked spec (with the evaluation's seed) and the time limit.
 fn settings_info(
     spec: &Spec,
     spec_dir: &Path,

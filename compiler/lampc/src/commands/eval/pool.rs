@@ -149,7 +149,7 @@ fn generate_missing(
                         })
                         .and_then(|bytes| {
                             let name = file_name(&spec.domain, index);
-                            crate::commands::demos::write_file(folder, &name, &bytes)
+                            write_file(folder, &name, &bytes)
                         });
                     if let Err(message) = written {
                         let mut failure = failure.lock().unwrap_or_else(|p| p.into_inner());
@@ -165,4 +165,16 @@ fn generate_missing(
         Some(message) => Err(message),
         None => Ok(missing.len()),
     }
+}
+
+/// Writes through a temporary file renamed into place, so a file is never seen half written.
+fn write_file(folder: &Path, name: &str, contents: &[u8]) -> Result<(), String> {
+    let path = folder.join(name);
+    let temporary = folder.join(format!(".{name}.tmp"));
+    std::fs::write(&temporary, contents)
+        .map_err(|error| format!("cannot write {}: {error}", temporary.display()))?;
+    std::fs::rename(&temporary, &path).map_err(|error| {
+        let _ = std::fs::remove_file(&temporary);
+        format!("cannot move {} to {}: {error}", temporary.display(), path.display())
+    })
 }
