@@ -5,7 +5,7 @@
 
 use std::collections::BTreeMap;
 
-use lamp_geometry::{CollisionShape, Pose, intersects};
+use lamp_geometry::{CollisionShape, Pose, distance, intersects};
 use lamp_learn::ShapeOracle;
 use lamp_world::SpecWorld;
 
@@ -61,6 +61,12 @@ impl ShapeOracle for SpecShapes {
         }
         Some(false)
     }
+
+    fn gap(&self, primary: &str, secondary: &str, relative: &Pose) -> Option<f64> {
+        let (primary, _) = self.shapes.get(primary)?;
+        let (secondary, _) = self.shapes.get(secondary)?;
+        Some(distance(primary, &Pose::identity(), secondary, relative))
+    }
 }
 
 #[cfg(test)]
@@ -97,5 +103,17 @@ mod tests {
         assert_eq!(shapes.two_fit("can", &[at(0.0), up]), Some(true));
         assert_eq!(shapes.two_fit("gripper", &[at(0.0), at(1.0)]), None);
         assert_eq!(shapes.two_fit("can", &[at(0.0)]), Some(false));
+    }
+
+    #[test]
+    fn the_gap_between_two_cans_is_between_their_surfaces() {
+        let shapes = can();
+        let gap = |pose: Pose| shapes.gap("can", "can", &pose).expect("known shapes");
+        // Side by side, 10 cm between the axes of two cans 6.6 cm across.
+        assert!((gap(Pose::translation(0.10, 0.0, 0.0)) - 0.034).abs() < 1e-6);
+        // One standing on the other's top, and one sunk into it.
+        assert!(gap(Pose::translation(0.0, 0.0, 0.12)) < 1e-6);
+        assert_eq!(gap(Pose::translation(0.0, 0.0, 0.05)), 0.0);
+        assert_eq!(shapes.gap("can", "gripper", &Pose::identity()), None);
     }
 }

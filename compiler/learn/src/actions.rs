@@ -421,13 +421,17 @@ fn preconditions(
     let mut names = changed.clone();
     names.extend(extras.iter().map(|(object, name)| (*object, name.clone())));
 
-    // Whether the action changes a relation of the pair with the object as its primary (or secondary).
-    let changed_relation_of = |pair: usize, object: usize, as_secondary: bool| {
-        transition.added.iter().chain(transition.deleted).any(|fact| match *fact {
-            Fact::Relation { pair: p, primary, secondary, .. } if p == pair => {
-                object == if as_secondary { secondary } else { primary }
-            }
-            _ => false,
+    // Whether the action changes a relation of the pair with the object as its secondary.
+    let changed_relation_as_secondary = |pair: usize, object: usize| {
+        transition.added.iter().chain(transition.deleted).any(|fact| {
+            matches!(*fact, Fact::Relation { pair: p, secondary, .. } if p == pair && secondary == object)
+        })
+    };
+    // Whether the action puts something into that very region of the object.
+    let fills_region_of = |pair: usize, region: usize, object: usize| {
+        transition.added.iter().any(|fact| {
+            matches!(*fact, Fact::Relation { pair: p, region: r, primary, .. }
+                if p == pair && r == region && primary == object)
         })
     };
     let mut result = BTreeSet::new();
@@ -451,12 +455,17 @@ fn preconditions(
             // A robot part the action moves keeps its clear atoms of every pair: "the gripper is
             // at no can's grasp" matters to any motion of the gripper (a tuck from a grasp pose
             // leaves the grasp), and it held at every demonstrated instance or the intersection
-            // drops it. An object's clear atoms stay only with changes of their own pair.
-            Fact::Clear { pair, object, .. } => {
-                is_changed(object) && (is_robot(object) || changed_relation_of(pair, object, false))
+            // drops it. An object's clear atom stays only where the action puts something into
+            // that very region of it: that its other regions were empty is the demonstrations'
+            // history (the two blocks a third is laid across had nothing under them), which a
+            // larger task does not repeat.
+            Fact::Clear { pair, region, object } => {
+                is_changed(object) && (is_robot(object) || fills_region_of(pair, region, object))
             }
+            // Whether the moved object is in a region of another (held by another gripper, say)
+            // matters to any change of its relations of the pair.
             Fact::Nowhere { pair, object, .. } => {
-                is_changed(object) && changed_relation_of(pair, object, true)
+                is_changed(object) && changed_relation_as_secondary(pair, object)
             }
         };
         if keep {
@@ -621,6 +630,46 @@ mod tests {
             .find(|a| strings(&a.add).contains(&"(gripper_can_1 ?gripper_p1 ?can_p1)".to_string()))
             .expect("an approach action");
         assert!(!strings(&approach.preconditions).iter().any(|p| p.starts_with("(nowhere_")));
+    }
+
+    #[test]
+    fn an_objects_clear_atom_is_kept_only_for_the_region_the_action_fills() {
+        let participants = with_surface();
+        let mut vocabulary = vocabulary();
+        // The box has two places; the demonstration fills the first and the second stays empty throughout,
+        // as the two blocks a third is laid across had nothing under them.
+        vocabulary[1] = PairVocabulary {
+            pair: TypePair::new("surface", "can"),
+            region_flags: vec![0, 0],
+            clear: vec![true; 2],
+            nowhere: vec![false; 2],
+        };
+        let surface_clear = |region: usize| Fact::Clear { pair: 1, region, object: 3 };
+        let states = pick_demo(1, 2)
+            .into_iter()
+            .map(|mut facts| {
+                if !facts.contains(&surface_can(1, 1)) {
+                    facts.insert(surface_clear(1));
+                }
+                facts.insert(surface_clear(2));
+                facts
+            })
+            .collect();
+        let demos = [AbstractDemonstration { id: "one", participants: &participants, states }];
+        let actions = induce(&vocabulary, &demos);
+        let place = actions
+            .iter()
+            .find(|a| strings(&a.add) == ["(surface_can_1 ?surface_p1 ?can_p1)"])
+            .expect("a place action");
+        let preconditions = strings(&place.preconditions);
+        assert!(
+            preconditions.contains(&"(clear_surface_can_1 ?surface_p1)".into()),
+            "{preconditions:?}"
+        );
+        assert!(
+            !preconditions.contains(&"(clear_surface_can_2 ?surface_p1)".into()),
+            "{preconditions:?}"
+        );
     }
 
     #[test]

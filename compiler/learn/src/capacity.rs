@@ -26,11 +26,19 @@ pub trait ShapeOracle {
     /// Whether two bodies of the type, at two different poses of `poses` (all in one frame), can stand at once
     /// without overlapping (touching counts as overlapping); `None` when the type has no known shape.
     fn two_fit(&self, type_name: &str, poses: &[Pose]) -> Option<bool>;
+
+    /// The distance (m) between a body of type `primary` at the origin and one of type `secondary` at `relative`
+    /// in its frame (0 where they overlap); `None` when either type has no known shape.
+    fn gap(&self, primary: &str, secondary: &str, relative: &Pose) -> Option<f64>;
 }
 
 impl<O: ShapeOracle + ?Sized> ShapeOracle for &O {
     fn two_fit(&self, type_name: &str, poses: &[Pose]) -> Option<bool> {
         (**self).two_fit(type_name, poses)
+    }
+
+    fn gap(&self, primary: &str, secondary: &str, relative: &Pose) -> Option<f64> {
+        (**self).gap(primary, secondary, relative)
     }
 }
 
@@ -40,6 +48,10 @@ pub struct NoShapes;
 
 impl ShapeOracle for NoShapes {
     fn two_fit(&self, _: &str, _: &[Pose]) -> Option<bool> {
+        None
+    }
+
+    fn gap(&self, _: &str, _: &str, _: &Pose) -> Option<f64> {
         None
     }
 }
@@ -181,6 +193,10 @@ mod tests {
         fn two_fit(&self, type_name: &str, poses: &[Pose]) -> Option<bool> {
             self.asked.borrow_mut().push((type_name.to_string(), poses.to_vec()));
             self.answers.get(type_name).copied()
+        }
+
+        fn gap(&self, _: &str, _: &str, _: &Pose) -> Option<f64> {
+            None
         }
     }
 

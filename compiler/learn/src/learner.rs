@@ -108,7 +108,10 @@ pub(crate) fn induce<C: RegionClassifier>(
     let mut empty_pairs = Vec::new();
     for pair in pairs::type_pairs(&roles, config) {
         let primary_moves = roles.get(&pair.primary).is_some_and(|role| role.is_robot_part());
-        let pair_regions = find_regions(demonstrations, config, shapes, &pair, primary_moves);
+        let movable = |name: &str| matches!(roles.get(name), Some(Role::Object { movable: true }));
+        let both_movable = movable(&pair.primary) && movable(&pair.secondary);
+        let pair_regions =
+            find_regions(demonstrations, config, shapes, &pair, primary_moves, both_movable);
         if pair_regions.demonstrations == 0 {
             continue;
         }
@@ -161,11 +164,20 @@ fn find_regions(
     shapes: &dyn ShapeOracle,
     pair: &TypePair,
     primary_moves: bool,
+    both_movable: bool,
 ) -> PairRegions {
     let type_pairs = [pair.clone()];
     let pinned = config.pinned(pair);
     // One pass over the recordings: the selection and the occupancy both read these tracks.
     let tracks = tracks(demonstrations, &type_pairs);
+    // Two movable objects relate only where they touch (`selection::Contact`); that needs both shapes.
+    let release_tolerance = config.release_tolerance;
+    let touching = |pose: &Pose| {
+        shapes.gap(&pair.primary, &pair.secondary, pose).is_none_or(|gap| gap <= release_tolerance)
+    };
+    let knows_shapes = shapes.gap(&pair.primary, &pair.secondary, &Pose::identity()).is_some();
+    let contact: Option<selection::Contact<'_>> =
+        (both_movable && knows_shapes).then_some(&touching);
     let selection = pinned.leaves_a_choice().then(|| {
         let occurring = tracks.iter().map(|track| track.demonstration).collect::<BTreeSet<_>>();
         selection::select(
@@ -175,6 +187,7 @@ fn find_regions(
             config.min_support,
             config.rotation_share,
             config.release_tolerance,
+            contact,
         )
     });
     let settings = match &selection {

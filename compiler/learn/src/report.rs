@@ -140,6 +140,13 @@ fn selection_section(out: &mut String, selection: &Selection) {
         selection.margins[1],
         selection.margins[2]
     );
+    if let Some(apart) = selection.apart {
+        let _ = writeln!(
+            out,
+            "Both are movable objects, so only keyframes at which they touch count (within the release tolerance): {apart} left out where they were apart.
+"
+        );
+    }
     let fixed: Vec<&str> = ["x", "y", "z"]
         .into_iter()
         .zip(selection.fixed_axes)

@@ -189,6 +189,14 @@ impl ShapeOracle for DiscShapes {
         };
         Some(poses.iter().enumerate().any(|(i, a)| poses[i + 1..].iter().any(|b| apart(a, b))))
     }
+
+    /// Discs of unbounded height: the horizontal distance between their rims.
+    fn gap(&self, primary: &str, secondary: &str, relative: &Pose) -> Option<f64> {
+        let radius =
+            |name: &str| Some(self.radii.iter().find(|(type_name, _)| type_name == name)?.1);
+        let rims = radius(primary)? + radius(secondary)?;
+        Some((relative.translation.vector.xy().norm() - rims).max(0.0))
+    }
 }
 
 /// The synthetic task's shapes: cans 5 cm across, so that two fit in the box's 4 cm voxel corner to corner

@@ -49,8 +49,11 @@ pub struct Selection {
     pub settings: PairSettings,
     /// Which settings were chosen rather than pinned.
     pub chosen: Chosen,
-    /// Keyframes found, over every held flag.
+    /// Keyframes found, over every held flag (after those of two bodies apart are left out).
     pub keyframes: usize,
+    /// For a pair of two movable objects with known shapes, the keyframes left out because the two did not
+    /// touch ([`Contact`]); `None` for every other pair.
+    pub apart: Option<usize>,
     /// How still a step must be to count as rest.
     pub stillness: Stillness,
     /// The groups the settings keep, in order of held flag, then support (most first).
@@ -109,11 +112,21 @@ impl Selection {
     }
 }
 
+/// Whether two movable objects touch at a relative pose: within the release tolerance of each other, the farthest
+/// an object let go of above its support may be from it.
+///
+/// Two movable objects are related through contact, one resting on or against the other. One that comes to rest
+/// near another without touching it was placed by something else (its marker, the table it stands on), and their
+/// relative pose is where those happen to be: Jenga's spare blocks laid out 10 cm apart, or two cans in a box.
+pub type Contact<'a> = &'a dyn Fn(&crate::demo::Pose) -> bool;
+
 /// Chooses every setting `pinned` leaves out from the pair's tracks over `demonstrations` demonstrations;
 /// the keyframes of a group where the pair's own grasp or release happens stay at least `release_tolerance` (m)
 /// inside its cell ([`LearnConfig`]), those of every other group [`PLACEMENT_TOLERANCE`].
 ///
 /// [`LearnConfig`]: crate::config::LearnConfig
+///
+/// With `contact` (a pair of two movable objects with known shapes), only keyframes at which the two touch count.
 pub fn select(
     pinned: &PinnedSettings,
     tracks: &[Track],
@@ -121,6 +134,7 @@ pub fn select(
     min_support: usize,
     rotation_share: f64,
     release_tolerance: f64,
+    contact: Option<Contact<'_>>,
 ) -> Selection {
     let chosen = Chosen {
         position_bins: pinned.position_bins.is_none(),
@@ -129,7 +143,12 @@ pub fn select(
         threshold: pinned.threshold.is_none(),
     };
     let stillness = keyframes::stillness(tracks);
-    let keyframes = keyframes::keyframes(tracks, stillness);
+    let mut keyframes = keyframes::keyframes(tracks, stillness);
+    let apart = contact.map(|touching| {
+        let before = keyframes.len();
+        keyframes.retain(|keyframe| touching(&keyframe.pose));
+        before - keyframes.len()
+    });
     let fixed_axes = fixed_axes::fixed_axes(tracks, stillness);
     let mut found: Vec<(u8, Vec<keyframes::Keyframe>, f64)> = Vec::new();
     for g in [0u8, 1] {
@@ -164,6 +183,7 @@ pub fn select(
             settings: fallback,
             chosen,
             keyframes: keyframes.len(),
+            apart,
             stillness,
             groups: Vec::new(),
             dropped,
@@ -271,6 +291,7 @@ pub fn select(
         settings,
         chosen,
         keyframes: keyframes.len(),
+        apart,
         stillness,
         groups,
         dropped,
@@ -382,7 +403,7 @@ mod tests {
                 Track { demonstration, primary: 0, secondary: 1, frames }
             })
             .collect();
-        let selection = select(&PinnedSettings::default(), &tracks, 30, 3, 0.1, 0.005);
+        let selection = select(&PinnedSettings::default(), &tracks, 30, 3, 0.1, 0.005, None);
         assert_eq!(selection.fixed_axes, [false, false, true]);
         assert_eq!(selection.groups.len(), 1, "{:?}", selection.groups);
         assert_eq!(selection.groups[0].demonstrations, 30);
@@ -390,5 +411,38 @@ mod tests {
         let grid = Grid::new(&selection.settings);
         let at = |height: f64| grid.voxel(&Pose::translation(0.9, 0.0003, height));
         assert!(at(0.73).is_some() && at(0.73) == at(0.90), "{:?}", selection.settings);
+    }
+
+    #[test]
+    fn two_movable_objects_relate_only_where_they_touch() {
+        // A block comes down onto another (3 cm above its centre) in half the demonstrations, and is set down
+        // 10 cm beside it, not touching, in the other half.
+        let tracks: Vec<Track> = (0..30)
+            .map(|demonstration| {
+                let side = 0.0001 * (demonstration % 7) as f64;
+                let (x, z) = if demonstration % 2 == 0 { (side, 0.03) } else { (0.10 + side, 0.0) };
+                let frames = (0..20)
+                    .map(|step| z + 0.2 - 0.01 * step as f64)
+                    .chain(std::iter::repeat_n(z, 10))
+                    .map(|height| TrackFrame {
+                        g: 0,
+                        pose: Pose::translation(x, 0.0, height.max(z)),
+                        contact: false,
+                    })
+                    .collect();
+                Track { demonstration, primary: 0, secondary: 1, frames }
+            })
+            .collect();
+        let anywhere = select(&PinnedSettings::default(), &tracks, 30, 3, 0.1, 0.005, None);
+        assert_eq!(anywhere.groups.len(), 2, "{:?}", anywhere.groups);
+        assert_eq!(anywhere.apart, None);
+        // Blocks 5 cm wide touch when their centres are less than a width apart sideways.
+        let touching = |pose: &Pose| pose.translation.vector.x.abs() < 0.05;
+        let by_contact =
+            select(&PinnedSettings::default(), &tracks, 30, 3, 0.1, 0.005, Some(&touching));
+        assert_eq!(by_contact.groups.len(), 1, "{:?}", by_contact.groups);
+        assert!(by_contact.groups[0].centre[2] > 0.02, "{:?}", by_contact.groups);
+        assert!(by_contact.apart.is_some_and(|apart| apart > 0));
+        assert_eq!(by_contact.keyframes + by_contact.apart.unwrap_or(0), anywhere.keyframes);
     }
 }
