@@ -220,3 +220,40 @@ fn a_seed_beyond_2_to_the_53_is_refused_not_rounded() {
         assert_eq!(spec.seed, value, "seed {seed}");
     }
 }
+
+/// A learning grid whose range is not a length a relation could span (`1e300 m` passed the check
+/// and failed in learning as a covariance that is not positive definite), or whose bins are finer
+/// than anything a robot repeats, is refused at its number with the allowed range.
+#[test]
+fn a_learning_grid_is_at_most_a_kilometre_wide_and_ten_thousand_bins_fine() {
+    let grid = "position bins (9, 9, 9) range (0.3, 0.3, 0.3) m";
+    let refused_grids = [
+        ("position bins (9, 9, 9) range (1e300, 0.3, 0.3) m", "1e300"),
+        ("position bins (9, 9, 9) range (0.3, 1001, 0.3) m", "1001"),
+        ("position bins (9, 9, 9) range (0.3, 0.3, -0.3) m", "-0.3"),
+        ("position bins (9, 9, 9) range (0.3, 0.3, 0) m", "0"),
+        ("position bins (9, 1e9, 9) range (0.3, 0.3, 0.3) m", "1e9"),
+        ("position bins (9, 9, 9) range (0.3, 0.3, 0.3) m  rotation bins 1e6", "1e6"),
+    ];
+    for (written, number) in refused_grids {
+        let source = VALID.replacen(grid, written, 1);
+        let outcome = check(&source);
+        assert_eq!(
+            found(&source, &outcome),
+            [("lamp::check::out_of_range".to_string(), number.to_string())],
+            "{written}:\n{}",
+            render(&outcome)
+        );
+        assert!(outcome.spec.is_none());
+    }
+    let rendered = render(&check(&VALID.replacen(grid, refused_grids[0].0, 1)));
+    assert!(rendered.contains("the position range is out of range"), "{rendered}");
+    assert!(rendered.contains("greater than 0 m and at most 1000 m (one kilometre)"), "{rendered}");
+    let rendered = render(&check(&VALID.replacen(grid, refused_grids[4].0, 1)));
+    assert!(rendered.contains("a whole number from 1 to 10000"), "{rendered}");
+    let rendered = render(&check(&VALID.replacen(grid, refused_grids[5].0, 1)));
+    assert!(rendered.contains("a whole number from 1 to 3600"), "{rendered}");
+    let widest = "position bins (10000, 9, 9) range (1000, 0.3, 0.3) m  rotation bins 3600";
+    let outcome = check(&VALID.replacen(grid, widest, 1));
+    assert!(outcome.diagnostics.is_empty(), "{}", render(&outcome));
+}

@@ -1,5 +1,5 @@
 //! The allowed range of every number a user gives lamp outside a scene's geometry: time limits,
-//! counts, checking resolutions and the built-in plugins' options.
+//! counts, checking resolutions, learning grids and the built-in plugins' options.
 //!
 //! The spec checker (lamp-lang) and the command line (lampc) read the same rules from here, so a
 //! value refused in one place is refused in the other, in the same words. Every bound is in SI
@@ -41,6 +41,23 @@ pub const DEMONSTRATIONS: Limit = Limit::whole(1, 10_000);
 /// fits a mixture for every count up to it, so fitting time grows with it (a cap of 100,000 made
 /// learning Packing take 71 s instead of 0.4 s), while the bundled domains use 6, the default.
 pub const COMPONENTS: Limit = Limit::whole(1, 64);
+
+/// The half-range of a learned pair's position grid (`learn { position … range (RX, RY, RZ) m }`),
+/// per axis: relative positions in `[-R, R]` are binned. A relation between two objects a
+/// kilometre apart is far beyond any robot's reach; much larger values (`1e300 m`) make the
+/// cells' coordinates so large that their squares overflow, and learning then fails in its
+/// mixtures with a covariance that is not positive definite instead of here.
+pub const POSITION_RANGE: Limit = Limit::above(0.0, 1000.0, "m").noting("one kilometre");
+
+/// Position bins per axis of a learned pair's grid (`learn { position bins (NX, NY, NZ) … }`):
+/// at the default half-range of 0.3 m, ten thousand bins are cells of 60 µm, finer than any robot
+/// repeats a placement (the learner's own choice stops at 400 bins and 0.1 mm).
+pub const POSITION_BINS: Limit = Limit::whole(1, 10_000);
+
+/// Rotation bins per rotation-vector component (`learn { rotation bins N }`) over `[-π, π]`:
+/// 3600 bins are 0.1° each, finer than any demonstration repeats an orientation (the learner's
+/// own choice stops at 61).
+pub const ROTATION_BINS: Limit = Limit::whole(1, 3_600);
 
 /// Candidates the `gmm` refiner yields per action (`samples`): each is an alternative that
 /// chronological backtracking may try.

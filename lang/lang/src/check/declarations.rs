@@ -479,8 +479,14 @@ impl Checker<'_> {
                         for (axis, (value, number_span)) in
                             bins.values.iter().zip(bins.number_spans).enumerate()
                         {
-                            match self.whole(*value, number_span, "a bin count", 1) {
-                                Some(v) => position_bins[axis] = v,
+                            match self.limited(
+                                *value,
+                                number_span,
+                                "a position bin count",
+                                &limits::POSITION_BINS,
+                            ) {
+                                // The limit allows only whole numbers up to ten thousand.
+                                Some(v) => position_bins[axis] = v as u32,
                                 None => every_axis = false,
                             }
                         }
@@ -489,20 +495,31 @@ impl Checker<'_> {
                         }
                         if let Some(range) = range
                             && let Some(values) = self.length_vector(range)
-                            && self.require(
-                                values.iter().all(|v| *v > 0.0),
-                                range.span,
-                                "a position range",
-                                "positive along every axis",
-                            )
                         {
-                            out.position_range = Some(values);
+                            let mut every_axis = true;
+                            for (value, number_span) in values.iter().zip(range.number_spans) {
+                                every_axis &= self
+                                    .limited(
+                                        *value,
+                                        number_span,
+                                        "the position range",
+                                        &limits::POSITION_RANGE,
+                                    )
+                                    .is_some();
+                            }
+                            if every_axis {
+                                out.position_range = Some(values);
+                            }
                         }
                     }
                 }
                 LearnItem::Rotation(value, span) => {
                     if self.once(&mut seen.rotation, "`rotation`", *span)
-                        && let Some(v) = self.count(value, "a bin count", 1)
+                        && let Some(v) = self.limited_count(
+                            value,
+                            "a rotation bin count",
+                            &limits::ROTATION_BINS,
+                        )
                     {
                         out.rotation_bins = Some(v);
                     }
