@@ -257,3 +257,53 @@ fn a_learning_grid_is_at_most_a_kilometre_wide_and_ten_thousand_bins_fine() {
     let outcome = check(&VALID.replacen(grid, widest, 1));
     assert!(outcome.diagnostics.is_empty(), "{}", render(&outcome));
 }
+
+/// `VALID` with a structure of two cans whose second stands at `place`, and a goal building it
+/// at `c1` with `offset`.
+fn with_structure(place: &str, offset: &str) -> String {
+    VALID
+        .replacen(
+            "relation in_box",
+            &format!("structure stack {{\n  can c2 at {place}\n}}\n\nrelation in_box"),
+            1,
+        )
+        .replacen(
+            "    in_box(c1, box1)\n    surface_can_1(box1, c1)\n",
+            &format!("    structure stack at box1{offset}\n"),
+            1,
+        )
+        .replacen("    can c1 at (-0.2, 0, 0) m\n", "    can c2 at (-0.2, 0, 0) m\n", 1)
+}
+
+/// A structure object placed `1e300 m` from its anchor was reported by the build as a structure
+/// that intersects itself; an offset beyond a kilometre is refused where it is written.
+#[test]
+fn a_structure_offset_beyond_a_kilometre_is_refused_at_its_number() {
+    let accepted = with_structure("(0, 0, 0.011) m", "");
+    let outcome = check(&accepted);
+    assert!(outcome.diagnostics.is_empty(), "{accepted}\n{}", render(&outcome));
+    let source = with_structure("(1e300, 0, 0.011) m", "");
+    let outcome = check(&source);
+    assert_eq!(
+        found(&source, &outcome),
+        [("lamp::check::out_of_range".to_string(), "1e300".to_string())],
+        "{}",
+        render(&outcome)
+    );
+    let rendered = render(&outcome);
+    assert!(
+        rendered.contains("the place of `c2` in structure `stack` is out of range"),
+        "{rendered}"
+    );
+    assert!(rendered.contains("from -1000 m to 1000 m (one kilometre)"), "{rendered}");
+    let source = with_structure("(0, 0, 0.011) m", " offset (0, -2e5, 0) cm");
+    let outcome = check(&source);
+    assert_eq!(
+        found(&source, &outcome),
+        [("lamp::check::out_of_range".to_string(), "-2e5".to_string())],
+        "{}",
+        render(&outcome)
+    );
+    assert!(render(&outcome).contains("the offset of structure `stack` is out of range"));
+    assert!(check(&with_structure("(0, 0, 0.011) m", " offset (0, 0.5, 0) m")).spec.is_some());
+}

@@ -1,5 +1,6 @@
 //! The allowed range of every number a user gives lamp outside a scene's geometry: time limits,
-//! counts, checking resolutions, learning grids and the built-in plugins' options.
+//! counts, checking resolutions, learning grids, structure offsets and the built-in plugins'
+//! options.
 //!
 //! The spec checker (lamp-lang) and the command line (lampc) read the same rules from here, so a
 //! value refused in one place is refused in the other, in the same words. Every bound is in SI
@@ -58,6 +59,13 @@ pub const POSITION_BINS: Limit = Limit::whole(1, 10_000);
 /// 3600 bins are 0.1° each, finer than any demonstration repeats an orientation (the learner's
 /// own choice stops at 61).
 pub const ROTATION_BINS: Limit = Limit::whole(1, 3_600);
+
+/// A coordinate of where a structure puts an object relative to its anchor (`structure S { T O at
+/// POSE }`), and of a structure goal's offset (`structure S at A offset POSE`): a structure is
+/// built by robots within reach of its anchor, so a kilometre is already absurd; beyond it the
+/// value is a slip of the unit or the exponent, and values such as `1e300 m` leave the range in
+/// which collision queries are exact (the structure was then said to intersect itself).
+pub const STRUCTURE_OFFSET: Limit = Limit::closed(-1000.0, 1000.0, "m").noting("one kilometre");
 
 /// Candidates the `gmm` refiner yields per action (`samples`): each is an alternative that
 /// chronological backtracking may try.

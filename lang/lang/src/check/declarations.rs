@@ -626,7 +626,13 @@ impl Checker<'_> {
                         span,
                     );
                 }
-                if let (true, true, Some(pose)) = (known, new, self.pose(&placement.pose)) {
+                let what = format!(
+                    "the place of `{}` in structure `{}`",
+                    placement.object.text, structure.name.text
+                );
+                if let (true, true, Some(pose)) =
+                    (known, new, self.structure_pose(&placement.pose, &what))
+                {
                     placements.push(lamp_spec::Placement {
                         object: placement.object.text.clone(),
                         type_name: placement.type_name.text.clone(),

@@ -364,7 +364,10 @@ impl Checker<'_> {
                         self.scene_object(anchor, objects);
                     }
                     let offset = match offset {
-                        Some(pose) => self.pose(pose),
+                        Some(pose) => self.structure_pose(
+                            pose,
+                            &format!("the offset of structure `{}`", name.text),
+                        ),
                         None => Some(lamp_spec::Pose::identity()),
                     };
                     structure_item = Some((name, anchor, item_span(item)));

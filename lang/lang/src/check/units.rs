@@ -6,7 +6,7 @@ use super::Checker;
 use crate::ast::{Pose, Quantity, Unit, Vector};
 use crate::diagnostics::{SpecError, at};
 use crate::source::Span;
-use lamp_spec::limits::{Limit, Problem};
+use lamp_spec::limits::{self, Limit, Problem};
 
 /// What a number measures.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -153,6 +153,18 @@ impl Checker<'_> {
         };
         let [x, y, z] = position?;
         Some(lamp_spec::Pose::from_parts(Translation3::new(x, y, z), rotation?))
+    }
+
+    /// A pose of a structure object relative to its anchor, or a structure goal's offset: a pose
+    /// whose every coordinate [`limits::STRUCTURE_OFFSET`] allows, each refused at its number.
+    pub(crate) fn structure_pose(&mut self, pose: &Pose, what: &str) -> Option<lamp_spec::Pose> {
+        let checked = self.pose(pose)?;
+        let coordinates = checked.translation.vector;
+        let mut within = true;
+        for (coordinate, span) in coordinates.iter().zip(pose.position.number_spans) {
+            within &= self.limited(*coordinate, span, what, &limits::STRUCTURE_OFFSET).is_some();
+        }
+        within.then_some(checked)
     }
 
     /// A plain number (no unit allowed).
