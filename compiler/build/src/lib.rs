@@ -60,7 +60,8 @@ pub use problems::{ProblemOutcome, problem_pddl};
 pub use provenance::Provenance;
 pub use region_plots::{REGIONS_DIR, SAMPLES_PER_REGION, region_plots};
 pub use ros2::{
-    FrameObject, FrameRobot, MappedRobot, Ros2Error, Ros2Mapping, ros2_demo_file, ros2_trajectory,
+    FrameObject, FrameRobot, MAX_TREE_DEPTH, MappedRobot, Ros2Error, Ros2Mapping, ros2_demo_file,
+    ros2_trajectory,
 };
 pub use samplers::{SAMPLERS_FORMAT, SAMPLERS_VERSION, SamplersFile};
 pub use shapes::SpecShapes;

@@ -37,8 +37,10 @@ pub const JOINT_LIMIT_SLACK: f64 = 0.05;
 /// an `f64` no longer resolves a micro-radian, so the value says nothing about the angle.
 pub const MAX_UNLIMITED_JOINT: f64 = 4_294_967_296.0;
 
-/// How many links a chain of tf frames may have before it counts as a cycle.
-const MAX_TREE_DEPTH: usize = 1000;
+/// The most transforms a mapped frame's chain up to the root of its tree may have. Robots' tf
+/// trees are a few dozen frames deep, so a longer chain is a broken recording; the cap also bounds
+/// the work of resolving every mapped frame at every message.
+pub const MAX_TREE_DEPTH: usize = 1000;
 
 /// The robot a mapping's robot is in the spec: its model and gripper.
 #[derive(Debug, Clone)]
@@ -137,6 +139,38 @@ pub enum Ros2Error {
         )
     )]
     Jump { file: String, frame: String, time_nanoseconds: u64, distance: f64 },
+
+    /// A mapped frame's chain of parents on `/tf` and `/tf_static` comes back to a frame it
+    /// passed: it has no root, so no world pose.
+    #[error(
+        "{file}, at {time_nanoseconds} ns: frame `{frame}` has no root on `/tf`: its parents form the cycle {cycle}"
+    )]
+    #[diagnostic(
+        code(lamp::ros2::tf_cycle),
+        help(
+            "In a tf tree every frame has one parent and the chain of parents ends at a root (such as `world`): find the transform in the cycle whose parent and child are swapped or misnamed, and record it the right way round."
+        )
+    )]
+    TfCycle { file: String, frame: String, time_nanoseconds: u64, cycle: String },
+
+    /// A mapped frame's chain of parents is longer than [`MAX_TREE_DEPTH`].
+    #[error(
+        "{file}, at {time_nanoseconds} ns: frame `{frame}` is more than {max_depth} transforms below the root of its tf tree (its chain passes `{deepest}`)"
+    )]
+    #[diagnostic(
+        code(lamp::ros2::tf_depth),
+        help(
+            "A frame's chain of parents may have at most {max_depth} transforms; publish the mapped frame's pose in a frame nearer the root, or map a frame higher in the tree."
+        )
+    )]
+    TfTooDeep {
+        file: String,
+        frame: String,
+        time_nanoseconds: u64,
+        max_depth: usize,
+        /// The frame the chain had reached when the limit was hit.
+        deepest: String,
+    },
 
     /// Message times go backwards.
     #[error("{file}: {reason}")]
@@ -379,8 +413,30 @@ pub fn ros2_trajectory(
         let mut poses = Vec::with_capacity(frames.len());
         for frame in &frames {
             match world_pose(&tree, frame) {
-                Some((pose, frame_root)) => poses.push((pose, frame_root)),
-                None => break,
+                Ok((pose, frame_root)) => poses.push((pose, frame_root)),
+                Err(TreeGap::Unknown) => break,
+                Err(TreeGap::Cycle(cycle)) => {
+                    return Err(Ros2Error::TfCycle {
+                        file: file.to_string(),
+                        frame: frame.to_string(),
+                        time_nanoseconds: time,
+                        cycle: cycle
+                            .iter()
+                            .chain(cycle.first())
+                            .map(|frame| format!("`{frame}`"))
+                            .collect::<Vec<_>>()
+                            .join(" → "),
+                    });
+                }
+                Err(TreeGap::TooDeep(deepest)) => {
+                    return Err(Ros2Error::TfTooDeep {
+                        file: file.to_string(),
+                        frame: frame.to_string(),
+                        time_nanoseconds: time,
+                        max_depth: MAX_TREE_DEPTH,
+                        deepest: deepest.to_string(),
+                    });
+                }
             }
         }
         if poses.len() < frames.len() {
@@ -463,7 +519,7 @@ pub fn ros2_trajectory(
     if steps.is_empty() {
         let missing = frames
             .iter()
-            .find(|frame| world_pose(&tree, frame).is_none())
+            .find(|frame| world_pose(&tree, frame).is_err())
             .map_or_else(String::new, |frame| frame.to_string());
         return Err(Ros2Error::MissingFrame {
             file: file.to_string(),
@@ -502,21 +558,53 @@ fn grasped_object(
     nearest.map(|(index, _)| index)
 }
 
-/// The pose of `frame` in the root of its tree and that root's name; `None` when the frame (or a
-/// frame on its way up) has no transform yet, or the chain is a cycle.
+/// Why a frame has no pose in the root of its tree.
+#[derive(Debug, PartialEq, Eq)]
+enum TreeGap<'a> {
+    /// The frame has no transform yet.
+    Unknown,
+    /// Its chain of parents comes back to a frame it passed: these frames, in chain order.
+    Cycle(Vec<&'a str>),
+    /// Its chain is longer than [`MAX_TREE_DEPTH`]; the frame the chain had reached.
+    TooDeep(&'a str),
+}
+
+/// The pose of `frame` in the root of its tree and that root's name, or why it has none.
 fn world_pose<'a>(
     tree: &BTreeMap<&'a str, (&'a str, Isometry3<f64>, u64)>,
     frame: &'a str,
-) -> Option<(Isometry3<f64>, &'a str)> {
-    let (mut parent, mut pose, _) = *tree.get(frame)?;
+) -> Result<(Isometry3<f64>, &'a str), TreeGap<'a>> {
+    let (mut parent, mut pose, _) = *tree.get(frame).ok_or(TreeGap::Unknown)?;
     for _ in 0..MAX_TREE_DEPTH {
         match tree.get(parent) {
             Some((grandparent, local, _)) => {
                 pose = local * pose;
                 parent = grandparent;
             }
-            None => return Some((pose, parent)),
+            None => return Ok((pose, parent)),
         }
     }
-    None
+    Err(chain_gap(tree, frame))
+}
+
+/// Why the chain of `frame`, known to pass [`MAX_TREE_DEPTH`] transforms, has no root: the cycle
+/// it runs into, or the frame it had reached at the limit. Walked only once a chain is too long,
+/// so that the common case costs no bookkeeping.
+fn chain_gap<'a>(
+    tree: &BTreeMap<&'a str, (&'a str, Isometry3<f64>, u64)>,
+    frame: &'a str,
+) -> TreeGap<'a> {
+    let mut chain: Vec<&'a str> = vec![frame];
+    let mut position: BTreeMap<&'a str, usize> = BTreeMap::from([(frame, 0)]);
+    let mut current = frame;
+    for _ in 0..MAX_TREE_DEPTH {
+        let Some((parent, _, _)) = tree.get(current) else { break };
+        if let Some(&start) = position.get(parent) {
+            return TreeGap::Cycle(chain.split_off(start));
+        }
+        position.insert(parent, chain.len());
+        chain.push(parent);
+        current = parent;
+    }
+    TreeGap::TooDeep(current)
 }

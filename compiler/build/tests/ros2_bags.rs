@@ -435,3 +435,128 @@ fn a_joint_value_far_outside_its_limits_is_refused() {
     assert!(with_joint("upperarm_roll_joint", 7.0).is_ok());
     assert!(with_joint("upperarm_roll_joint", 1e300).is_err());
 }
+
+/// A bag of three steps whose `/tf` frames are `frames` (frame, parent), every pose the identity;
+/// `can1` is the body the mapping reads.
+fn tf_bag(frames: &[(String, String)]) -> Vec<u8> {
+    use lamp_trajectory::{
+        BodyDescription, StandardChannels, StandardStep, Step, TfFrame, TrajectoryHeader,
+    };
+    let trajectory = Trajectory {
+        header: TrajectoryHeader {
+            domain: "packing".into(),
+            seed: 0,
+            provenance: Default::default(),
+            bodies: vec![BodyDescription { name: "can1".into(), type_name: "can".into() }],
+            robots: vec![],
+        },
+        steps: (0..3)
+            .map(|index| Step {
+                time_nanoseconds: index * 10_000_000,
+                body_poses: vec![nalgebra::Isometry3::identity()],
+                robots: vec![],
+            })
+            .collect(),
+    };
+    let channels = StandardChannels {
+        world_frame: "world".into(),
+        frames: frames
+            .iter()
+            .map(|(frame, parent)| TfFrame {
+                parent: parent.clone(),
+                frame: frame.clone(),
+                derived: false,
+            })
+            .collect(),
+        static_frames: vec![],
+        joints: vec![],
+        robots: vec![],
+        objects: vec![],
+        step_labels: false,
+        held_topics: vec![],
+    };
+    let values: Vec<StandardStep> = trajectory
+        .steps
+        .iter()
+        .map(|_| StandardStep {
+            frame_poses: vec![nalgebra::Isometry3::identity(); frames.len()],
+            joint_positions: vec![],
+            label: None,
+            held: vec![],
+        })
+        .collect();
+    strip(&trajectory.to_bytes_with(&channels, &values).unwrap())
+}
+
+/// `can1` read from `bag` with no robot.
+fn read_can(bag: &[u8]) -> Result<Trajectory, Ros2Error> {
+    let mapping = Ros2Mapping {
+        objects: vec![FrameObject {
+            frame: "can1".into(),
+            name: "can1".into(),
+            type_name: "can".into(),
+        }],
+        robot: None,
+    };
+    lamp_build::ros2_trajectory(bag, "bag.mcap", "packing", &mapping, None)
+}
+
+fn frame(frame: &str, parent: &str) -> (String, String) {
+    (frame.to_string(), parent.to_string())
+}
+
+/// A chain of `depth` frames `f1` … from `can1` up to `world`.
+fn chain(depth: usize) -> Vec<(String, String)> {
+    let name = |index: usize| if index == 0 { "can1".to_string() } else { format!("f{index}") };
+    let mut frames: Vec<_> = (0..depth).map(|index| (name(index), name(index + 1))).collect();
+    frames.push((name(depth), "world".to_string()));
+    frames
+}
+
+/// A cycle of parents on `/tf` was reported as a frame that never appears; it is named, frame by
+/// frame.
+#[test]
+fn a_tf_cycle_is_named_with_its_frames() {
+    let bag = tf_bag(&[frame("can1", "a"), frame("a", "b"), frame("b", "a")]);
+    let error = read_can(&bag).unwrap_err();
+    assert!(
+        matches!(&error, Ros2Error::TfCycle { frame, cycle, time_nanoseconds: 0, .. }
+            if frame == "can1" && cycle == "`a` → `b` → `a`"),
+        "{error}"
+    );
+    let code = miette::Diagnostic::code(&error).map(|code| code.to_string());
+    assert_eq!(code.as_deref(), Some("lamp::ros2::tf_cycle"));
+    let message = error.to_string();
+    assert!(
+        message.contains("frame `can1` has no root on `/tf`: its parents form the cycle"),
+        "{message}"
+    );
+    assert!(!message.contains("never appears"), "{message}");
+    let help = miette::Diagnostic::help(&error).map(|help| help.to_string()).unwrap_or_default();
+    assert!(help.contains("the chain of parents ends at a root"), "{help}");
+    // A frame that is its own parent is the shortest cycle.
+    let error = read_can(&tf_bag(&[frame("can1", "can1")])).unwrap_err();
+    assert!(
+        matches!(&error, Ros2Error::TfCycle { cycle, .. } if cycle == "`can1` → `can1`"),
+        "{error}"
+    );
+}
+
+/// A chain of parents longer than the depth limit was reported as a frame that never appears; it
+/// names the limit, and a chain just within it reads.
+#[test]
+fn a_tf_chain_deeper_than_the_limit_names_the_limit() {
+    let depth = lamp_build::MAX_TREE_DEPTH;
+    let error = read_can(&tf_bag(&chain(depth))).unwrap_err();
+    assert!(
+        matches!(&error, Ros2Error::TfTooDeep { frame, max_depth, .. }
+            if frame == "can1" && *max_depth == depth),
+        "{error}"
+    );
+    let code = miette::Diagnostic::code(&error).map(|code| code.to_string());
+    assert_eq!(code.as_deref(), Some("lamp::ros2::tf_depth"));
+    let message = error.to_string();
+    assert!(message.contains("is more than 1000 transforms below the root"), "{message}");
+    let read = read_can(&tf_bag(&chain(depth - 1))).unwrap();
+    assert!(!read.steps.is_empty());
+}
