@@ -21,11 +21,12 @@ use lamp_learn::{GroundAtom, Model, abstract_state};
 use lamp_participants::scene_snapshot;
 use lamp_pddl::Atom;
 use lamp_spec::Problem;
+use lamp_spec::limits::number;
 use lamp_world::{Scene, SpecWorld};
 
 use crate::adapter::Adapter;
 use crate::error::BuildError;
-use crate::initial_scene::objects_at_targets;
+use crate::initial_scene::{MAX_DISTANCE, objects_at_targets};
 use crate::structure_issue::StructureIssue;
 
 /// The goal atoms of a problem's structure goal, or why it cannot be written; no atoms and no
@@ -220,6 +221,32 @@ pub fn placed_structure_issues(
     };
     let targets = world.structure_targets(problem).map_err(scene_error)?;
     let context = IssueContext { problem: &problem.name, structure: &goal.structure };
+    // A target beyond the scenes' range is reported as such: collision queries there are not
+    // exact, and found every such structure intersecting itself.
+    let far: Vec<StructureIssue> = targets
+        .iter()
+        .filter_map(|(object, pose)| {
+            let position = pose.translation.vector;
+            // Compared per coordinate first: the norm of (1e308, 1e308, 0) overflows.
+            let far = !position.iter().all(|coordinate| coordinate.is_finite())
+                || position.amax() > MAX_DISTANCE
+                || position.norm() > MAX_DISTANCE;
+            far.then(|| StructureIssue::OutOfRange {
+                problem: problem.name.clone(),
+                structure: goal.structure.clone(),
+                object: object.clone(),
+                position: format!(
+                    "({}, {}, {})",
+                    number(position.x),
+                    number(position.y),
+                    number(position.z)
+                ),
+            })
+        })
+        .collect();
+    if !far.is_empty() {
+        return Ok(far);
+    }
     let scene = objects_at_targets(world, problem, &targets).map_err(scene_error)?;
     Ok(structure_scene_issues(&scene, &targets, &context))
 }

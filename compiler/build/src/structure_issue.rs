@@ -6,11 +6,25 @@ use miette::Diagnostic;
 use thiserror::Error;
 
 /// Why a structure goal cannot be written as a goal the solver can reach. Every finding is an
-/// error: a structure that intersects itself or floats cannot be built, an object without a goal
+/// error: a structure out of range, that intersects itself or floats cannot be built, an object without a goal
 /// atom would be left wherever the plan leaves it, and an atom no action adds makes the problem
 /// unsolvable.
 #[derive(Debug, Clone, PartialEq, Eq, Error, Diagnostic)]
 pub enum StructureIssue {
+    /// An object's target is farther than [`crate::MAX_DISTANCE`] from the origin (or not a
+    /// number): an offset in the structure or in its goal is absurd.
+    #[error(
+        "problem `{problem}`: structure `{structure}` puts `{object}` at {position} m, more than {max} m from the origin",
+        max = crate::MAX_DISTANCE
+    )]
+    #[diagnostic(
+        code(lamp::build::structure_range),
+        help(
+            "A structure is built within a robot's reach of its anchor: check the object's pose in the structure and the goal's offset for a slip of the unit or the exponent (each coordinate at most 1000 m, as `lampc check` requires)."
+        )
+    )]
+    OutOfRange { problem: String, structure: String, object: String, position: String },
+
     /// Two objects of the placed structure, or one and a static body, touch or overlap.
     #[error(
         "problem `{problem}`: structure `{structure}` intersects itself: `{object}` and `{other}` touch or overlap at their poses"
@@ -81,7 +95,8 @@ impl StructureIssue {
     /// The problem the finding is about.
     pub fn problem(&self) -> &str {
         match self {
-            StructureIssue::Contact { problem, .. }
+            StructureIssue::OutOfRange { problem, .. }
+            | StructureIssue::Contact { problem, .. }
             | StructureIssue::Unsupported { problem, .. }
             | StructureIssue::NoGoalAtom { problem, .. }
             | StructureIssue::Unlearned { problem, .. } => problem,
@@ -91,7 +106,8 @@ impl StructureIssue {
     /// The structure and the object of it the finding is about.
     pub fn structure_object(&self) -> (&str, &str) {
         match self {
-            StructureIssue::Contact { structure, object, .. }
+            StructureIssue::OutOfRange { structure, object, .. }
+            | StructureIssue::Contact { structure, object, .. }
             | StructureIssue::Unsupported { structure, object, .. }
             | StructureIssue::NoGoalAtom { structure, object, .. }
             | StructureIssue::Unlearned { structure, object, .. } => (structure, object),

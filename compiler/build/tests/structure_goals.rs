@@ -379,3 +379,24 @@ fn every_bundled_structure_stands_at_its_anchor() {
         assert!(checked >= 12, "{domain}: {checked} structure problems");
     }
 }
+
+/// A block placed `1e300 m` from the structure's anchor was reported as a structure that
+/// intersects itself; it is out of range, named with its position.
+#[test]
+fn a_structure_object_placed_absurdly_far_is_out_of_range_not_intersecting() {
+    let (spec, _, model) = &*MODEL;
+    let (spec, world, problem) = problem_with(spec, |spec| {
+        spec.structures[0].placements[1].pose = pose(1e300, 0.0, 0.047, 0.0);
+    });
+    let issues = refused(outcome(&spec, &world, model, &problem));
+    assert!(
+        matches!(issues.as_slice(), [StructureIssue::OutOfRange { object, position, .. }]
+            if object == "b2" && position.starts_with("(1e300, ")),
+        "{issues:?}"
+    );
+    let code = miette::Diagnostic::code(&issues[0]).map(|code| code.to_string());
+    assert_eq!(code.as_deref(), Some("lamp::build::structure_range"));
+    let message = issues[0].to_string();
+    assert!(message.contains("more than 1000 m from the origin"), "{message}");
+    assert!(!message.contains("intersects itself"), "{message}");
+}
