@@ -9,7 +9,7 @@
 //! warns: the solver then needs more samples to land within it, and the final replay refuses a
 //! solution that does not.
 
-use lamp_learn::{Model, Pose};
+use lamp_learn::{Model, Pose, RegionClassifier};
 use lamp_pddl::Atom;
 use lamp_spec::{AtGoal, Problem, RelationAlias};
 use miette::Diagnostic;
@@ -109,6 +109,102 @@ pub fn at_goal_atoms(
         }
     }
     Ok((atoms, warnings))
+}
+
+/// Refuses an AtGoal that a relation goal contradicts: one of `problem`'s relation goals, with
+/// `resolved` the learned atoms they stand for in the same order, relates the AtGoal's object to
+/// a marker (a scene object of the marker type, or another goal's marker) whose region does not
+/// reach the target. The region does not reach it when the target, in the marker's frame, is
+/// outside the region's membership test, and none of the region's samples (drawn as for the
+/// tolerance warning) lands within the goal's position tolerance of it. Without this the build
+/// wrote both goals, and the solver failed to place the object, suggesting a looser tolerance.
+///
+/// # Errors
+/// [`BuildError::AtGoalContradiction`] naming the first AtGoal and relation goal that contradict.
+pub fn contradicting_goals(
+    model: &Model,
+    problem: &Problem,
+    resolved: &[Atom],
+) -> Result<(), BuildError> {
+    let Some(marker_type) = problem.goal.at.first().map(|goal| goal.marker_type.as_str()) else {
+        return Ok(());
+    };
+    // Where each marker of the problem is: scene markers as placed, the AtGoals' at their
+    // targets and where their objects start.
+    let mut markers: Vec<(String, Pose)> = problem
+        .scene
+        .objects
+        .iter()
+        .filter(|object| object.type_name == marker_type)
+        .map(|object| (object.name.clone(), object.pose))
+        .collect();
+    for goal in &problem.goal.at {
+        markers.push((goal.marker_name(), goal.pose));
+        if let Some(object) = problem.scene.objects.iter().find(|o| o.name == goal.object) {
+            markers.push((goal.start_marker_name(), object.pose));
+        }
+    }
+    for goal in &problem.goal.at {
+        let own_marker = goal.marker_name();
+        for (written, atom) in problem.goal.atoms.iter().zip(resolved) {
+            let names: Vec<&str> = atom
+                .arguments
+                .iter()
+                .map(|term| match term {
+                    lamp_pddl::Term::Constant(name) | lamp_pddl::Term::Variable(name) => {
+                        name.as_str()
+                    }
+                })
+                .collect();
+            let [primary, secondary] = names.as_slice() else { continue };
+            let (marker, object_is_secondary) = if *secondary == goal.object {
+                (*primary, true)
+            } else if *primary == goal.object {
+                (*secondary, false)
+            } else {
+                continue;
+            };
+            if marker == own_marker {
+                continue;
+            }
+            let Some((_, marker_pose)) = markers.iter().find(|(name, _)| name == marker) else {
+                continue;
+            };
+            let Some(region) = model.region(&atom.predicate) else { continue };
+            // The relation's secondary in its primary's frame, with the object at its target.
+            let relative = if object_is_secondary {
+                marker_pose.inverse() * goal.pose
+            } else {
+                goal.pose.inverse() * marker_pose
+            };
+            if region.model.margin(&relative) >= 0.0 || reaches(model, region, &relative, goal) {
+                continue;
+            }
+            let distance = (marker_pose.translation.vector - goal.pose.translation.vector).norm();
+            return Err(BuildError::AtGoalContradiction {
+                problem: problem.name.clone(),
+                object: goal.object.clone(),
+                relation_goal: format!("{}({})", written.relation, written.arguments.join(", ")),
+                reason: format!(
+                    "the `at` goal puts `{}` within {:.1} mm of its target, which lies {:.1} mm from `{marker}`, outside the region `{}` that the other goal puts it in",
+                    goal.object,
+                    goal.position_tolerance * 1000.0,
+                    distance * 1000.0,
+                    atom.predicate
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Whether a sample of `region` lands within `goal`'s position tolerance of `relative`.
+fn reaches(model: &Model, region: &lamp_learn::Region, relative: &Pose, goal: &AtGoal) -> bool {
+    let mut rng = ChaCha8Rng::seed_from_u64(model.seed);
+    (0..SPREAD_SAMPLES).any(|_| {
+        let sample = region.model.sample(&mut rng);
+        (sample.translation.vector - relative.translation.vector).norm() <= goal.position_tolerance
+    })
 }
 
 /// A warning when the region strays from the target by more than the goal allows, measured on

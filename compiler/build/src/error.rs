@@ -193,6 +193,27 @@ pub enum BuildError {
         reason: String,
     },
 
+    /// An AtGoal and a relation goal that put the same object in two places: the relation goal
+    /// relates it to a marker whose region does not reach the AtGoal's target.
+    #[error(
+        "problem `{problem}`: the `at` goal on `{object}` and the goal `{relation_goal}` contradict each other: {reason}"
+    )]
+    #[diagnostic(
+        code(lamp::build::at_goal_contradiction),
+        help(
+            "An object can be in one place only: drop one of the two goals, or move the `at` goal's target (or the marker `{relation_goal}` names) so that the target lies in that marker's region."
+        )
+    )]
+    AtGoalContradiction {
+        problem: String,
+        object: String,
+        /// The relation goal as the spec writes it, `relation(argument, …)`.
+        relation_goal: String,
+        /// Where the `at` goal puts the object, how far that is from the marker the relation goal
+        /// names, and the learned relation whose region it is outside of.
+        reason: String,
+    },
+
     /// A goal names a relation that was not learned.
     #[error("problem `{problem}`: goal relation `{relation}` was not learned")]
     #[diagnostic(

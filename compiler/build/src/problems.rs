@@ -18,7 +18,7 @@ use lamp_world::SpecWorld;
 
 use crate::adapter::Adapter;
 use crate::aliases::ResolvedAlias;
-use crate::at_goals::{GoalWarning, at_goal_atoms};
+use crate::at_goals::{GoalWarning, at_goal_atoms, contradicting_goals};
 use crate::error::BuildError;
 use crate::structure_goals::structure_goal_atoms;
 use crate::structure_issue::StructureIssue;
@@ -57,6 +57,7 @@ pub fn problem_pddl(
         return Ok(ProblemOutcome::Skipped { name, reason });
     }
     let mut goal_atoms = goal_atoms(context, problem)?;
+    contradicting_goals(context.model, problem, &goal_atoms)?;
     let (at_atoms, warnings) = at_goal_atoms(context.model, problem)?;
     goal_atoms.extend(at_atoms);
     let (participants, snapshot) = initial_snapshot(context, problem)?;

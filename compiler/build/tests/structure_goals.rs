@@ -380,6 +380,84 @@ fn every_bundled_structure_stands_at_its_anchor() {
     }
 }
 
+/// The fixture's problem without its structure goal: an `at` goal puts `b1` at `target`, and the
+/// relation goal `on_marker(l1, b1)` puts it on the marker `l1`, placed at `marker`.
+fn at_goal_and_relation_goal(target: Pose, marker: Pose) -> (Spec, SpecWorld, lamp_spec::Problem) {
+    let (spec, _, model) = &*MODEL;
+    let on_marker = relation_at(model, "loc", "block", &Pose::identity());
+    problem_with(spec, |spec| {
+        let problem = &mut spec.problems[0];
+        problem.goal.structure = None;
+        problem.scene.objects.push(lamp_spec::ObjectInstance {
+            name: "l1".into(),
+            type_name: "loc".into(),
+            pose: marker,
+        });
+        problem.goal.at.push(lamp_spec::AtGoal {
+            object: "b1".into(),
+            pose: target,
+            position_tolerance: 0.005,
+            angle_tolerance: 0.1,
+            marker_type: "loc".into(),
+        });
+        problem.goal.atoms.push(lamp_spec::GoalAtom {
+            relation: on_marker,
+            arguments: vec!["l1".into(), "b1".into()],
+        });
+    })
+}
+
+/// An `at` goal and a relation goal that put the same block on two markers 42 cm apart were
+/// written as they are, and the solve could only miss the target; the build refuses them as a
+/// contradiction that names both goals.
+#[test]
+fn an_at_goal_and_a_relation_goal_on_another_marker_contradict_each_other() {
+    let (_, _, model) = &*MODEL;
+    let target = pose(0.2, -0.2, 0.016, 0.0);
+    let (spec, world, problem) = at_goal_and_relation_goal(target, pose(-0.2, -0.3, 0.016, 0.0));
+    let domain = lamp_learn::domain(model, &spec.domain).expect("the domain writes");
+    let adapter = Adapter::new(&spec, &world.robots).expect("the adapter");
+    let aliases = BTreeMap::new();
+    let header = vec!["contradiction test".to_string()];
+    let context = ProblemContext {
+        model,
+        domain: &domain,
+        world: &world,
+        adapter: &adapter,
+        aliases: &aliases,
+        header: &header,
+    };
+    let error = problem_pddl(&context, &problem).expect_err("the goals contradict");
+    let on_marker = relation_at(model, "loc", "block", &Pose::identity());
+    assert!(
+        matches!(&error, lamp_build::BuildError::AtGoalContradiction { object, relation_goal, .. }
+            if object == "b1" && *relation_goal == format!("{on_marker}(l1, b1)")),
+        "{error}"
+    );
+    let code = miette::Diagnostic::code(&error).map(|code| code.to_string());
+    assert_eq!(code.as_deref(), Some("lamp::build::at_goal_contradiction"));
+    let message = error.to_string();
+    assert!(
+        message.contains(&format!(
+            "the `at` goal on `b1` and the goal `{on_marker}(l1, b1)` contradict each other"
+        )),
+        "{message}"
+    );
+    assert!(
+        message.contains("within 5.0 mm of its target, which lies 412.3 mm from `l1`"),
+        "{message}"
+    );
+    assert!(message.contains(&format!("outside the region `{on_marker}`")), "{message}");
+    let help = miette::Diagnostic::help(&error).map(|help| help.to_string()).unwrap_or_default();
+    assert!(help.contains("drop one of the two goals"), "{help}");
+    assert!(!help.contains("loosen"), "{help}");
+    // With the marker at the target the two goals say the same, and the problem is written.
+    let (spec, world, problem) = at_goal_and_relation_goal(target, target);
+    let text = written(outcome(&spec, &world, model, &problem));
+    assert!(text.contains(&format!("({on_marker} l1 b1)")), "{text}");
+    assert!(text.contains(&format!("({on_marker} goal_b1 b1)")), "{text}");
+}
+
 /// A block placed `1e300 m` from the structure's anchor was reported as a structure that
 /// intersects itself; it is out of range, named with its position.
 #[test]
