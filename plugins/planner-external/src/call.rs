@@ -11,7 +11,7 @@ use crate::error::ExternalError;
 use crate::exit_codes::{Verdict, verdict};
 use crate::options::CommandLine;
 use crate::plan_files::{PlanFile, numbered_plans, single_plan};
-use crate::process::{Ending, log_tail, run};
+use crate::process::{Ending, log_is_empty, log_tail, run};
 use crate::resolve::Engine;
 
 /// Fast Downward's search: lazy greedy best-first with FF and preferred operators, as the LAMP
@@ -53,6 +53,14 @@ pub fn plan_with(
         log: log_tail(folder),
     };
     let wanted = request.plan_count.max(1);
+    // A run that ended by itself with an empty log and no plan is no planner's run: its exit
+    // code is not taken as a verdict on the task.
+    if let Ending::Exited(code) = ending
+        && log_is_empty(folder)
+        && plan_files(engine, folder, wanted).is_ok_and(|files| files.is_empty())
+    {
+        return Err(ExternalError::NoOutput { command: command.display(), code });
+    }
     let (status, files) = match ending {
         Ending::Cancelled => return Err(ExternalError::Cancelled),
         Ending::Signalled(signal) => return Err(failure(format!("it was stopped ({signal})"))),

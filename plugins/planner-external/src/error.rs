@@ -49,6 +49,25 @@ pub enum ExternalError {
         /// The end of the planner's output.
         log: String,
     },
+    /// The planner ended without printing anything and without writing a plan: a command that
+    /// is no planner (a wrapper that runs nothing, a wrong `command` option). Fast Downward and K*
+    /// always print their log, so an exit code saying "unsolvable" or "done" without it is not
+    /// believed: it would be reported as a goal the learned model cannot reach.
+    #[error(
+        "the external planner `{command}` produced no output: it exited with code {code}, printed nothing on stdout or stderr and wrote no plan"
+    )]
+    #[diagnostic(
+        code(lamp::planner::external::no_output),
+        help(
+            "This says nothing about the goal, which was not found unreachable: check that the command runs a Fast Downward driver (run it by hand on a domain and a problem file; it prints its search log), or set the plugin's `command` option to one. {INSTALL_HELP}."
+        )
+    )]
+    NoOutput {
+        /// The command that ran.
+        command: String,
+        /// Its exit code.
+        code: i32,
+    },
     /// The host cancelled the call; the planner was stopped.
     #[error("the external planner was stopped because the run was cancelled")]
     #[diagnostic(code(lamp::planner::external::cancelled))]

@@ -116,6 +116,11 @@ impl Planner for ExternalPlanner {
             ExternalError::NotInstalled { .. } | ExternalError::Spawn { .. } => {
                 PluginError::failed(format!("{error}; {INSTALL_HELP}"))
             }
+            // The solver shows only the message: it must say that the goal was not judged.
+            ExternalError::NoOutput { .. } => PluginError::failed(format!(
+                "{error}; this says nothing about the goal: check that the command runs a Fast \
+                 Downward driver, or set the plugin's `command` option to one"
+            )),
             other => PluginError::failed(other.to_string()),
         })
     }

@@ -89,6 +89,12 @@ pub fn log_tail(folder: &Path) -> String {
     lines[lines.len().saturating_sub(LOG_TAIL_LINES)..].join("\n")
 }
 
+/// Whether the planner printed nothing (only white space) on stdout and stderr.
+#[must_use]
+pub fn log_is_empty(folder: &Path) -> bool {
+    std::fs::read(folder.join(LOG_FILE)).is_ok_and(|bytes| bytes.trim_ascii().is_empty())
+}
+
 fn wait_error(folder: &Path, source: std::io::Error) -> ExternalError {
     ExternalError::Io { path: folder.display().to_string(), source }
 }

@@ -98,9 +98,12 @@ fn a_plan_that_does_not_parse_or_validate_is_an_error() {
 fn exit_codes_become_statuses_or_errors() {
     let task = request("gripper", "gripper-2");
     let status = |script: &str| stand_in(script).plan(&task, &MinimalHost).map(|r| r.status);
-    assert!(matches!(status("exit 11"), Ok(PlanStatus::Unsolvable { .. })));
-    assert!(matches!(status("exit 10"), Ok(PlanStatus::Unsolvable { .. })));
-    assert_eq!(status("exit 23"), Ok(PlanStatus::BudgetExhausted));
+    // A planner's verdict comes with its log: Fast Downward always prints one.
+    let unsolvable = status("echo 'Search stopped without finding a solution.'; exit 11");
+    assert!(matches!(unsolvable, Ok(PlanStatus::Unsolvable { .. })), "{unsolvable:?}");
+    let unsolvable = status("echo 'Translator proved the task unsolvable.'; exit 10");
+    assert!(matches!(unsolvable, Ok(PlanStatus::Unsolvable { .. })), "{unsolvable:?}");
+    assert_eq!(status("echo 'Time limit reached.'; exit 23"), Ok(PlanStatus::BudgetExhausted));
     assert!(
         matches!(status("echo refused; exit 31"), Ok(PlanStatus::Failed { message }) if message.contains("refused"))
     );
@@ -109,8 +112,61 @@ fn exit_codes_become_statuses_or_errors() {
         matches!(&error, Err(ExternalError::Failed { log, .. }) if log.contains("driver trouble")),
         "{error:?}"
     );
-    let error = stand_in("exit 0").plan_external(&task, &MinimalHost);
-    assert!(matches!(error, Err(ExternalError::Failed { .. })), "no plan written: {error:?}");
+    let error = stand_in("echo 'Solution found.'; exit 0").plan_external(&task, &MinimalHost);
+    assert!(
+        matches!(&error, Err(ExternalError::Failed { reason, log, .. })
+            if reason.contains("wrote no plan") && log.contains("Solution found.")),
+        "no plan written: {error:?}"
+    );
+}
+
+/// A command that prints nothing and writes no plan is no planner: whatever its exit code, the
+/// call fails saying so, with the code, and never answers that the task is unsolvable (which the
+/// solver reported as a goal the learned model has no way to).
+#[test]
+fn a_planner_that_prints_nothing_and_plans_nothing_produced_no_output() {
+    let task = request("gripper", "gripper-2");
+    for code in [12, 11, 0, 23] {
+        let script = format!("exit {code}");
+        let error = stand_in(&script).plan_external(&task, &MinimalHost);
+        let Err(error) = error else { panic!("exit {code}: {error:?}") };
+        assert!(
+            matches!(&error, ExternalError::NoOutput { code: found, .. } if *found == code),
+            "exit {code}: {error:?}"
+        );
+        assert_eq!(
+            miette::Diagnostic::code(&error).map(|code| code.to_string()).as_deref(),
+            Some("lamp::planner::external::no_output")
+        );
+        let message = error.to_string();
+        assert!(message.contains("produced no output"), "{message}");
+        assert!(message.contains(&format!("exited with code {code}")), "{message}");
+        let help =
+            miette::Diagnostic::help(&error).map(|help| help.to_string()).unwrap_or_default();
+        assert!(help.contains("was not found unreachable"), "{help}");
+        match stand_in(&script).plan(&task, &MinimalHost) {
+            Err(PluginError::Failed { message }) => {
+                assert!(message.contains("produced no output"), "{message}");
+                assert!(message.contains("says nothing about the goal"), "{message}");
+            }
+            other => panic!("exit {code}: a failure, not a status: {other:?}"),
+        }
+    }
+    // K* (more than one plan) alike: a silent run that ends normally found nothing, proved nothing.
+    let mut top_k = request("gripper", "gripper-2");
+    top_k.plan_count = 2;
+    let mut planner = ExternalPlanner::new(ExternalOptions {
+        kstar_command: Some(CommandLine {
+            program: "sh".into(),
+            arguments: vec!["-c".into(), "exit 0".into()],
+        }),
+        ..ExternalOptions::default()
+    });
+    let error = planner.plan_external(&top_k, &MinimalHost);
+    assert!(matches!(error, Err(ExternalError::NoOutput { code: 0, .. })), "{error:?}");
+    // Printing is not enough to be believed when a plan was promised: exit 0 needs a plan.
+    let error = stand_in("echo working").plan_external(&task, &MinimalHost);
+    assert!(matches!(error, Err(ExternalError::Failed { .. })), "{error:?}");
 }
 
 #[test]
