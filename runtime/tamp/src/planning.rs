@@ -46,7 +46,15 @@ pub fn plans(
         PlanStatus::Failed { message } => {
             return Err(SolveError::PluginAnswer { kind: "planner", reason: message });
         }
-        PlanStatus::Solved => "the planner returned no plan".to_string(),
+        // "Solved" with nothing in hand is the planner's fault, not the goal's: relaxing the
+        // goal would blame the learned model.
+        PlanStatus::Solved => {
+            return Err(SolveError::PluginAnswer {
+                kind: "planner",
+                reason: "it answered `solved` but returned no plan (the goal was not found                          unreachable; check the planner's configuration)"
+                    .to_string(),
+            });
+        }
     }))
 }
 

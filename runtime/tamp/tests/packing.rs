@@ -96,6 +96,36 @@ fn a_plan_whose_rest_breaks_is_replanned_from_the_reached_state() {
     check_packed("pack4_01", &solution);
 }
 
+/// A planner that says it solved the task and returns no plan, as a misconfigured one may.
+struct SolvedWithoutAPlan;
+
+impl Planner for SolvedWithoutAPlan {
+    fn plan(
+        &mut self,
+        _request: &PlanRequest,
+        _host: &dyn HostServices,
+    ) -> Result<PlanResponse, PluginError> {
+        Ok(PlanResponse { status: lamp_plugin_api::PlanStatus::Solved, plans: vec![] })
+    }
+}
+
+/// A planner answering `solved` without a plan was taken as one that found no plan, and the
+/// solve blamed the learned model; it is the planner's failure.
+#[test]
+fn a_planner_that_says_solved_without_a_plan_fails_as_the_planner() {
+    let error = learned::solve_with_planner(&PACKING, "pack4_01", 1, &mut SolvedWithoutAPlan)
+        .err()
+        .expect("no plan to refine");
+    assert!(
+        matches!(&error, SolveError::PluginAnswer { kind: "planner", reason }
+            if reason.contains("returned no plan")),
+        "{error}"
+    );
+    let code = miette::Diagnostic::code(&error).map(|code| code.to_string());
+    assert_eq!(code.as_deref(), Some("lamp::solve::plugin"));
+    assert!(!error.to_string().contains("no way"), "{error}");
+}
+
 /// The learned domain and pack4_01's problem, the `in_box` atom of can1 and the "not in the box"
 /// relation the only placing action deletes (no action adds it back).
 fn placing() -> (String, String, lamp_pddl::Atom, String) {
