@@ -3,18 +3,20 @@
 //! Per demonstration count and run it draws a stratified subset of one pool of demonstrations
 //! (lamp-eval), learns a model from it in memory (lamp-build), and solves every selected test
 //! problem with `lampc solve`'s settings, each solve in its own worker process
-//! ([`worker`]), up to `--jobs` at once ([`schedule`]). Finished rows go to a journal as they
+//! ([`worker`]) started by this lampc or by the `--executor` command ([`executor`]), up to
+//! `--jobs` at once ([`schedule`]). Finished rows go to a journal as they
 //! finish ([`journal`]), so that an interrupted evaluation continues where it stopped; at the
 //! end `eval.json`, `eval.csv`, `report.md`, `success.svg` and `sample_efficiency.svg` are written
 //! into the output folder. The protocol and the design are in `docs/evaluation.md`.
 
+mod executor;
 mod journal;
 mod pool;
 mod schedule;
 pub(crate) mod worker;
 
 use std::cell::RefCell;
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 use std::io::Write as _;
 use std::num::NonZeroUsize;
 use std::path::{Path, PathBuf};
@@ -29,8 +31,9 @@ use lamp_spec::{OptionValue, PluginChoice, PluginSource, Problem, Spec};
 use lamp_world::SpecWorld;
 use miette::Diagnostic as _;
 
+use self::executor::Executor;
 use self::journal::{JOURNAL_FILE, Journal, Key};
-use self::schedule::{Done, Learned, Model, SubsetWork};
+use self::schedule::{Done, Ending, Learned, Model, SubsetWork};
 use self::worker::one_line;
 use crate::commands::failure::Failure;
 use crate::solve_setup::{self, Overrides};
@@ -62,6 +65,11 @@ pub(crate) struct Args {
     /// The seed of the subset draws, the learning and the solves [default: the spec's].
     #[arg(long)]
     pub(crate) seed: Option<u64>,
+    /// The command that runs each solve: it reads the job on its standard input and writes the
+    /// result row `lampc eval-worker` writes, e.g. "srun -N1 -n1 lampc eval-worker" [default:
+    /// this lampc's `eval-worker`].
+    #[arg(long, value_name = "COMMAND")]
+    pub(crate) executor: Option<String>,
 }
 
 /// The most runs per count: far beyond any evaluation (the paper uses 10), low enough that a
@@ -80,10 +88,11 @@ static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 pub(crate) fn run(args: &Args) -> ExitCode {
     let colour = crate::terminal::colour();
     // The first Ctrl-C or SIGTERM stops the evaluation at once, killing its workers and keeping
-    // finished rows; a second one ends the process (the journal holds every finished row either
-    // way).
+    // finished rows; a second one kills them and ends the process (the journal holds every
+    // finished row either way).
     let _ = ctrlc::set_handler(|| {
         if INTERRUPTED.swap(true, Ordering::Relaxed) {
+            executor::kill_running();
             std::process::exit(i32::from(EXIT_INTERRUPTED));
         }
     });
@@ -150,6 +159,14 @@ fn evaluate_checked(
         Some(jobs) => jobs as usize,
         None => std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
     };
+    let executor = match &args.executor {
+        Some(text) => Executor::parse(text).and_then(|executor| {
+            executor.check_program()?;
+            Ok(executor)
+        }),
+        None => Executor::local(),
+    }
+    .map_err(|error| render(&error))?;
 
     refuse_out_in_a_model_folder(&out)?;
     // Held to the end: a second evaluation into the folder would interleave its journal lines
@@ -217,8 +234,12 @@ fn evaluate_checked(
         }
     }
     let reused = slots.iter().filter(|slot| results.contains_key(&slot.key)).count();
+    let through = match args.executor {
+        Some(_) => format!(" through `{}`", executor.text()),
+        None => String::new(),
+    };
     note(&format!(
-        "{} solves ({} count(s) × {runs} run(s) × {} problem(s)), {reused} already in the journal; {} demonstrations in the pool ({} cut{}); {jobs} at once",
+        "{} solves ({} count(s) × {runs} run(s) × {} problem(s)), {reused} already in the journal; {} demonstrations in the pool ({} cut{}); {jobs} at once{through}",
         slots.len(),
         counts.len(),
         problems.len(),
@@ -247,17 +268,25 @@ fn evaluate_checked(
         seed,
         timeout: args.timeout,
         jobs,
+        executor: &executor,
     };
     let mut write_error = None;
-    // Rows of crashed workers: reported, not journaled, so not kept for the next run.
-    let mut crashed = BTreeSet::new();
     let current = RefCell::new(String::new());
-    let complete = schedule::run(
+    let ending = schedule::run(
         &schedule_settings,
         work,
         &learn,
         &|| INTERRUPTED.load(Ordering::Relaxed),
         &mut |problem| *current.borrow_mut() = problem.to_string(),
+        &mut |error| {
+            let code = error.code().map(|code| format!(" ({code})")).unwrap_or_default();
+            let why = std::error::Error::source(error)
+                .map(|source| format!(": {source}"))
+                .unwrap_or_default();
+            progress.suspend(|| {
+                eprintln!("lampc eval: {error}{why}{code}; trying that solve once more");
+            });
+        },
         &mut |done: Done| {
             let Some(first) = slots.iter().find(|slot| slot.key == done.key) else { return };
             let row = Row::new(
@@ -269,9 +298,7 @@ fn evaluate_checked(
                 done.result,
                 Some(done.seconds_learning),
             );
-            if !done.journal {
-                crashed.insert(done.key.clone());
-            } else if let Err(message) = journal.append(&row) {
+            if let Err(message) = journal.append(&row) {
                 write_error.get_or_insert(message);
             }
             results.insert(done.key.clone(), row);
@@ -284,17 +311,27 @@ fn evaluate_checked(
     if let Some(message) = write_error {
         return Err(message);
     }
-    if !complete {
-        let kept = slots
-            .iter()
-            .filter(|slot| results.contains_key(&slot.key) && !crashed.contains(&slot.key))
-            .count();
-        eprintln!(
-            "lampc eval: interrupted; {kept} of {} solves are kept in {}; run the same command again to continue",
-            slots.len(),
-            journal_path.display()
-        );
-        return Ok(false);
+    let kept = || slots.iter().filter(|slot| results.contains_key(&slot.key)).count();
+    match ending {
+        Ending::Complete => {}
+        Ending::Interrupted => {
+            eprintln!(
+                "lampc eval: interrupted; {} of {} solves are kept in {}; run the same command again to continue",
+                kept(),
+                slots.len(),
+                journal_path.display()
+            );
+            return Ok(false);
+        }
+        Ending::Broken(error) => {
+            return Err(format!(
+                "{}lampc eval: stopped by the executor's failure, which is not recorded as a result; {} of {} solves are kept in {}; run the same command again to continue",
+                render(&error),
+                kept(),
+                slots.len(),
+                journal_path.display()
+            ));
+        }
     }
 
     let rows: Vec<Row> = slots

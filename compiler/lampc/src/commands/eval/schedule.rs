@@ -1,7 +1,9 @@
 //! Running the solves: one thread learns the subsets' models in order, while up to `--jobs`
-//! worker processes solve the problems of the subsets learned so far. Each finished solve is
-//! handed to the caller at once (which journals it); an interrupt stops learning, kills the
-//! running workers and drops their solves.
+//! worker processes (each through the executor's command) solve the problems of the subsets
+//! learned so far. Each finished solve is handed to the caller at once (which journals it); an
+//! interrupt stops learning, kills the running workers and drops their solves. A solve the
+//! executor gives no row for is tried once more; a second failure, or a command that cannot
+//! start, stops the evaluation as an interrupt does and is returned.
 
 use std::collections::{BTreeMap, VecDeque};
 use std::sync::Arc;
@@ -11,8 +13,9 @@ use std::time::Duration;
 
 use lamp_eval::{Outcome, SolveResult};
 
+use super::executor::{self, Executor, ExecutorError, Finished};
 use super::journal::Key;
-use super::worker::{self, Finished, Job};
+use super::worker::Job;
 
 /// How often the scheduler looks for finished solves, learned subsets and an interrupt.
 const POLL: Duration = Duration::from_millis(50);
@@ -49,29 +52,48 @@ pub(super) struct Settings<'a> {
     pub(super) seed: u64,
     pub(super) timeout: Option<f64>,
     pub(super) jobs: usize,
+    /// The command each solve runs in.
+    pub(super) executor: &'a Executor,
 }
 
-/// A finished solve: its key, what it reported, the subset's learning time, and whether it is a
-/// property of the solve (to journal) or of the run (a crashed worker).
+/// A finished solve: its key, what it reported, and the subset's learning time.
 pub(super) struct Done {
     pub(super) key: Key,
     pub(super) result: SolveResult,
     pub(super) seconds_learning: f64,
-    pub(super) journal: bool,
 }
 
+/// How the schedule ended.
+pub(super) enum Ending {
+    /// Every solve finished.
+    Complete,
+    /// Interrupted: the running solves were dropped.
+    Interrupted,
+    /// The executor gave no row for a solve twice, or could not start: the running solves were
+    /// dropped.
+    Broken(ExecutorError),
+}
+
+/// How often a solve is started before the executor's failure stops the evaluation: once more
+/// after a failure, for a lost node or a preempted job; a broken command fails twice in a row.
+const ATTEMPTS: usize = 2;
+
 /// Learns every subset of `work` with `learn` and solves its problems; `started` is told each
-/// solve's problem as it starts, `done` each result as it finishes. Returns whether it ran to
-/// the end (false after an interrupt).
+/// solve's problem as it starts, `retrying` each executor failure that is tried again, `done`
+/// each result as it finishes.
 pub(super) fn run(
     settings: &Settings<'_>,
     work: Vec<SubsetWork>,
     learn: &(dyn Fn(&SubsetWork) -> Learned + Sync),
     interrupted: &(dyn Fn() -> bool + Sync),
     started: &mut dyn FnMut(&str),
+    retrying: &mut dyn FnMut(&ExecutorError),
     done: &mut dyn FnMut(Done),
-) -> bool {
+) -> Ending {
     let stop = AtomicBool::new(false);
+    let mut broken = None;
+    // How often each solve was started.
+    let mut attempts: BTreeMap<Key, usize> = BTreeMap::new();
     std::thread::scope(|scope| {
         let (learned_tx, learned_rx) = mpsc::sync_channel::<Learned>(1);
         let stop = &stop;
@@ -82,7 +104,7 @@ pub(super) fn run(
                 }
             }
         });
-        let (finished_tx, finished_rx) = mpsc::channel::<(Key, f64, Finished)>();
+        let (finished_tx, finished_rx) = mpsc::channel::<(Arc<Learned>, String, Finished)>();
         let mut ready: VecDeque<(Arc<Learned>, String)> = VecDeque::new();
         let mut learner_done = false;
         let mut running = 0;
@@ -101,43 +123,55 @@ pub(super) fn run(
                 }
                 while running < settings.jobs {
                     let Some((learned, problem)) = ready.pop_front() else { break };
-                    let key = (learned.digest.clone(), problem.clone());
                     let job = match job_text(settings, &learned, &problem) {
                         Ok(job) => job,
                         Err(reason) => {
-                            let result = SolveResult::failed(Outcome::Error, reason);
-                            let seconds_learning = learned.seconds;
-                            done(Done { key, result, seconds_learning, journal: false });
-                            continue;
+                            broken.get_or_insert(ExecutorError::Job { problem, reason });
+                            stop.store(true, Ordering::Relaxed);
+                            break;
                         }
                     };
                     started(&problem);
+                    *attempts.entry((learned.digest.clone(), problem.clone())).or_default() += 1;
                     running += 1;
                     let finished_tx = finished_tx.clone();
-                    let seconds = learned.seconds;
-                    let timeout = settings.timeout;
+                    let (timeout, executor) = (settings.timeout, settings.executor);
                     scope.spawn(move || {
-                        let finished = worker::run_worker(&job, timeout, stop);
-                        let _ = finished_tx.send((key, seconds, finished));
+                        let finished = executor::run(executor, job, &problem, timeout, stop);
+                        let _ = finished_tx.send((learned, problem, finished));
                     });
                 }
             }
-            if running == 0 && (stopping || (learner_done && ready.is_empty())) {
+            if running == 0 && (stop.load(Ordering::Relaxed) || (learner_done && ready.is_empty()))
+            {
                 break;
             }
             match finished_rx.recv_timeout(POLL) {
-                Ok((key, seconds_learning, finished)) => {
+                Ok((learned, problem, finished)) => {
                     running -= 1;
+                    let key = (learned.digest.clone(), problem.clone());
                     match finished {
                         Finished::Result(result) => {
-                            done(Done { key, result, seconds_learning, journal: true })
+                            let seconds_learning = learned.seconds;
+                            done(Done { key, result, seconds_learning });
                         }
-                        Finished::Crashed(reason) => done(Done {
-                            key,
-                            result: SolveResult::failed(Outcome::Error, reason),
-                            seconds_learning,
-                            journal: false,
-                        }),
+                        // Killed by the signal that stops the evaluation (a SIGTERM to a whole
+                        // cgroup reaches the workers too), not broken.
+                        Finished::Broken(_) if interrupted() => {
+                            stop.store(true, Ordering::Relaxed);
+                        }
+                        Finished::Broken(error)
+                            if error.may_pass()
+                                && broken.is_none()
+                                && attempts.get(&key).is_some_and(|&n| n < ATTEMPTS) =>
+                        {
+                            retrying(&error);
+                            ready.push_front((learned, problem));
+                        }
+                        Finished::Broken(error) => {
+                            broken.get_or_insert(error);
+                            stop.store(true, Ordering::Relaxed);
+                        }
                         Finished::Stopped => {}
                     }
                 }
@@ -146,8 +180,12 @@ pub(super) fn run(
         }
         // Dropping the receiver ends a learner blocked on sending.
         drop(learned_rx);
-        !stop.load(Ordering::Relaxed)
-    })
+    });
+    match broken {
+        Some(error) => Ending::Broken(error),
+        None if stop.load(Ordering::Relaxed) => Ending::Interrupted,
+        None => Ending::Complete,
+    }
 }
 
 /// Queues the problems of a learned subset; a failed build ends them at once.
@@ -162,7 +200,6 @@ fn queue(
             key: key.clone(),
             result: SolveResult::failed(Outcome::BuildFailed, reason),
             seconds_learning: learned.seconds,
-            journal: true,
         };
         match &learned.model {
             Err(reason) => done(failed(reason.clone())),

@@ -1,15 +1,14 @@
 //! One solve in its own process: `lampc eval-worker` (hidden) reads a [`Job`] as JSON from its
 //! standard input, solves it with `lampc solve`'s settings, and writes one [`SolveResult`] as
-//! JSON to its standard output, with its own peak memory; and the parent's side, which runs a
-//! worker, feeds it and kills it on an interrupt or long after its time limit.
+//! JSON to its standard output, with its own peak memory. The parent's side, which starts it
+//! (or the `--executor` command that runs it), is [`super::executor`].
 //!
-//! A process per solve gives every row its own peak memory, lets a time limit or Ctrl-C end a
-//! solve at once, and keeps a crash in one solve from ending the evaluation.
+//! A process per solve gives every row its own peak memory and lets a time limit or Ctrl-C end a
+//! solve at once.
 
-use std::io::{Read as _, Write as _};
+use std::io::Read as _;
 use std::path::PathBuf;
-use std::process::{Command, ExitCode, Stdio};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use lamp_build::SamplersFile;
@@ -24,14 +23,6 @@ use crate::solve_setup::{self, Overrides};
 
 /// The hidden subcommand's name.
 pub(crate) const WORKER_COMMAND: &str = "eval-worker";
-
-/// How long after its own time limit a worker may take to stop before it is killed: the solver
-/// polls its cancellation check between steps, and a motion call or a grounding can take seconds.
-const KILL_GRACE: Duration = Duration::from_secs(30);
-/// How often the parent looks at a running worker.
-const POLL: Duration = Duration::from_millis(20);
-/// Lines of a crashed worker's standard error kept in the row's reason.
-const STDERR_LINES: usize = 3;
 
 /// What a worker solves: the problem of the spec with the subset's learned model.
 #[derive(Serialize, Deserialize)]
@@ -69,7 +60,18 @@ pub(crate) fn run() -> ExitCode {
         }
     };
     drop(input);
-    let mut result = solve(&job);
+    // A panic in the solver is a property of this lampc and the job, as repeatable as any other
+    // outcome: it becomes an `error` row (the panic hook has printed it on standard error). A
+    // worker that ends without a row is the executor's failure, which stops the evaluation.
+    let solved = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| solve(&job)));
+    let mut result = solved.unwrap_or_else(|payload| {
+        let message = payload
+            .downcast_ref::<&str>()
+            .map(|text| (*text).to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        error(format!("internal error: lampc panicked while solving: {message}"))
+    });
     result.seconds_solving = Some(started.elapsed().as_secs_f64());
     result.peak_memory_bytes = peak_memory();
     match serde_json::to_string(&result) {
@@ -206,113 +208,6 @@ fn peak_memory() -> Option<u64> {
     let kilobytes: u64 =
         line.trim_start_matches("VmHWM:").trim().strip_suffix("kB")?.trim().parse().ok()?;
     Some(kilobytes * 1024)
-}
-
-/// How a worker ended, as the parent sees it.
-pub(super) enum Finished {
-    /// It wrote a result (a time limit it overran by [`KILL_GRACE`] counts as a timeout).
-    Result(SolveResult),
-    /// It failed without a result: a crash, not a property of the solve (not journaled).
-    Crashed(String),
-    /// The evaluation was interrupted and the worker killed: no row.
-    Stopped,
-}
-
-/// Runs one worker on `job` (JSON) and waits for it, killing it when `stop` is set or when it
-/// overruns `timeout` by [`KILL_GRACE`].
-pub(super) fn run_worker(job: &str, timeout: Option<f64>, stop: &AtomicBool) -> Finished {
-    let executable = match std::env::current_exe() {
-        Ok(path) => path,
-        Err(error) => return Finished::Crashed(format!("cannot find lampc itself: {error}")),
-    };
-    let spawned = Command::new(executable)
-        .arg(WORKER_COMMAND)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn();
-    let mut child = match spawned {
-        Ok(child) => child,
-        Err(error) => return Finished::Crashed(format!("cannot start a worker: {error}")),
-    };
-    // The worker reads all of its input before it starts, so writing it here cannot deadlock;
-    // a worker that died early shows up below.
-    if let Some(mut stdin) = child.stdin.take() {
-        let _ = stdin.write_all(job.as_bytes());
-    }
-    let readers = [child.stdout.take().map(reader), child.stderr.take().map(reader)];
-    let hard_limit = timeout.map(|seconds| Duration::from_secs_f64(seconds) + KILL_GRACE);
-    let started = Instant::now();
-    let mut overran = false;
-    let status = loop {
-        match child.try_wait() {
-            Ok(Some(status)) => break Some(status),
-            Ok(None) => {}
-            Err(_) => break None,
-        }
-        if stop.load(Ordering::Relaxed) {
-            let _ = child.kill();
-            let _ = child.wait();
-            return Finished::Stopped;
-        }
-        if hard_limit.is_some_and(|limit| started.elapsed() >= limit) {
-            let _ = child.kill();
-            let _ = child.wait();
-            overran = true;
-            break None;
-        }
-        std::thread::sleep(POLL);
-    };
-    let [stdout, stderr] =
-        readers.map(|reader| reader.and_then(|r| r.join().ok()).unwrap_or_default());
-    if overran {
-        let mut result = SolveResult::failed(
-            Outcome::Timeout,
-            format!(
-                "killed {} s after the time limit, which it did not notice",
-                KILL_GRACE.as_secs()
-            ),
-        );
-        result.seconds_solving = Some(started.elapsed().as_secs_f64());
-        return Finished::Result(result);
-    }
-    if let Some(result) = status.filter(|status| status.success()).and_then(|_| {
-        stdout.lines().rev().find_map(|line| serde_json::from_str::<SolveResult>(line).ok())
-    }) {
-        return Finished::Result(result);
-    }
-    if stop.load(Ordering::Relaxed) || interrupted_by_signal(status) {
-        return Finished::Stopped;
-    }
-    let tail: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
-    let tail = tail[tail.len().saturating_sub(STDERR_LINES)..].join(" / ");
-    let status = status.map_or_else(|| "no exit status".to_string(), |status| status.to_string());
-    Finished::Crashed(one_line(&format!("the solving process failed ({status}): {tail}")))
-}
-
-/// Reads a pipe to its end on its own thread, so that a chatty worker never blocks on it.
-fn reader(mut pipe: impl std::io::Read + Send + 'static) -> std::thread::JoinHandle<String> {
-    std::thread::spawn(move || {
-        let mut bytes = Vec::new();
-        let _ = pipe.read_to_end(&mut bytes);
-        String::from_utf8_lossy(&bytes).into_owned()
-    })
-}
-
-/// Whether the worker ended on SIGINT or SIGTERM: Ctrl-C on a terminal reaches the whole process
-/// group, and so may a SIGTERM sent to it (by a CI runner, or `kill` of a negative pid).
-#[cfg(unix)]
-fn interrupted_by_signal(status: Option<std::process::ExitStatus>) -> bool {
-    use std::os::unix::process::ExitStatusExt as _;
-    /// SIGINT's and SIGTERM's numbers on every Unix.
-    const SIGINT: i32 = 2;
-    const SIGTERM: i32 = 15;
-    matches!(status.and_then(|status| status.signal()), Some(SIGINT | SIGTERM))
-}
-
-#[cfg(not(unix))]
-fn interrupted_by_signal(_status: Option<std::process::ExitStatus>) -> bool {
-    false
 }
 
 #[cfg(test)]
