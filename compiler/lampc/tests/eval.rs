@@ -433,3 +433,108 @@ fn a_worker_solves_the_spec_the_evaluation_started_with_not_the_file_on_disk() {
     let row: Value = serde_json::from_slice(&output.stdout).expect("one result row");
     assert_eq!(row["outcome"], "solved", "{row}");
 }
+
+/// `lampc eval` of `pack2` and `unreachable` from 30 demonstrations, one run, with `extra` flags.
+fn quick_eval(spec: &Path, out: &Path, extra: &[&str]) -> Output {
+    let flags = ["--demos", "30", "--runs", "1", "--problems", "pack2,unreachable", "--jobs", "2"];
+    let mut args: Vec<&OsStr> = vec![OsStr::new("eval"), spec.as_os_str()];
+    args.extend(flags.iter().chain(extra).map(OsStr::new));
+    args.extend([OsStr::new("--out"), out.as_os_str()]);
+    common::lampc(args)
+}
+
+/// The settings keys of a journal's lines.
+fn journal_keys(out: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(out.join("journal.jsonl")).unwrap_or_default();
+    text.lines()
+        .map(|line| {
+            let entry: Value = serde_json::from_str(line).expect("a journal line");
+            entry["settings"].as_str().expect("a settings key").to_string()
+        })
+        .collect()
+}
+
+/// Solves run through an `--executor` command give the rows the local worker gives, under the
+/// same journal key; a command that prints no result row, or fails, stops the evaluation with
+/// its diagnostic, and nothing is recorded for the problem (the next run solves it).
+#[test]
+fn an_executor_command_gives_the_same_rows_and_a_broken_one_records_nothing() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let local = scratch.path().join("local");
+    let output = quick_eval(&spec, &local, &[]);
+    assert!(output.status.success(), "{}", stderr(&output));
+
+    let through = scratch.path().join("through");
+    let executor = format!("'{}' eval-worker", env!("CARGO_BIN_EXE_lampc"));
+    let output = quick_eval(&spec, &through, &["--executor", &executor]);
+    let message = stderr(&output);
+    assert!(output.status.success(), "{message}");
+    assert!(message.contains(&format!("2 at once through `{executor}`")), "{message}");
+    let (expected, got) =
+        (read_json(&local.join("eval.json")), read_json(&through.join("eval.json")));
+    assert_eq!(deterministic_rows(&got), deterministic_rows(&expected));
+    assert_eq!(got["settings"], expected["settings"], "the executor is not a setting");
+    assert_eq!(journal_keys(&through), journal_keys(&local), "nor part of the journal's key");
+
+    // Prints something that is not a result row: tried once more, then the evaluation stops.
+    let broken = scratch.path().join("broken");
+    let output = quick_eval(&spec, &broken, &["--executor", "sh -c 'cat >/dev/null; echo nope'"]);
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{message}");
+    assert!(message.contains("lamp::eval::executor_output"), "{message}");
+    assert!(
+        message.contains("the executor `sh -c 'cat >/dev/null; echo nope'` printed no result row"),
+        "{message}"
+    );
+    assert!(message.contains(r#"its standard output began "nope\n""#), "{message}");
+    assert!(message.contains("trying that solve once more"), "{message}");
+    assert!(message.contains("stopped by the executor's failure"), "{message}");
+    assert!(message.contains("0 of 2 solves are kept"), "{message}");
+    assert!(journal_keys(&broken).is_empty(), "nothing is journaled");
+    assert!(!broken.join("eval.json").exists(), "no results are written");
+
+    // Exits non-zero: the same, with the end of its standard error.
+    let failing = "sh -c 'cat >/dev/null; echo node lost >&2; exit 3'";
+    let output = quick_eval(&spec, &broken, &["--executor", failing]);
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{message}");
+    assert!(message.contains("lamp::eval::executor_failed"), "{message}");
+    assert!(message.contains("failed (exit status: 3) without a result row"), "{message}");
+    assert!(message.contains("its standard error ended: node lost"), "{message}");
+    assert!(journal_keys(&broken).is_empty(), "nothing is journaled");
+
+    // Fixed, the same command solves every problem and gives the local worker's rows.
+    let output = quick_eval(&spec, &broken, &[]);
+    let message = stderr(&output);
+    assert!(output.status.success(), "{message}");
+    assert!(message.contains(", 0 already in the journal"), "{message}");
+    let fixed = read_json(&broken.join("eval.json"));
+    assert_eq!(deterministic_rows(&fixed), deterministic_rows(&expected));
+}
+
+/// An executor whose program is not there is refused before any demonstration is made, naming
+/// the command and why.
+#[test]
+fn an_executor_that_does_not_exist_is_refused_before_any_work() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let out = scratch.path().join("eval");
+    let missing = "/nonexistent/lampc-executor eval-worker";
+    let output = quick_eval(&spec, &out, &["--executor", missing]);
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{message}");
+    assert!(message.contains("lamp::eval::executor_start"), "{message}");
+    assert!(message.contains(&format!("cannot start the executor `{missing}`")), "{message}");
+    assert!(message.contains("No such file or directory"), "{message}");
+    let output = quick_eval(&spec, &out, &["--executor", "lampc-executor-nowhere eval-worker"]);
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{message}");
+    assert!(message.contains("`lampc-executor-nowhere` is in no folder of PATH"), "{message}");
+    let output = quick_eval(&spec, &out, &["--executor", "sh -c 'echo"]);
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{message}");
+    assert!(message.contains("lamp::eval::executor_syntax"), "{message}");
+    assert!(!scratch.path().join("build").exists(), "no demonstration is generated");
+    assert!(!out.exists(), "nothing is written");
+}
