@@ -1,5 +1,6 @@
-//! Action induction (paper App. C): transitions between consecutive distinct abstract states, lifted and clustered
-//! by their changes, become actions with learned preconditions and effects.
+//! Action induction (paper App. C): transitions between consecutive distinct abstract states (consecutive entries
+//! of one held object into regions taken as one, module `placements`), lifted and clustered by their changes,
+//! become actions with learned preconditions and effects.
 //!
 //! Lifting is canonical: the changed objects are renamed `?<type>_p<k>` by the bijection (per type) that makes the
 //! sorted lifted (added, deleted) lists smallest, so isomorphic transitions always share a key.
@@ -13,6 +14,7 @@ use crate::abstraction::Fact;
 use crate::demo::{Participant, Role};
 use crate::existential::{Complements, quantify_lone_extras};
 pub use crate::lifted::{LiftedAtom, Parameter};
+use crate::placements;
 use crate::relations::{PairVocabulary, Symbol, symbol_name};
 
 /// Above this many candidate renamings, the changed objects are renamed in name order instead.
@@ -93,11 +95,9 @@ pub(crate) fn induce(
     let mut clusters: BTreeMap<ClusterKey, Cluster> = BTreeMap::new();
     for demonstration in demonstrations {
         let mut became_true: BTreeSet<Fact> = BTreeSet::new();
-        for (step, window) in demonstration.states.windows(2).enumerate() {
-            let (pre, post) = (&window[0], &window[1]);
-            if pre == post {
-                continue;
-            }
+        let states = &demonstration.states;
+        for (step, after) in placements::changes(vocabulary, demonstration.participants, states) {
+            let (pre, post) = (&states[step], &states[after]);
             let added: BTreeSet<Fact> = post.difference(pre).copied().collect();
             let deleted: BTreeSet<Fact> = pre.difference(post).copied().collect();
             let transition = Transition {

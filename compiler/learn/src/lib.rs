@@ -26,6 +26,7 @@ mod lifted;
 pub mod model;
 pub mod occupancy;
 pub mod pairs;
+mod placements;
 pub mod region_model;
 pub mod regions;
 pub use lamp_abstraction::relations;
