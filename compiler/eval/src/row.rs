@@ -37,7 +37,8 @@ pub enum Outcome {
     Timeout,
     /// Learning from the subset failed, or the build wrote no PDDL problem for this problem.
     BuildFailed,
-    /// Anything else: a plugin failure, a stale problem, an invalid solution, a crashed worker.
+    /// Anything else: a plugin failure, a stale problem, an invalid solution, a solver that panicked (the
+    /// worker reports it as this row). A worker that dies without a row is an executor failure, never a row.
     Error,
 }
 
