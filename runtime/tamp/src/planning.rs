@@ -51,7 +51,8 @@ pub fn plans(
         PlanStatus::Solved => {
             return Err(SolveError::PluginAnswer {
                 kind: "planner",
-                reason: "it answered `solved` but returned no plan (the goal was not found                          unreachable; check the planner's configuration)"
+                reason: "it answered `solved` but returned no plan (the goal was not found \
+                         unreachable; check the planner's configuration)"
                     .to_string(),
             });
         }
