@@ -219,10 +219,13 @@ fn find_regions(
             critical.clear();
         } else if !selection.groups.is_empty() {
             // Chosen settings make regions only where demonstrations stop or change contact.
-            critical.retain(|cell, _| selection.cells.contains(cell));
+            critical.retain(|cell, _| selection.cells.contains_key(cell));
         }
     }
-    let regions = regions::components(&critical)
+    // With chosen settings a region is one place: neighbouring cells of two places stay two regions.
+    let place =
+        |cell: &crate::occupancy::Cell| selection.as_ref().and_then(|s| s.cells.get(cell).copied());
+    let regions = regions::components(&critical, |a, b| place(a) == place(b))
         .into_iter()
         .map(|cells| {
             let sides = capacity::decide(pair, primary_moves, &settings, &grid, &cells, shapes);

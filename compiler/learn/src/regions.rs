@@ -30,8 +30,12 @@ impl RegionCells {
     }
 }
 
-/// Splits critical cells into 6-connected components, in (g, smallest voxel) order.
-pub fn components(critical: &BTreeMap<Cell, BTreeSet<RotationCell>>) -> Vec<RegionCells> {
+/// Splits critical cells into 6-connected components, in (g, smallest voxel) order; two neighbouring cells
+/// are connected only where `joined` says so (cells of two different places stay apart).
+pub fn components(
+    critical: &BTreeMap<Cell, BTreeSet<RotationCell>>,
+    joined: impl Fn(&Cell, &Cell) -> bool,
+) -> Vec<RegionCells> {
     let mut seen: BTreeSet<Cell> = BTreeSet::new();
     let mut regions = Vec::new();
     for &start in critical.keys() {
@@ -46,7 +50,7 @@ pub fn components(critical: &BTreeMap<Cell, BTreeSet<RotationCell>>) -> Vec<Regi
             voxels.insert(cell.1, critical[&cell].clone());
             for neighbour in face_neighbours(cell.1) {
                 let next = (g, neighbour);
-                if critical.contains_key(&next) && seen.insert(next) {
+                if critical.contains_key(&next) && joined(&cell, &next) && seen.insert(next) {
                     queue.push_back(next);
                 }
             }
@@ -82,13 +86,24 @@ mod tests {
     }
 
     #[test]
+    fn neighbouring_cells_of_two_places_stay_two_regions() {
+        let cells = critical(&[(0, [1, 1, 1]), (0, [1, 1, 2]), (0, [1, 1, 3])]);
+        // The lowest cell is one place, the two above it another.
+        let place = |cell: &Cell| cell.1[2] > 1;
+        let regions = components(&cells, |a, b| place(a) == place(b));
+        assert_eq!(regions.len(), 2);
+        assert_eq!(
+            regions[1].voxels.keys().copied().collect::<Vec<_>>(),
+            vec![[1, 1, 2], [1, 1, 3]]
+        );
+    }
+
+    #[test]
     fn face_neighbours_join_and_diagonals_do_not() {
-        let regions = components(&critical(&[
-            (0, [1, 1, 1]),
-            (0, [1, 1, 2]),
-            (0, [2, 2, 2]),
-            (0, [3, 3, 3]),
-        ]));
+        let regions = components(
+            &critical(&[(0, [1, 1, 1]), (0, [1, 1, 2]), (0, [2, 2, 2]), (0, [3, 3, 3])]),
+            |_, _| true,
+        );
         assert_eq!(regions.len(), 3);
         assert_eq!(
             regions[0].voxels.keys().copied().collect::<Vec<_>>(),
@@ -101,7 +116,8 @@ mod tests {
 
     #[test]
     fn held_slices_never_join_and_order_is_g_then_smallest_voxel() {
-        let regions = components(&critical(&[(1, [0, 0, 0]), (0, [5, 0, 0]), (0, [0, 0, 0])]));
+        let regions =
+            components(&critical(&[(1, [0, 0, 0]), (0, [5, 0, 0]), (0, [0, 0, 0])]), |_, _| true);
         let keys: Vec<(u8, Voxel)> =
             regions.iter().map(|r| (r.g, *r.voxels.keys().next().expect("non-empty"))).collect();
         assert_eq!(keys, vec![(0, [0, 0, 0]), (0, [5, 0, 0]), (1, [0, 0, 0])]);
@@ -117,7 +133,7 @@ mod tests {
             (0, [2, 0, 0]),
             (0, [2, 0, 1]),
         ];
-        let regions = components(&critical(&snake));
+        let regions = components(&critical(&snake), |_, _| true);
         assert_eq!(regions.len(), 1);
         assert_eq!(regions[0].cell_count(), 6);
     }

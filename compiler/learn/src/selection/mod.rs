@@ -36,6 +36,9 @@ use crate::discretise::{FreeTurn, Grid};
 pub use clusters::MIN_RELATIVE_SUPPORT;
 pub use keyframes::{Stillness, Track, TrackFrame};
 
+/// A cell of the pair's grid with its held flag.
+pub type FlaggedCell = (u8, [usize; 3]);
+
 /// Padding around a group's keyframes, as a share of its extent along the axis.
 pub const EXTENT_PADDING: f64 = 0.02;
 /// The least padding (m) around a group's keyframes where nothing is let go of: the precision to which a robot
@@ -65,7 +68,9 @@ pub struct Selection {
     /// Per axis, whether no demonstration moves the pair along it ([`fixed_axes`]): one cell spans it.
     pub fixed_axes: [bool; 3],
     /// The cells, with their held flag, that the groups' keyframes fall in: the only cells regions are made of.
-    pub cells: BTreeSet<(u8, [usize; 3])>,
+    /// Each is labelled with its place: the first of the groups that share cells with one another, so that
+    /// groups in neighbouring cells stay apart (a plank resting by another in 22 ways, some a cell apart).
+    pub cells: BTreeMap<FlaggedCell, usize>,
 }
 
 /// Which settings the selection chose.
@@ -189,7 +194,7 @@ pub fn select(
             dropped,
             margins: [0.0; 3],
             fixed_axes,
-            cells: BTreeSet::new(),
+            cells: BTreeMap::new(),
         };
     }
     let extents: Vec<([f64; 3], [f64; 3])> =
@@ -343,19 +348,19 @@ fn best_cell_shares(
     groups: &[(u8, Vec<keyframes::Keyframe>, f64)],
     tracks: &[Track],
     demonstrations: usize,
-) -> (Vec<f64>, BTreeSet<(u8, [usize; 3])>) {
+) -> (Vec<f64>, BTreeMap<FlaggedCell, usize>) {
     let group_cells: Vec<BTreeSet<(u8, [usize; 3])>> = groups
         .iter()
         .map(|(g, members, _)| {
             members.iter().filter_map(|k| grid.voxel(&k.pose).map(|voxel| (*g, voxel))).collect()
         })
         .collect();
-    let wanted: BTreeSet<(u8, [usize; 3])> = group_cells.iter().flatten().copied().collect();
+    let wanted = places(&group_cells);
     let mut visitors: BTreeMap<(u8, [usize; 3]), BTreeSet<usize>> = BTreeMap::new();
     for track in tracks {
         for frame in &track.frames {
             if let Some(voxel) = grid.voxel(&frame.pose)
-                && wanted.contains(&(frame.g, voxel))
+                && wanted.contains_key(&(frame.g, voxel))
             {
                 visitors.entry((frame.g, voxel)).or_default().insert(track.demonstration);
             }
@@ -371,6 +376,31 @@ fn best_cell_shares(
         })
         .collect();
     (shares, wanted)
+}
+
+/// Every group's cells, labelled with their place: groups that share a cell are one place, named by the
+/// first of them.
+fn places(group_cells: &[BTreeSet<FlaggedCell>]) -> BTreeMap<FlaggedCell, usize> {
+    let mut place: Vec<usize> = (0..group_cells.len()).collect();
+    fn root(place: &mut [usize], mut group: usize) -> usize {
+        while place[group] != group {
+            place[group] = place[place[group]];
+            group = place[group];
+        }
+        group
+    }
+    let mut owner: BTreeMap<FlaggedCell, usize> = BTreeMap::new();
+    for (group, cells) in group_cells.iter().enumerate() {
+        for cell in cells {
+            if let Some(&other) = owner.get(cell) {
+                let (a, b) = (root(&mut place, other), root(&mut place, group));
+                place[a.max(b)] = a.min(b);
+            } else {
+                owner.insert(*cell, group);
+            }
+        }
+    }
+    owner.into_iter().map(|(cell, group)| (cell, root(&mut place, group))).collect()
 }
 
 #[cfg(test)]
