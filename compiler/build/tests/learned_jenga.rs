@@ -17,7 +17,7 @@ use lamp_learn::{
 };
 use nalgebra::{Translation3, UnitQuaternion};
 
-use support::{artifact, has, regions};
+use support::{artifact, regions};
 
 /// How many real demonstrations these tests learn from (the spec asks for 160). Each "across"
 /// cell is visited by one in six or five of them, and needs a tenth; the first 60 of the spec's
