@@ -147,15 +147,7 @@ pub fn contradicting_goals(
     for goal in &problem.goal.at {
         let own_marker = goal.marker_name();
         for (written, atom) in problem.goal.atoms.iter().zip(resolved) {
-            let names: Vec<&str> = atom
-                .arguments
-                .iter()
-                .map(|term| match term {
-                    lamp_pddl::Term::Constant(name) | lamp_pddl::Term::Variable(name) => {
-                        name.as_str()
-                    }
-                })
-                .collect();
+            let names: Vec<&str> = atom.arguments.iter().map(lamp_pddl::Term::name).collect();
             let [primary, secondary] = names.as_slice() else { continue };
             let (marker, object_is_secondary) = if *secondary == goal.object {
                 (*primary, true)
@@ -200,11 +192,19 @@ pub fn contradicting_goals(
 
 /// Whether a sample of `region` lands within `goal`'s position tolerance of `relative`.
 fn reaches(model: &Model, region: &lamp_learn::Region, relative: &Pose, goal: &AtGoal) -> bool {
-    let mut rng = ChaCha8Rng::seed_from_u64(model.seed);
-    (0..SPREAD_SAMPLES).any(|_| {
-        let sample = region.model.sample(&mut rng);
+    region_samples(model, region).any(|sample| {
         (sample.translation.vector - relative.translation.vector).norm() <= goal.position_tolerance
     })
+}
+
+/// The samples of a region both goal checks measure: drawn with the model's seed, so that the
+/// same model always warns and refuses the same way.
+fn region_samples<'a>(
+    model: &Model,
+    region: &'a lamp_learn::Region,
+) -> impl Iterator<Item = Pose> + 'a {
+    let mut rng = ChaCha8Rng::seed_from_u64(model.seed);
+    (0..SPREAD_SAMPLES).map(move |_| region.model.sample(&mut rng))
 }
 
 /// A warning when the region strays from the target by more than the goal allows, measured on
@@ -216,13 +216,11 @@ fn spread_warning(
     relation: &str,
 ) -> Option<GoalWarning> {
     let region = model.region(relation)?;
-    let mut rng = ChaCha8Rng::seed_from_u64(model.seed);
     let mut distances = Vec::with_capacity(SPREAD_SAMPLES);
     let mut angles = Vec::with_capacity(SPREAD_SAMPLES);
-    for _ in 0..SPREAD_SAMPLES {
-        // The sample is the object in the marker's frame, or the marker in the object's: the
-        // distance and the angle from the identity are the same either way.
-        let sample = region.model.sample(&mut rng);
+    // A sample is the object in the marker's frame, or the marker in the object's: the distance
+    // and the angle from the identity are the same either way.
+    for sample in region_samples(model, region) {
         distances.push(sample.translation.vector.norm());
         angles.push(sample.rotation.angle());
     }

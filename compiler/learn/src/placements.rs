@@ -71,8 +71,9 @@ fn entry_of_held(
     };
     // The object is the one every added relation names, with an object that is not a robot part (of two
     // movable objects, either may be the relation's primary).
+    let added: Vec<Fact> = post.difference(pre).copied().collect();
     let mut candidates: Option<BTreeSet<usize>> = None;
-    for fact in post.difference(pre) {
+    for fact in &added {
         match *fact {
             Fact::Relation { region, primary, secondary, .. }
                 if region >= 1 && !is_robot(primary) && !is_robot(secondary) =>
@@ -99,8 +100,8 @@ fn entry_of_held(
             None
         }
     };
-    let entered: BTreeSet<(usize, usize)> = post
-        .difference(pre)
+    let entered: BTreeSet<(usize, usize)> = added
+        .iter()
         .filter_map(|fact| match *fact {
             Fact::Relation { pair, primary, secondary, .. } => {
                 Some((pair, partner(primary, secondary)?))
