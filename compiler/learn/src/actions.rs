@@ -427,6 +427,19 @@ fn preconditions(
             matches!(*fact, Fact::Relation { pair: p, secondary, .. } if p == pair && secondary == object)
         })
     };
+    // Whether the pair's primary is a robot part.
+    let robot_pair = |pair: usize| {
+        transition.pre.iter().any(|fact| {
+            matches!(*fact, Fact::Relation { pair: p, primary, .. } if p == pair && is_robot(primary))
+        })
+    };
+    // Whether the action puts the object into that very region of another.
+    let enters_region = |pair: usize, region: usize, object: usize| {
+        transition.added.iter().any(|fact| {
+            matches!(*fact, Fact::Relation { pair: p, region: r, secondary, .. }
+                if p == pair && r == region && secondary == object)
+        })
+    };
     // Whether the action puts something into that very region of the object.
     let fills_region_of = |pair: usize, region: usize, object: usize| {
         transition.added.iter().any(|fact| {
@@ -462,10 +475,18 @@ fn preconditions(
             Fact::Clear { pair, region, object } => {
                 is_changed(object) && (is_robot(object) || fills_region_of(pair, region, object))
             }
-            // Whether the moved object is in a region of another (held by another gripper, say)
-            // matters to any change of its relations of the pair.
-            Fact::Nowhere { pair, object, .. } => {
-                is_changed(object) && changed_relation_as_secondary(pair, object)
+            // That the object is in a region of no robot part (held by another gripper, say)
+            // matters to any change of its relations of the pair. Of an object's regions, as with
+            // clear atoms, only the one the action puts it into: that it was in the pair's other
+            // regions of none is history (the legs a lintel is laid across stood on the table),
+            // which a larger task does not repeat.
+            Fact::Nowhere { pair, region, object } => {
+                is_changed(object)
+                    && if robot_pair(pair) {
+                        changed_relation_as_secondary(pair, object)
+                    } else {
+                        enters_region(pair, region, object)
+                    }
             }
         };
         if keep {
@@ -594,11 +615,13 @@ mod tests {
     }
 
     #[test]
-    fn nowhere_atoms_are_kept_only_where_the_pair_changes_with_the_object_as_secondary() {
+    fn nowhere_atoms_are_kept_only_where_the_action_puts_the_object_into_that_region() {
         let participants = with_surface();
         let mut vocabulary = vocabulary();
-        vocabulary[1].nowhere = vec![true];
-        // The can is in region 1 of no surface exactly when it is not in the box.
+        // A second surface region (beside the box, say) that no demonstration uses.
+        vocabulary[1].region_flags = vec![0, 0];
+        vocabulary[1].nowhere = vec![true; 2];
+        // The can is in region 1 of no surface exactly when it is not in the box, and always in region 2 of none.
         let with_nowhere = |states: Vec<BTreeSet<Fact>>| -> Vec<BTreeSet<Fact>> {
             states
                 .into_iter()
@@ -607,6 +630,7 @@ mod tests {
                         if !facts.contains(&surface_can(1, can)) {
                             facts.insert(Fact::Nowhere { pair: 1, region: 1, object: can });
                         }
+                        facts.insert(Fact::Nowhere { pair: 1, region: 2, object: can });
                     }
                     facts
                 })
@@ -624,6 +648,8 @@ mod tests {
             .expect("a place action");
         assert!(strings(&place.preconditions).contains(&"(nowhere_surface_can_1 ?can_p1)".into()));
         assert!(strings(&place.delete).contains(&"(nowhere_surface_can_1 ?can_p1)".into()));
+        // That the can was beside no surface is the demonstration's history, not the place's business.
+        assert!(!strings(&place.preconditions).contains(&"(nowhere_surface_can_2 ?can_p1)".into()));
         // Approaching changes only the gripper–can pair: the can's nowhere atom is not its business.
         let approach = actions
             .iter()

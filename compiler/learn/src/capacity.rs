@@ -151,6 +151,22 @@ pub fn decide(
 /// The region's candidate poses of the secondary in the primary's frame: every voxel corner (deduplicated) with
 /// the centre rotation of every rotation cell of the region (deduplicated), corners and cells in index order.
 pub fn candidate_poses(grid: &Grid, cells: &RegionCells) -> Vec<Pose> {
+    let rotations: BTreeSet<[usize; 3]> = cells.voxels.values().flatten().copied().collect();
+    let rotations: Vec<nalgebra::UnitQuaternion<f64>> =
+        rotations.into_iter().map(|cell| grid.rotation_cell_centre(cell)).collect();
+    let positions =
+        if grid.boxes().is_empty() { grid_corners(grid, cells) } else { box_corners(grid, cells) };
+    let mut poses = Vec::with_capacity(positions.len() * rotations.len());
+    for position in positions {
+        for rotation in &rotations {
+            poses.push(Pose::from_parts(position.into(), *rotation));
+        }
+    }
+    poses
+}
+
+/// The corners of a uniform grid's voxels, each once, in index order.
+fn grid_corners(grid: &Grid, cells: &RegionCells) -> Vec<nalgebra::Vector3<f64>> {
     let corners: BTreeSet<[usize; 3]> = cells
         .voxels
         .keys()
@@ -160,20 +176,30 @@ pub fn candidate_poses(grid: &Grid, cells: &RegionCells) -> Vec<Pose> {
             })
         })
         .collect();
-    let rotations: BTreeSet<[usize; 3]> = cells.voxels.values().flatten().copied().collect();
     let low = grid.voxel_bounds([0; 3]);
     let width: Vec<f64> = (0..3).map(|axis| low[axis].1 - low[axis].0).collect();
-    let rotations: Vec<nalgebra::UnitQuaternion<f64>> =
-        rotations.into_iter().map(|cell| grid.rotation_cell_centre(cell)).collect();
-    let mut poses = Vec::with_capacity(corners.len() * rotations.len());
-    for corner in corners {
-        let position =
-            nalgebra::Vector3::from_fn(|axis, _| low[axis].0 + corner[axis] as f64 * width[axis]);
-        for rotation in &rotations {
-            poses.push(Pose::from_parts(position.into(), *rotation));
-        }
-    }
-    poses
+    corners
+        .into_iter()
+        .map(|corner| {
+            nalgebra::Vector3::from_fn(|axis, _| low[axis].0 + corner[axis] as f64 * width[axis])
+        })
+        .collect()
+}
+
+/// The corners of a grid of boxes' voxels, box by box.
+fn box_corners(grid: &Grid, cells: &RegionCells) -> Vec<nalgebra::Vector3<f64>> {
+    cells
+        .voxels
+        .keys()
+        .flat_map(|voxel| {
+            let bounds = grid.voxel_bounds(*voxel);
+            (0..8).map(move |corner: usize| {
+                nalgebra::Vector3::from_fn(|axis, _| {
+                    if (corner >> axis) & 1 == 0 { bounds[axis].0 } else { bounds[axis].1 }
+                })
+            })
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -1,7 +1,9 @@
 //! Cells of the relative-pose space of one type pair: position voxels and rotation cells.
 //!
 //! Positions use `n` bins over the closed interval `[-R, R]` per axis; the upper edge belongs to the last bin and
-//! anything outside falls in no cell.
+//! anything outside falls in no cell. Where no such grid keeps the places the demonstrations stop at apart, the
+//! selection gives each place a box of its own instead ([`Grid::with_boxes`]): voxel `[i, 0, 0]` is box `i`, and
+//! a position in no box falls in no cell.
 //! Rotations use the rotation vector (axis · angle, angle in `[0, π]`), each component in `n` bins over `[-π, π]`.
 //! Where the demonstrations leave a turn about an axis of the secondary free ([`FreeTurn`]), the rotation vector is
 //! that of the turn from a reference rotation, in the secondary's frame, and its component along the axis has one
@@ -33,7 +35,12 @@ pub struct Grid {
     half_range: [f64; 3],
     rotation_bins: usize,
     free_turn: Option<FreeTurn>,
+    /// One box per place, per axis `(low, high)`, pairwise disjoint; empty for the uniform grid.
+    boxes: Vec<Bounds>,
 }
+
+/// The extent of a cell per axis, `(low, high)`.
+pub type Bounds = [(f64, f64); 3];
 
 impl Grid {
     /// The grid described by a pair's settings.
@@ -43,7 +50,19 @@ impl Grid {
             half_range: settings.half_range,
             rotation_bins: settings.rotation_bins,
             free_turn: settings.free_turn,
+            boxes: Vec::new(),
         }
+    }
+
+    /// The settings' rotation cells over the given position boxes (pairwise disjoint), one voxel each, in place
+    /// of the settings' uniform grid.
+    pub fn with_boxes(settings: &PairSettings, boxes: Vec<Bounds>) -> Self {
+        Grid { boxes, ..Grid::new(settings) }
+    }
+
+    /// The position boxes, if the grid is made of boxes rather than uniform bins.
+    pub fn boxes(&self) -> &[Bounds] {
+        &self.boxes
     }
 
     /// Bins per position axis.
@@ -98,6 +117,14 @@ impl Grid {
     /// The voxel of a position, or `None` outside the range.
     pub fn voxel(&self, pose: &Pose) -> Option<Voxel> {
         let position = pose.translation.vector;
+        if !self.boxes.is_empty() {
+            let inside = |bounds: &Bounds| {
+                (0..3).all(|axis| {
+                    position[axis] >= bounds[axis].0 && position[axis] <= bounds[axis].1
+                })
+            };
+            return self.boxes.iter().position(inside).map(|index| [index, 0, 0]);
+        }
         let mut voxel = [0; 3];
         for axis in 0..3 {
             voxel[axis] = bin(position[axis], self.half_range[axis], self.bins[axis])?;
@@ -117,6 +144,9 @@ impl Grid {
 
     /// The centre of a voxel.
     pub fn voxel_centre(&self, voxel: Voxel) -> [f64; 3] {
+        if !self.boxes.is_empty() {
+            return self.voxel_bounds(voxel).map(|(low, high)| 0.5 * (low + high));
+        }
         let mut centre = [0.0; 3];
         for axis in 0..3 {
             let width = 2.0 * self.half_range[axis] / self.bins[axis] as f64;
@@ -126,7 +156,10 @@ impl Grid {
     }
 
     /// The extent of a voxel, per axis `(low, high)`.
-    pub fn voxel_bounds(&self, voxel: Voxel) -> [(f64, f64); 3] {
+    pub fn voxel_bounds(&self, voxel: Voxel) -> Bounds {
+        if let Some(bounds) = self.boxes.get(voxel[0]) {
+            return *bounds;
+        }
         let mut bounds = [(0.0, 0.0); 3];
         for axis in 0..3 {
             let width = 2.0 * self.half_range[axis] / self.bins[axis] as f64;

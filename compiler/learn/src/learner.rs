@@ -194,7 +194,7 @@ fn find_regions(
         Some(selection) => selection.settings.clone(),
         None => pinned.resolve(&PairSettings::DEFAULT),
     };
-    let grid = Grid::new(&settings);
+    let grid = selection.as_ref().map_or_else(|| Grid::new(&settings), Selection::grid);
     let mut occupancy = Occupancy::default();
     let mut observations = Vec::new();
     // Tracks come per demonstration, in instance order; observations stay in step order within one.

@@ -127,6 +127,13 @@ fn selection_section(out: &mut String, selection: &Selection) {
         settings.rotation_bins,
         settings.threshold
     );
+    if !selection.boxes.is_empty() {
+        let _ = writeln!(
+            out,
+            "No uniform grid keeps the groups apart (the finest that keeps each group whole puts some in one cell), so each place is a box of its own, the group's extent with its tolerance: {} boxes in place of those bins (pinned bins bring the grid back).",
+            selection.boxes.len()
+        );
+    }
     let _ = writeln!(
         out,
         "{} keyframes (still: under {:.3} mm and {:.4}° a step); {} groups kept, {} left out for too little support; least margin of a group from its cell's edges per axis {:.2}, {:.2}, {:.2} of a cell.

@@ -12,7 +12,8 @@
 //!
 //! Of the keyframes at one step, each participant keeps only its nearest partner of the other type, both ways:
 //! a can let go of in the box also comes to rest relative to every other fixed surface in the room, and those
-//! distant relations would otherwise recur as clusters of their own.
+//! distant relations would otherwise recur as clusters of their own. Two movable objects are the exception
+//! ([`keyframes_with_every_partner`]): they count only where they touch, and one may touch several partners.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -106,6 +107,16 @@ fn tenth_percentile(values: &mut [f64]) -> f64 {
 
 /// The keyframes of a pair's tracks, each participant with its nearest partner only, one per pose and track.
 pub fn keyframes(tracks: &[Track], still: Stillness) -> Vec<Keyframe> {
+    deduplicate(nearest_partners(events(tracks, still)))
+}
+
+/// The keyframes of a pair's tracks with every partner, one per pose and track: for two movable objects, whose
+/// keyframes count only where they touch, so that a lintel let go of across two legs relates to both.
+pub fn keyframes_with_every_partner(tracks: &[Track], still: Stillness) -> Vec<Keyframe> {
+    deduplicate(events(tracks, still))
+}
+
+fn events(tracks: &[Track], still: Stillness) -> Vec<Keyframe> {
     let mut found = Vec::new();
     for track in tracks {
         let mut steps = BTreeSet::new();
@@ -141,7 +152,7 @@ pub fn keyframes(tracks: &[Track], still: Stillness) -> Vec<Keyframe> {
             });
         }
     }
-    deduplicate(nearest_partners(found))
+    found
 }
 
 /// Runs of at least [`REST_FRAMES`] frames, each still relative to the one before: `(first, last)` indices.
@@ -282,5 +293,19 @@ mod tests {
         let found = keyframes(&[far, near], still);
         assert_eq!(found.len(), 1);
         assert_eq!((found[0].primary, found[0].step), (0, 2));
+    }
+
+    #[test]
+    fn an_object_let_go_of_across_two_partners_relates_to_both_when_every_partner_counts() {
+        // A lintel (1) comes to rest across two legs, 3.5 cm from one (0) and 4.2 cm from the other (2).
+        let near = track(&[0.3, 0.2, 0.035, 0.035, 0.035]);
+        let mut other = track(&[0.3, 0.2, 0.042, 0.042, 0.042]);
+        other.primary = 2;
+        let still = Stillness { position: STILL_POSITION_FLOOR, rotation: STILL_ROTATION_FLOOR };
+        let tracks = [near, other];
+        assert_eq!(keyframes(&tracks, still).len(), 1);
+        let every = keyframes_with_every_partner(&tracks, still);
+        let primaries: BTreeSet<usize> = every.iter().map(|k| k.primary).collect();
+        assert_eq!(primaries, BTreeSet::from([0, 2]));
     }
 }

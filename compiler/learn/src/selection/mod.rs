@@ -32,7 +32,7 @@ pub mod keyframes;
 use std::collections::{BTreeMap, BTreeSet};
 
 use crate::config::{PairSettings, PinnedSettings};
-use crate::discretise::{FreeTurn, Grid};
+use crate::discretise::{Bounds, FreeTurn, Grid};
 pub use clusters::MIN_RELATIVE_SUPPORT;
 pub use keyframes::{Stillness, Track, TrackFrame};
 
@@ -71,6 +71,8 @@ pub struct Selection {
     /// Each is labelled with its place: the first of the groups that share cells with one another, so that
     /// groups in neighbouring cells stay apart (a plank resting by another in 22 ways, some a cell apart).
     pub cells: BTreeMap<FlaggedCell, usize>,
+    /// Where no uniform grid keeps the places apart, the box of each place ([`Grid::with_boxes`]); else empty.
+    pub boxes: Vec<Bounds>,
 }
 
 /// Which settings the selection chose.
@@ -111,6 +113,15 @@ pub struct Group {
 }
 
 impl Selection {
+    /// The cells learning counts visits in: the settings' uniform grid, or the boxes of the places.
+    pub fn grid(&self) -> Grid {
+        if self.boxes.is_empty() {
+            Grid::new(&self.settings)
+        } else {
+            Grid::with_boxes(&self.settings, self.boxes.clone())
+        }
+    }
+
     /// Whether the pair may learn regions: it has a group, or its threshold was pinned.
     pub fn learns_regions(&self) -> bool {
         !self.groups.is_empty() || !self.chosen.threshold
@@ -148,12 +159,16 @@ pub fn select(
         threshold: pinned.threshold.is_none(),
     };
     let stillness = keyframes::stillness(tracks);
-    let mut keyframes = keyframes::keyframes(tracks, stillness);
-    let apart = contact.map(|touching| {
-        let before = keyframes.len();
-        keyframes.retain(|keyframe| touching(&keyframe.pose));
-        before - keyframes.len()
-    });
+    let (keyframes, apart) = match contact {
+        Some(touching) => {
+            let mut every = keyframes::keyframes_with_every_partner(tracks, stillness);
+            let before = every.len();
+            every.retain(|keyframe| touching(&keyframe.pose));
+            let apart = before - every.len();
+            (every, Some(apart))
+        }
+        None => (keyframes::keyframes(tracks, stillness), None),
+    };
     let fixed_axes = fixed_axes::fixed_axes(tracks, stillness);
     let mut found: Vec<(u8, Vec<keyframes::Keyframe>, f64)> = Vec::new();
     for g in [0u8, 1] {
@@ -195,6 +210,7 @@ pub fn select(
             margins: [0.0; 3],
             fixed_axes,
             cells: BTreeMap::new(),
+            boxes: Vec::new(),
         };
     }
     let extents: Vec<([f64; 3], [f64; 3])> =
@@ -269,8 +285,20 @@ pub fn select(
     };
     let mut settings =
         PairSettings { position_bins, half_range, rotation_bins, free_turn, ..fallback };
-    let grid = Grid::new(&settings);
-    let (shares, cells) = best_cell_shares(&grid, &found, tracks, demonstrations);
+    let mut grid = Grid::new(&settings);
+    let (mut shares, mut cells) = best_cell_shares(&grid, &found, tracks, demonstrations);
+    // Each axis's bins must keep every group whole, so groups far apart on one axis can still share a cell
+    // when their intervals chain along the others: then each place gets a box of its own.
+    let places = cells.values().collect::<BTreeSet<_>>().len();
+    if places < found.len() && chosen.position_bins && chosen.half_range {
+        let boxes = place_boxes(&extents, &floors, fixed_axes);
+        let boxed = Grid::with_boxes(&settings, boxes.clone());
+        let (boxed_shares, boxed_cells) = best_cell_shares(&boxed, &found, tracks, demonstrations);
+        if boxed_cells.values().collect::<BTreeSet<_>>().len() > places {
+            margins = box_margins(&boxes, &extents);
+            (grid, shares, cells) = (boxed, boxed_shares, boxed_cells);
+        }
+    }
     if chosen.threshold {
         let least = shares.iter().copied().fold(1.0, f64::min);
         settings.threshold = least.clamp(f64::MIN_POSITIVE, 1.0);
@@ -303,7 +331,68 @@ pub fn select(
         margins,
         fixed_axes,
         cells,
+        boxes: grid.boxes().to_vec(),
     }
+}
+
+/// One box per place: each group's keyframe extent, padded as for the grid, with boxes that overlap joined (they
+/// are one place), in order of their lower corner. Along a fixed axis every box spans every group.
+fn place_boxes(extents: &[([f64; 3], [f64; 3])], floors: &[f64], fixed: [bool; 3]) -> Vec<Bounds> {
+    let padded = |low: f64, high: f64, floor: f64| {
+        let pad = (EXTENT_PADDING * (high - low)).max(floor);
+        (low - pad, high + pad)
+    };
+    let floor = floors.iter().copied().fold(PLACEMENT_TOLERANCE, f64::max);
+    let span = [0, 1, 2].map(|axis| {
+        let low = extents.iter().map(|(low, _)| low[axis]).fold(f64::INFINITY, f64::min);
+        let high = extents.iter().map(|(_, high)| high[axis]).fold(f64::NEG_INFINITY, f64::max);
+        padded(low, high, floor)
+    });
+    let mut boxes: Vec<Bounds> = extents
+        .iter()
+        .zip(floors)
+        .map(|((low, high), floor)| {
+            [0, 1, 2].map(|axis| {
+                if fixed[axis] { span[axis] } else { padded(low[axis], high[axis], *floor) }
+            })
+        })
+        .collect();
+    let overlap = |a: &Bounds, b: &Bounds| {
+        (0..3).all(|axis| a[axis].0 <= b[axis].1 && b[axis].0 <= a[axis].1)
+    };
+    loop {
+        let pair = (0..boxes.len())
+            .flat_map(|i| (i + 1..boxes.len()).map(move |j| (i, j)))
+            .find(|&(i, j)| overlap(&boxes[i], &boxes[j]));
+        let Some((i, j)) = pair else { break };
+        let joined = boxes.remove(j);
+        for axis in 0..3 {
+            boxes[i][axis] =
+                (boxes[i][axis].0.min(joined[axis].0), boxes[i][axis].1.max(joined[axis].1));
+        }
+    }
+    boxes.sort_by(|a, b| {
+        let corner = |bounds: &Bounds| bounds.map(|(low, _)| low);
+        corner(a).partial_cmp(&corner(b)).unwrap_or(std::cmp::Ordering::Equal)
+    });
+    boxes
+}
+
+/// Per axis, the least margin of a group from its box's edges, as a share of the box.
+fn box_margins(boxes: &[Bounds], extents: &[([f64; 3], [f64; 3])]) -> [f64; 3] {
+    let mut margins = [f64::INFINITY; 3];
+    for (low, high) in extents {
+        let inside = boxes.iter().find(|bounds| {
+            (0..3).all(|axis| bounds[axis].0 <= low[axis] && high[axis] <= bounds[axis].1)
+        });
+        let Some(bounds) = inside else { continue };
+        for axis in 0..3 {
+            let width = (bounds[axis].1 - bounds[axis].0).max(f64::MIN_POSITIVE);
+            let margin = (low[axis] - bounds[axis].0).min(bounds[axis].1 - high[axis]) / width;
+            margins[axis] = margins[axis].min(margin);
+        }
+    }
+    margins.map(|margin| if margin.is_finite() { margin } else { 0.0 })
 }
 
 /// The turn the groups leave free, if any, measured from the first keyframe of the
@@ -441,6 +530,52 @@ mod tests {
         let grid = Grid::new(&selection.settings);
         let at = |height: f64| grid.voxel(&Pose::translation(0.9, 0.0003, height));
         assert!(at(0.73).is_some() && at(0.73) == at(0.90), "{:?}", selection.settings);
+    }
+
+    #[test]
+    fn places_that_no_uniform_grid_keeps_apart_get_boxes_of_their_own() {
+        // A plank comes to rest 8 mm above (A) or below (B) another's middle, or anywhere within 5 mm of its
+        // height 5 cm along it (C). C's heights overlap both A's and B's, so every uniform grid that keeps C
+        // whole puts A and B in one cell.
+        let rest = |demonstration: usize| match demonstration % 3 {
+            0 => (0.0, 0.008),
+            1 => (0.0, -0.008),
+            _ => (0.05, -0.005 + 0.001 * (demonstration / 3) as f64),
+        };
+        let tracks: Vec<Track> = (0..33)
+            .map(|demonstration| {
+                let (x, z) = rest(demonstration);
+                let frames = (0..20)
+                    .map(|step| 0.2 - 0.01 * step as f64)
+                    .chain(std::iter::repeat_n(0.0, 10))
+                    .map(|above| TrackFrame {
+                        g: 0,
+                        pose: Pose::translation(x + above, above, z + above),
+                        contact: false,
+                    })
+                    .collect();
+                Track { demonstration, primary: 0, secondary: 1, frames }
+            })
+            .collect();
+        let selection = select(&PinnedSettings::default(), &tracks, 33, 3, 0.1, 0.005, None);
+        assert_eq!(selection.groups.len(), 3, "{:?}", selection.groups);
+        assert_eq!(selection.boxes.len(), 3, "{:?}", selection.boxes);
+        let places: BTreeSet<usize> = selection.cells.values().copied().collect();
+        assert_eq!(places.len(), 3, "{:?}", selection.cells);
+        // Each rest falls in its own box, and a pose between A and B in none.
+        let grid = selection.grid();
+        let voxel = |x: f64, z: f64| grid.voxel(&Pose::translation(x, 0.0, z));
+        let (a, b, c) = (voxel(0.0, 0.008), voxel(0.0, -0.008), voxel(0.05, 0.0));
+        assert!(a.is_some() && b.is_some() && c.is_some());
+        assert!(a != b && b != c && a != c);
+        assert_eq!(voxel(0.0, 0.0), None);
+        // Pinned bins keep the uniform grid.
+        let pinned = PinnedSettings {
+            position_bins: Some([5, 5, 5]),
+            half_range: Some([0.1, 0.1, 0.1]),
+            ..PinnedSettings::default()
+        };
+        assert!(select(&pinned, &tracks, 33, 3, 0.1, 0.005, None).boxes.is_empty());
     }
 
     #[test]
