@@ -6,6 +6,8 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use lamp_tests::workspace_root;
+use proc_macro2::{TokenStream, TokenTree};
+use syn::visit::{self, Visit};
 
 /// External crates that may appear in exactly the listed workspace crates.
 const CONFINED_DEPENDENCIES: &[(&str, &[&str])] = &[
@@ -177,6 +179,51 @@ fn every_source_module_starts_with_its_documentation() {
     assert!(undocumented.is_empty(), "modules without a `//!` doc:\n{}", undocumented.join("\n"));
 }
 
+/// A Rust file parsed, or the reason it is not (the tidy rules read items, not text).
+fn parse_source(file: &Path) -> syn::File {
+    let text = fs::read_to_string(file).expect("readable source");
+    syn::parse_file(&text).unwrap_or_else(|e| panic!("{}: {e}", file.display()))
+}
+
+/// The test attributes a file carries anywhere, its test modules included: `#[ignore]` in
+/// either form, `#[should_panic]`, and both inside `#[cfg_attr(…)]`.
+fn forbidden_test_attributes(file: &syn::File) -> Vec<String> {
+    struct Attributes(Vec<String>);
+    impl<'ast> Visit<'ast> for Attributes {
+        fn visit_attribute(&mut self, attribute: &'ast syn::Attribute) {
+            let names: Vec<String> = match attribute.path().get_ident() {
+                Some(name) if name == "cfg_attr" => match &attribute.meta {
+                    syn::Meta::List(list) => token_identifiers(list.tokens.clone()),
+                    _ => Vec::new(),
+                },
+                Some(name) => vec![name.to_string()],
+                None => Vec::new(),
+            };
+            for name in names {
+                if name == "ignore" || name == "should_panic" {
+                    self.0.push(format!("#[{name}]"));
+                }
+            }
+        }
+    }
+    let mut attributes = Attributes(Vec::new());
+    attributes.visit_file(file);
+    attributes.0
+}
+
+/// Every identifier in a token stream, groups included.
+fn token_identifiers(tokens: TokenStream) -> Vec<String> {
+    let mut names = Vec::new();
+    for tree in tokens {
+        match tree {
+            TokenTree::Ident(name) => names.push(name.to_string()),
+            TokenTree::Group(group) => names.extend(token_identifiers(group.stream())),
+            TokenTree::Punct(_) | TokenTree::Literal(_) => {}
+        }
+    }
+    names
+}
+
 #[test]
 fn no_test_is_ignored_or_expected_to_panic() {
     let mut offenders = Vec::new();
@@ -184,15 +231,28 @@ fn no_test_is_ignored_or_expected_to_panic() {
         let mut files = Vec::new();
         rust_files(&manifest.dir, &mut files);
         for file in files {
-            let text = fs::read_to_string(&file).expect("readable source");
-            let should_panic = ["#[should", "_panic"].concat();
-            let ignore = ["#[", "ignore]"].concat();
-            if text.contains(&should_panic) || text.contains(&ignore) {
-                offenders.push(file.display().to_string());
+            let found = forbidden_test_attributes(&parse_source(&file));
+            if !found.is_empty() {
+                offenders.push(format!("{}: {}", file.display(), found.join(", ")));
             }
         }
     }
     assert!(offenders.is_empty(), "ignored or should-panic tests:\n{}", offenders.join("\n"));
+}
+
+#[test]
+fn the_test_attribute_rule_sees_ignore_in_every_form() {
+    let found = |source: &str| forbidden_test_attributes(&syn::parse_file(source).unwrap());
+    let ignored = "#[cfg(test)] mod tests { #[test] #[ignore] fn a() {} }";
+    assert_eq!(found(ignored), ["#[ignore]"]);
+    let with_reason = "#[cfg(test)] mod tests { #[test] #[ignore = \"slow\"] fn a() {} }";
+    assert_eq!(found(with_reason), ["#[ignore]"]);
+    let conditional = "#[test] #[cfg_attr(miri, ignore = \"slow\")] fn a() {}";
+    assert_eq!(found(conditional), ["#[ignore]"]);
+    let panicking = "#[test] #[should_panic(expected = \"no\")] fn a() {}";
+    assert_eq!(found(panicking), ["#[should_panic]"]);
+    let in_text = "//! `#[ignore]`\nconst RULE: &str = \"#[ignore]\"; #[test] fn a() {}";
+    assert!(found(in_text).is_empty());
 }
 
 /// Crates that sit on top: they put the libraries together for one command, so no library may
@@ -248,30 +308,158 @@ fn plugins_link_only_the_plugin_contract_and_small_leaves() {
     assert!(violations.is_empty(), "plugins linking heavy crates:\n{}", violations.join("\n"));
 }
 
-/// The code of a crate's `src/` files: each cut at its tests, without comment lines (whose
-/// examples are not the crate's code).
-fn library_source(manifest: &Manifest) -> Vec<(PathBuf, String)> {
+/// What a source file's product code names, everything but the items under `#[cfg(test)]`
+/// (a test module is skipped whole, however early it comes, and the code after it is read).
+#[derive(Debug, Default)]
+struct ProductCode {
+    /// Every path, `::`-joined: in `use` items (groups expanded, renames by their source), in
+    /// types and expressions, and in the tokens of macro calls.
+    paths: BTreeSet<String>,
+    /// The traits it implements, as written.
+    implemented: BTreeSet<String>,
+    /// The names its `use` items bring in, and the path each comes from (read of a crate root,
+    /// whose names the other modules reach as `crate::Name`).
+    imported: BTreeMap<String, String>,
+}
+
+impl ProductCode {
+    fn of(file: &syn::File) -> ProductCode {
+        let mut code = ProductCode::default();
+        code.visit_file(file);
+        code
+    }
+}
+
+/// Whether an item is compiled for tests only (`#[cfg(test)]`).
+fn is_test_only(attributes: &[syn::Attribute]) -> bool {
+    attributes.iter().any(|attribute| match &attribute.meta {
+        syn::Meta::List(list) => list.path.is_ident("cfg") && list.tokens.to_string() == "test",
+        _ => false,
+    })
+}
+
+/// A path's segments, `::`-joined, without generic arguments.
+fn path_text(path: &syn::Path) -> String {
+    let segments: Vec<String> = path.segments.iter().map(|s| s.ident.to_string()).collect();
+    segments.join("::")
+}
+
+/// The paths of a `use` tree, groups expanded: `a::{b, c::d as e}` gives `a::b` and `a::c::d`,
+/// each with the name it is known by.
+fn use_paths(tree: &syn::UseTree, prefix: &str, out: &mut Vec<(String, String)>) {
+    let joined = |name: &syn::Ident| {
+        if prefix.is_empty() { name.to_string() } else { format!("{prefix}::{name}") }
+    };
+    match tree {
+        syn::UseTree::Path(path) => use_paths(&path.tree, &joined(&path.ident), out),
+        syn::UseTree::Name(name) => out.push((joined(&name.ident), name.ident.to_string())),
+        syn::UseTree::Rename(rename) => {
+            out.push((joined(&rename.ident), rename.rename.to_string()));
+        }
+        syn::UseTree::Glob(_) => out.push((format!("{prefix}::*"), "*".to_string())),
+        syn::UseTree::Group(group) => {
+            for item in &group.items {
+                use_paths(item, prefix, out);
+            }
+        }
+    }
+}
+
+/// The paths in macro tokens, which syn leaves unparsed: runs of `ident::ident…`.
+fn token_paths(tokens: TokenStream, out: &mut BTreeSet<String>) {
+    fn finish(current: &mut Vec<String>, out: &mut BTreeSet<String>) {
+        if !current.is_empty() {
+            out.insert(current.join("::"));
+            current.clear();
+        }
+    }
+    let mut current: Vec<String> = Vec::new();
+    let mut colons = 0;
+    for tree in tokens {
+        match tree {
+            TokenTree::Ident(name) => {
+                if colons != 2 {
+                    finish(&mut current, out);
+                }
+                current.push(name.to_string());
+                colons = 0;
+            }
+            TokenTree::Punct(punct) if punct.as_char() == ':' && !current.is_empty() => {
+                colons += 1;
+            }
+            TokenTree::Group(group) => {
+                finish(&mut current, out);
+                colons = 0;
+                token_paths(group.stream(), out);
+            }
+            TokenTree::Punct(_) | TokenTree::Literal(_) => {
+                finish(&mut current, out);
+                colons = 0;
+            }
+        }
+    }
+    finish(&mut current, out);
+}
+
+impl<'ast> Visit<'ast> for ProductCode {
+    fn visit_item(&mut self, item: &'ast syn::Item) {
+        let attributes = match item {
+            syn::Item::Const(item) => &item.attrs,
+            syn::Item::Enum(item) => &item.attrs,
+            syn::Item::Fn(item) => &item.attrs,
+            syn::Item::Impl(item) => &item.attrs,
+            syn::Item::Macro(item) => &item.attrs,
+            syn::Item::Mod(item) => &item.attrs,
+            syn::Item::Static(item) => &item.attrs,
+            syn::Item::Struct(item) => &item.attrs,
+            syn::Item::Trait(item) => &item.attrs,
+            syn::Item::Type(item) => &item.attrs,
+            syn::Item::Use(item) => &item.attrs,
+            _ => return visit::visit_item(self, item),
+        };
+        if !is_test_only(attributes) {
+            visit::visit_item(self, item);
+        }
+    }
+
+    fn visit_item_use(&mut self, item: &'ast syn::ItemUse) {
+        let mut paths = Vec::new();
+        use_paths(&item.tree, "", &mut paths);
+        for (path, name) in paths {
+            self.imported.insert(name, path.clone());
+            self.paths.insert(path);
+        }
+    }
+
+    fn visit_item_impl(&mut self, item: &'ast syn::ItemImpl) {
+        if let Some((_, path, _)) = &item.trait_ {
+            self.implemented.insert(path_text(path));
+        }
+        visit::visit_item_impl(self, item);
+    }
+
+    fn visit_path(&mut self, path: &'ast syn::Path) {
+        self.paths.insert(path_text(path));
+        visit::visit_path(self, path);
+    }
+
+    fn visit_macro(&mut self, mac: &'ast syn::Macro) {
+        token_paths(mac.tokens.clone(), &mut self.paths);
+        visit::visit_macro(self, mac);
+    }
+}
+
+/// What each of a crate's `src/` files names in its product code.
+fn library_source(manifest: &Manifest) -> Vec<(PathBuf, ProductCode)> {
     let mut files = Vec::new();
     rust_files(&manifest.dir.join("src"), &mut files);
     files.sort();
-    files
-        .into_iter()
-        .map(|file| {
-            let code = code_of(&fs::read_to_string(&file).expect("readable source"));
-            (file, code)
-        })
-        .collect()
+    files.into_iter().map(|file| (file.clone(), ProductCode::of(&parse_source(&file)))).collect()
 }
 
-/// A source file's code: cut at its tests, without comment lines.
-fn code_of(text: &str) -> String {
-    text.split("#[cfg(test)]")
-        .next()
-        .unwrap_or_default()
-        .lines()
-        .filter(|line| !line.trim_start().starts_with("//"))
-        .collect::<Vec<_>>()
-        .join("\n")
+/// Whether one of `paths` ends in the segments of `suffix`.
+fn names(paths: &BTreeSet<String>, suffix: &str) -> bool {
+    paths.iter().any(|path| path == suffix || path.ends_with(&format!("::{suffix}")))
 }
 
 #[test]
@@ -281,8 +469,8 @@ fn every_plugin_reads_its_configuration_as_one_json_object() {
     for manifest in workspace_manifests().iter().filter(|m| m.dir.starts_with(root.join("plugins")))
     {
         let source = library_source(manifest);
-        let makes = source.iter().any(|(_, code)| code.contains("impl PluginFactory for"));
-        let reads = source.iter().any(|(_, code)| code.contains("PluginConfig::parse("));
+        let makes = source.iter().any(|(_, code)| names(&code.implemented, "PluginFactory"));
+        let reads = source.iter().any(|(_, code)| names(&code.paths, "PluginConfig::parse"));
         if makes && !reads {
             violations.push(manifest.name.clone());
         }
@@ -305,7 +493,10 @@ fn lampc_names_first_party_plugins_only_in_its_one_factory_table() {
         if file.ends_with("builtin_plugins.rs") {
             continue;
         }
-        for name in plugin_crates.iter().filter(|name| code.contains(&format!("{name}::"))) {
+        for name in plugin_crates {
+            if !code.paths.iter().any(|path| path.split("::").next() == Some(name)) {
+                continue;
+            }
             violations.push(format!("{} names {name}", file.display()));
         }
     }
@@ -316,50 +507,69 @@ fn lampc_names_first_party_plugins_only_in_its_one_factory_table() {
     );
 }
 
-/// The crate-internal modules a source file names (`crate::name`, `crate::{a, b}`), outside
-/// comments and after its tests are cut off.
-fn named_modules(text: &str) -> BTreeSet<String> {
-    let code = code_of(text);
-    let identifier = |rest: &str| -> String {
-        rest.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect()
-    };
-    let mut names = BTreeSet::new();
-    for (index, _) in code.match_indices("crate::") {
-        let rest = &code[index + "crate::".len()..];
-        if let Some(group) = rest.strip_prefix('{') {
-            let group = group.split('}').next().unwrap_or_default();
-            for item in group.split(',') {
-                names.insert(identifier(item.trim()));
-            }
-        } else {
-            names.insert(identifier(rest));
-        }
-    }
-    names.retain(|name| !name.is_empty());
-    names
+/// The crate root's names that stand for an item of one of its modules (`pub use a::{B, C}` or
+/// a private `use`): name → module.
+fn root_reexports(root: &ProductCode) -> BTreeMap<String, String> {
+    root.imported
+        .iter()
+        .filter_map(|(name, path)| {
+            let mut segments = path.split("::").skip_while(|s| *s == "crate" || *s == "self");
+            let module = segments.next()?;
+            segments.next()?; // a bare `use module;` names the module itself
+            Some((name.clone(), module.to_string()))
+        })
+        .collect()
 }
 
-/// Module → the sibling modules it names, for the top-level modules of one crate's `src`.
-fn module_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
+/// The crate-internal modules a file's product code names: `crate::module…`, or a crate-root
+/// name that the root re-exports from a module (`crate::Name`, `crate::{Name, …}`).
+fn named_modules(code: &ProductCode, reexports: &BTreeMap<String, String>) -> BTreeSet<String> {
+    code.paths
+        .iter()
+        .filter_map(|path| path.strip_prefix("crate::"))
+        .filter_map(|rest| rest.split("::").next())
+        .map(|first| reexports.get(first).cloned().unwrap_or_else(|| first.to_string()))
+        .collect()
+}
+
+/// Module → the sibling modules it names, for the top-level modules of a crate: `root` is the
+/// crate root's code, `files` each other file's top-level module and code.
+fn module_graph_of(
+    root: &ProductCode,
+    files: &[(String, ProductCode)],
+) -> BTreeMap<String, BTreeSet<String>> {
+    let reexports = root_reexports(root);
     let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
-    let mut files = Vec::new();
-    rust_files(src, &mut files);
-    for file in files {
-        let relative = file.strip_prefix(src).expect("under src");
-        let Some(first) = relative.components().next() else { continue };
-        let module = first.as_os_str().to_string_lossy().trim_end_matches(".rs").to_string();
-        if module == "lib" || module == "main" {
-            continue;
-        }
-        let text = fs::read_to_string(&file).expect("readable source");
-        let names = named_modules(&text);
-        graph.entry(module.clone()).or_default().extend(names.into_iter().filter(|n| *n != module));
+    for (module, code) in files {
+        let names = named_modules(code, &reexports);
+        graph.entry(module.clone()).or_default().extend(names.into_iter().filter(|n| n != module));
     }
     let modules: BTreeSet<String> = graph.keys().cloned().collect();
     for names in graph.values_mut() {
         names.retain(|name| modules.contains(name));
     }
     graph
+}
+
+/// Module → the sibling modules it names, for the top-level modules of one crate's `src`.
+fn module_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
+    let mut root = ProductCode::default();
+    let mut modules = Vec::new();
+    let mut files = Vec::new();
+    rust_files(src, &mut files);
+    files.sort();
+    for file in files {
+        let relative = file.strip_prefix(src).expect("under src");
+        let Some(first) = relative.components().next() else { continue };
+        let module = first.as_os_str().to_string_lossy().trim_end_matches(".rs").to_string();
+        let code = ProductCode::of(&parse_source(&file));
+        if module == "lib" || (module == "main" && !src.join("lib.rs").exists()) {
+            root = code;
+        } else if module != "main" && module != "bin" {
+            modules.push((module, code));
+        }
+    }
+    module_graph_of(&root, &modules)
 }
 
 /// A cycle through `start`, if there is one, as the modules along it.
@@ -400,4 +610,45 @@ fn no_crate_has_an_import_loop_between_its_modules() {
         "modules that import each other (move what they share into a leaf module):\n{}",
         loops.into_iter().collect::<Vec<_>>().join("\n")
     );
+}
+
+/// The product code of a source text, for the rules' own tests.
+fn code_of(source: &str) -> ProductCode {
+    ProductCode::of(&syn::parse_file(source).expect("a test source parses"))
+}
+
+#[test]
+fn the_import_loop_rule_follows_crate_root_reexports() {
+    let root =
+        code_of("mod model; mod write; pub use model::Domain; pub use write::{write_domain};");
+    let model = code_of("impl Domain { fn text(&self) -> String { crate::write_domain(self) } }");
+    let write = code_of("use crate::{Domain}; pub fn write_domain(_: &Domain) -> String { 1 }");
+    let graph = module_graph_of(&root, &[("model".into(), model), ("write".into(), write)]);
+    assert_eq!(cycle_through(&graph, "model"), Some(vec!["model".into(), "write".into()]));
+}
+
+#[test]
+fn the_rules_read_the_code_after_an_early_test_module_and_skip_only_its_body() {
+    let source = "
+        #[cfg(test)]
+        mod tests { use crate::early::Fixture; fn f() { lamp_refiner_gmm::make(); } }
+        pub fn late() { crate::late::run(); assert!(crate::in_macro::check()); }
+    ";
+    let code = code_of(source);
+    let named = named_modules(&code, &BTreeMap::new());
+    assert_eq!(named, BTreeSet::from(["late".to_string(), "in_macro".to_string()]));
+    assert!(!code.paths.iter().any(|path| path.starts_with("lamp_refiner_gmm")));
+}
+
+#[test]
+fn the_plugin_rules_see_implementations_and_calls_not_comments() {
+    let code = code_of(
+        "// impl PluginFactory for Commented {}
+         impl lamp_plugin_api::PluginFactory for Made {
+             fn create(&self, text: &str) { let _ = PluginConfig::parse(text); }
+         }",
+    );
+    assert!(names(&code.implemented, "PluginFactory"));
+    assert!(names(&code.paths, "PluginConfig::parse"));
+    assert!(!names(&code.paths, "Commented"));
 }

@@ -19,6 +19,7 @@ use lamp_trajectory::{RobotDescription, TrajectoryHeader, TrajectoryReader};
 
 use crate::error::BuildError;
 use crate::input::DemoFile;
+use crate::ros2::{Ros2Error, Ros2Mapping, mapped_robot, ros2_trajectory};
 
 /// Turns demonstration files into demonstrations, checking them against the spec.
 #[derive(Debug, Clone)]
@@ -188,4 +189,21 @@ impl Adapter {
             })
             .collect()
     }
+}
+
+/// A demonstration file of a `files … as ros2 { … }` source as the lamp trajectory file the
+/// adapter reads: the bag read with `mapping` against `world`'s robot, written back in lamp's
+/// format (its name unchanged).
+pub fn ros2_demo_file(
+    world: &lamp_world::SpecWorld,
+    mapping: &Ros2Mapping,
+    file: &DemoFile,
+) -> Result<DemoFile, BuildError> {
+    let spec = world.spec();
+    let robot = mapped_robot(world, mapping)?;
+    let trajectory =
+        ros2_trajectory(&file.bytes, &file.name, &spec.domain, mapping, robot.as_ref())
+            .map_err(Box::new)?;
+    let bytes = trajectory.to_bytes().map_err(|error| Box::new(Ros2Error::Read(error)))?;
+    Ok(DemoFile { name: file.name.clone(), bytes })
 }

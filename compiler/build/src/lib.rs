@@ -37,7 +37,7 @@ pub mod spec_sources;
 pub mod structure_goals;
 pub mod structure_issue;
 
-pub use adapter::Adapter;
+pub use adapter::{Adapter, ros2_demo_file};
 pub use aliases::{ResolvedAlias, resolve_alias, resolve_aliases};
 pub use at_goals::{GoalWarning, at_goal_atoms};
 pub use config::learn_config;
@@ -60,8 +60,7 @@ pub use problems::{ProblemOutcome, problem_pddl};
 pub use provenance::Provenance;
 pub use region_plots::{REGIONS_DIR, SAMPLES_PER_REGION, region_plots};
 pub use ros2::{
-    FrameObject, FrameRobot, MAX_TREE_DEPTH, MappedRobot, Ros2Error, Ros2Mapping, ros2_demo_file,
-    ros2_trajectory,
+    FrameObject, FrameRobot, MAX_TREE_DEPTH, MappedRobot, Ros2Error, Ros2Mapping, ros2_trajectory,
 };
 pub use samplers::{SAMPLERS_FORMAT, SAMPLERS_VERSION, SamplersFile};
 pub use shapes::SpecShapes;

@@ -234,23 +234,6 @@ pub enum Ros2Error {
     MissingJoint { file: String, robot: String, joint: String },
 }
 
-/// A demonstration file of a `files … as ros2 { … }` source as the lamp trajectory file the
-/// adapter reads: the bag read with `mapping` against `world`'s robot, written back in lamp's
-/// format (its name unchanged).
-pub fn ros2_demo_file(
-    world: &lamp_world::SpecWorld,
-    mapping: &Ros2Mapping,
-    file: &crate::DemoFile,
-) -> Result<crate::DemoFile, crate::BuildError> {
-    let spec = world.spec();
-    let robot = mapped_robot(world, mapping)?;
-    let trajectory =
-        ros2_trajectory(&file.bytes, &file.name, &spec.domain, mapping, robot.as_ref())
-            .map_err(Box::new)?;
-    let bytes = trajectory.to_bytes().map_err(|error| Box::new(Ros2Error::Read(error)))?;
-    Ok(crate::DemoFile { name: file.name.clone(), bytes })
-}
-
 /// The values a joint may be recorded at (before [`JOINT_LIMIT_SLACK`]): its limits, or for a
 /// continuous joint, which a driver reports unwrapped, any angle an `f64` still resolves.
 fn recordable_range(coordinate: &lamp_robot::Coordinate) -> (f64, f64) {

@@ -400,20 +400,6 @@ pub struct Problem {
     pub domain_span: Span,
 }
 
-impl std::fmt::Display for Domain {
-    /// The PDDL text of [`crate::write_domain`].
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&crate::write_domain(self))
-    }
-}
-
-impl std::fmt::Display for Problem {
-    /// The PDDL text of [`crate::write_problem`].
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&crate::write_problem(self))
-    }
-}
-
 impl Problem {
     /// An empty problem for `domain`.
     #[must_use]

@@ -9,6 +9,22 @@ use std::fmt::Write as _;
 
 use crate::model::{Action, Atom, Condition, Domain, Literal, Problem, Requirement, Term, Typed};
 
+// A model prints as its PDDL text; the impls live with the writer, so that the model does not
+// name it back.
+impl std::fmt::Display for Domain {
+    /// The PDDL text of [`write_domain`].
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&write_domain(self))
+    }
+}
+
+impl std::fmt::Display for Problem {
+    /// The PDDL text of [`write_problem`].
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&write_problem(self))
+    }
+}
+
 /// Writes `domain` as PDDL text.
 #[must_use]
 pub fn write_domain(domain: &Domain) -> String {
