@@ -92,56 +92,149 @@ pub fn ground_until(
     max_operators: usize,
     stop: &dyn Fn() -> bool,
 ) -> Result<GroundTask, PlannerError> {
-    let bindings = Cell::new(0_u64);
-    let stopped = Cell::new(false);
-    // Whether to go on enumerating bindings: asks `stop` every STOP_CHECK_INTERVAL of them.
-    let keep_going = || {
-        bindings.set(bindings.get() + 1);
-        if bindings.get().is_multiple_of(STOP_CHECK_INTERVAL) && stop() {
-            stopped.set(true);
-        }
-        !stopped.get()
-    };
+    check_model(domain, problem)?;
+    let poll = Poll { stop, bindings: Cell::new(0), stopped: Cell::new(false) };
+    let names = Names::new(domain, problem);
+    let actions = lift_actions(domain, &names);
+    let initial: HashSet<Key> = problem.init.iter().map(|atom| names.key(atom)).collect();
+    let goal_atoms: Vec<Key> = problem
+        .goal
+        .iter()
+        .filter(|literal| literal.positive)
+        .map(|literal| names.key(&literal.atom))
+        .collect();
+    let locks = GoalLocks::new(&actions, domain.predicates.len(), &goal_atoms, &initial);
+    let grounding = Grounding { universe: &names.universe, initial: &initial, locks: &locks };
+
+    let reachable = relaxed_reachability(domain, &actions, &initial, &grounding, &poll)?;
+    let (facts, fact_of) = fluent_facts(&reachable, &names.universe);
+    let mut operators =
+        ground_operators(&actions, &reachable, &grounding, &fact_of, max_operators, &poll)?;
+    // Stable sort: action position (enumeration order) then argument names.
+    let position: BTreeMap<&str, usize> =
+        domain.actions.iter().enumerate().map(|(i, a)| (a.name.as_str(), i)).collect();
+    operators.sort_by(|a, b| {
+        (position.get(a.action.as_str()), &a.arguments)
+            .cmp(&(position.get(b.action.as_str()), &b.arguments))
+    });
+
+    let mut initial_facts: Vec<FactId> =
+        initial.iter().filter_map(|key| fact_of.get(key).copied()).collect();
+    initial_facts.sort_unstable();
+    let (goal, negative_goal, verdict) = ground_goal(problem, &names, &initial, &fact_of);
+    Ok(GroundTask { facts, operators, initial: initial_facts, goal, negative_goal, verdict })
+}
+
+/// Refuses a model that fails `lamp_pddl`'s checks.
+fn check_model(domain: &Domain, problem: &Problem) -> Result<(), PlannerError> {
     let mut errors = lamp_pddl::check_domain(domain);
     if errors.is_empty() {
         errors = lamp_pddl::check_problem(domain, problem);
     }
-    if !errors.is_empty() {
-        return Err(PlannerError::InvalidInput(lamp_pddl::PddlErrors { errors }));
+    match errors.is_empty() {
+        true => Ok(()),
+        false => Err(PlannerError::InvalidInput(lamp_pddl::PddlErrors { errors })),
+    }
+}
+
+/// Whether to go on enumerating bindings: asks `stop` every [`STOP_CHECK_INTERVAL`] of them.
+struct Poll<'a> {
+    stop: &'a dyn Fn() -> bool,
+    bindings: Cell<u64>,
+    stopped: Cell<bool>,
+}
+
+impl Poll<'_> {
+    fn keep_going(&self) -> bool {
+        self.bindings.set(self.bindings.get() + 1);
+        if self.bindings.get().is_multiple_of(STOP_CHECK_INTERVAL) && (self.stop)() {
+            self.stopped.set(true);
+        }
+        !self.stopped.get()
     }
 
-    // Objects in name order: indices then sort like names, which fixes every later order.
-    let mut typed_objects: Vec<(&str, &str)> = domain
-        .constants
-        .iter()
-        .chain(&problem.objects)
-        .map(|o| (o.name.as_str(), o.type_name.as_str()))
-        .collect();
-    typed_objects.sort_unstable();
-    let object_index: BTreeMap<&str, u32> =
-        typed_objects.iter().zip(0_u32..).map(|((name, _), index)| (*name, index)).collect();
-
-    let predicate_index: BTreeMap<&str, u32> =
-        domain.predicates.iter().zip(0_u32..).map(|(p, index)| (p.name.as_str(), index)).collect();
-    let mut is_static = vec![true; domain.predicates.len()];
-    for action in &domain.actions {
-        for atom in action.add.iter().chain(&action.delete) {
-            if let Some(&index) = predicate_index.get(atom.predicate.as_str()) {
-                is_static[index as usize] = false;
-            }
+    fn check(&self) -> Result<(), PlannerError> {
+        match self.stopped.get() {
+            true => Err(PlannerError::Stopped),
+            false => Ok(()),
         }
     }
-    let universe = Universe {
-        predicates: domain.predicates.iter().map(|p| p.name.clone()).collect(),
-        is_static,
-        objects: typed_objects.iter().map(|(name, _)| (*name).to_owned()).collect(),
-    };
+}
 
-    let resolve_atom = |atom: &lamp_pddl::Atom, parameters: &[lamp_pddl::Typed]| LiftedAtom {
-        predicate: predicate_index.get(atom.predicate.as_str()).copied().unwrap_or(u32::MAX),
-        slots: atom.arguments.iter().map(|term| resolve(term, parameters, &object_index)).collect(),
-    };
-    let actions: Vec<LiftedAction> = domain
+/// The objects (in name order: indices then sort like names, which fixes every later order) and
+/// predicates of a model, by index.
+struct Names<'m> {
+    typed_objects: Vec<(&'m str, &'m str)>,
+    object_index: BTreeMap<&'m str, u32>,
+    predicate_index: BTreeMap<&'m str, u32>,
+    universe: Universe,
+}
+
+impl<'m> Names<'m> {
+    fn new(domain: &'m Domain, problem: &'m Problem) -> Names<'m> {
+        let mut typed_objects: Vec<(&str, &str)> = domain
+            .constants
+            .iter()
+            .chain(&problem.objects)
+            .map(|o| (o.name.as_str(), o.type_name.as_str()))
+            .collect();
+        typed_objects.sort_unstable();
+        let object_index: BTreeMap<&str, u32> =
+            typed_objects.iter().zip(0_u32..).map(|((name, _), index)| (*name, index)).collect();
+
+        let predicate_index: BTreeMap<&str, u32> = domain
+            .predicates
+            .iter()
+            .zip(0_u32..)
+            .map(|(p, index)| (p.name.as_str(), index))
+            .collect();
+        let mut is_static = vec![true; domain.predicates.len()];
+        for action in &domain.actions {
+            for atom in action.add.iter().chain(&action.delete) {
+                if let Some(&index) = predicate_index.get(atom.predicate.as_str()) {
+                    is_static[index as usize] = false;
+                }
+            }
+        }
+        let universe = Universe {
+            predicates: domain.predicates.iter().map(|p| p.name.clone()).collect(),
+            is_static,
+            objects: typed_objects.iter().map(|(name, _)| (*name).to_owned()).collect(),
+        };
+        Names { typed_objects, object_index, predicate_index, universe }
+    }
+
+    fn predicate(&self, atom: &lamp_pddl::Atom) -> u32 {
+        self.predicate_index.get(atom.predicate.as_str()).copied().unwrap_or(u32::MAX)
+    }
+
+    /// A ground atom's key.
+    fn key(&self, atom: &lamp_pddl::Atom) -> Key {
+        let mut key = vec![self.predicate(atom)];
+        key.extend(
+            atom.arguments
+                .iter()
+                .map(|term| self.object_index.get(term.name()).copied().unwrap_or(u32::MAX)),
+        );
+        key
+    }
+
+    /// An atom of an action's, its terms resolved against `parameters` and the objects.
+    fn lifted(&self, atom: &lamp_pddl::Atom, parameters: &[lamp_pddl::Typed]) -> LiftedAtom {
+        LiftedAtom {
+            predicate: self.predicate(atom),
+            slots: atom
+                .arguments
+                .iter()
+                .map(|term| resolve(term, parameters, &self.object_index))
+                .collect(),
+        }
+    }
+}
+
+/// The domain's actions over indices, their positive preconditions ordered for the join.
+fn lift_actions(domain: &Domain, names: &Names<'_>) -> Vec<LiftedAction> {
+    domain
         .actions
         .iter()
         .map(|action| {
@@ -151,7 +244,8 @@ pub fn ground_until(
                     .parameters
                     .iter()
                     .map(|parameter| {
-                        typed_objects
+                        names
+                            .typed_objects
                             .iter()
                             .zip(0_u32..)
                             .filter(|((_, type_name), _)| {
@@ -164,20 +258,20 @@ pub fn ground_until(
                 positive: Vec::new(),
                 negative: Vec::new(),
                 equalities: Vec::new(),
-                add: action.add.iter().map(|a| resolve_atom(a, &action.parameters)).collect(),
-                delete: action.delete.iter().map(|a| resolve_atom(a, &action.parameters)).collect(),
+                add: action.add.iter().map(|a| names.lifted(a, &action.parameters)).collect(),
+                delete: action.delete.iter().map(|a| names.lifted(a, &action.parameters)).collect(),
             };
             for condition in &action.precondition {
                 match condition {
                     Condition::Atom { atom, positive: true } => {
-                        lifted.positive.push(resolve_atom(atom, &action.parameters));
+                        lifted.positive.push(names.lifted(atom, &action.parameters));
                     }
                     Condition::Atom { atom, positive: false } => {
-                        lifted.negative.push(resolve_atom(atom, &action.parameters));
+                        lifted.negative.push(names.lifted(atom, &action.parameters));
                     }
                     Condition::Equality { left, right, positive, .. } => lifted.equalities.push((
-                        resolve(left, &action.parameters, &object_index),
-                        resolve(right, &action.parameters, &object_index),
+                        resolve(left, &action.parameters, &names.object_index),
+                        resolve(right, &action.parameters, &names.object_index),
                         *positive,
                     )),
                 }
@@ -185,29 +279,17 @@ pub fn ground_until(
             order_for_join(&mut lifted.positive);
             lifted
         })
-        .collect();
+        .collect()
+}
 
-    let ground_literal = |atom: &lamp_pddl::Atom| -> Key {
-        let mut key =
-            vec![predicate_index.get(atom.predicate.as_str()).copied().unwrap_or(u32::MAX)];
-        key.extend(
-            atom.arguments
-                .iter()
-                .map(|term| object_index.get(term.name()).copied().unwrap_or(u32::MAX)),
-        );
-        key
-    };
-    let initial: HashSet<Key> = problem.init.iter().map(ground_literal).collect();
-    let goal_atoms: Vec<Key> = problem
-        .goal
-        .iter()
-        .filter(|literal| literal.positive)
-        .map(|literal| ground_literal(&literal.atom))
-        .collect();
-    let locks = GoalLocks::new(&actions, domain.predicates.len(), &goal_atoms, &initial);
-    let grounding = Grounding { universe: &universe, initial: &initial, locks: &locks };
-
-    // Relaxed reachability to a fixpoint; the per-predicate lists keep insertion order.
+/// Relaxed reachability to a fixpoint; the per-predicate lists keep insertion order.
+fn relaxed_reachability(
+    domain: &Domain,
+    actions: &[LiftedAction],
+    initial: &HashSet<Key>,
+    grounding: &Grounding<'_>,
+    poll: &Poll<'_>,
+) -> Result<Reachable, PlannerError> {
     let mut reachable = Reachable::new(domain.predicates.len());
     let mut initial_sorted: Vec<Key> = initial.iter().cloned().collect();
     initial_sorted.sort_unstable();
@@ -217,28 +299,31 @@ pub fn ground_until(
     loop {
         let mut new_atoms = Vec::new();
         for (index, action) in actions.iter().enumerate() {
-            enumerate(index, action, &reachable, &grounding, &mut |binding| {
+            enumerate(index, action, &reachable, grounding, &mut |binding| {
                 for atom in &action.add {
                     let key = instantiate(atom, binding);
                     if !reachable.contains(&key) {
                         new_atoms.push(key);
                     }
                 }
-                keep_going()
+                poll.keep_going()
             });
         }
-        if stopped.get() {
-            return Err(PlannerError::Stopped);
-        }
+        poll.check()?;
         if new_atoms.is_empty() {
-            break;
+            return Ok(reachable);
         }
         for key in new_atoms {
             reachable.insert(key);
         }
     }
+}
 
-    // Facts: reachable fluent atoms, in (predicate name, argument names) order.
+/// Facts: reachable fluent atoms, in (predicate name, argument names) order, and each one's id.
+fn fluent_facts(
+    reachable: &Reachable,
+    universe: &Universe,
+) -> (Vec<GroundAtom>, std::collections::HashMap<Key, FactId>) {
     let mut fact_keys: Vec<Key> =
         reachable.all.iter().filter(|key| !universe.is_static[key[0] as usize]).cloned().collect();
     let mut facts: Vec<GroundAtom> =
@@ -247,13 +332,24 @@ pub fn ground_until(
     order.sort_by(|&a, &b| facts[a].cmp(&facts[b]));
     fact_keys = order.iter().map(|&i| fact_keys[i].clone()).collect();
     facts = order.iter().map(|&i| facts[i].clone()).collect();
-    let fact_of: std::collections::HashMap<Key, FactId> =
-        fact_keys.into_iter().zip(0_u32..).collect();
+    let fact_of = fact_keys.into_iter().zip(0_u32..).collect();
+    (facts, fact_of)
+}
 
+/// The operators of every binding reachable in the relaxation, in enumeration order.
+fn ground_operators(
+    actions: &[LiftedAction],
+    reachable: &Reachable,
+    grounding: &Grounding<'_>,
+    fact_of: &std::collections::HashMap<Key, FactId>,
+    max_operators: usize,
+    poll: &Poll<'_>,
+) -> Result<Vec<Operator>, PlannerError> {
+    let universe = grounding.universe;
     let mut operators = Vec::new();
     let mut too_many = false;
     for (index, action) in actions.iter().enumerate() {
-        enumerate(index, action, &reachable, &grounding, &mut |binding| {
+        enumerate(index, action, reachable, grounding, &mut |binding| {
             if operators.len() >= max_operators {
                 too_many = true;
                 return false;
@@ -276,33 +372,29 @@ pub fn ground_until(
                 add: facts_of(&action.add),
                 delete: facts_of(&action.delete),
             });
-            keep_going()
+            poll.keep_going()
         });
         if too_many {
             return Err(PlannerError::TooManyOperators { limit: max_operators });
         }
-        if stopped.get() {
-            return Err(PlannerError::Stopped);
-        }
+        poll.check()?;
     }
-    // Stable sort: action position (enumeration order) then argument names.
-    let position: BTreeMap<&str, usize> =
-        domain.actions.iter().enumerate().map(|(i, a)| (a.name.as_str(), i)).collect();
-    operators.sort_by(|a, b| {
-        (position.get(a.action.as_str()), &a.arguments)
-            .cmp(&(position.get(b.action.as_str()), &b.arguments))
-    });
+    Ok(operators)
+}
 
-    let mut initial_facts: Vec<FactId> =
-        initial.iter().filter_map(|key| fact_of.get(key).copied()).collect();
-    initial_facts.sort_unstable();
-
+/// The goal's positive and negative facts, and whether a goal literal can never hold.
+fn ground_goal(
+    problem: &Problem,
+    names: &Names<'_>,
+    initial: &HashSet<Key>,
+    fact_of: &std::collections::HashMap<Key, FactId>,
+) -> (Vec<FactId>, Vec<FactId>, GroundingVerdict) {
     let mut verdict = GroundingVerdict::Open;
     let mut goal = Vec::new();
     let mut negative_goal = Vec::new();
     for literal in &problem.goal {
-        let key = ground_literal(&literal.atom);
-        let is_static = universe.is_static[key[0] as usize];
+        let key = names.key(&literal.atom);
+        let is_static = names.universe.is_static[key[0] as usize];
         let unreachable = match (literal.positive, is_static) {
             (true, true) => !initial.contains(&key),
             (false, true) => initial.contains(&key),
@@ -328,8 +420,7 @@ pub fn ground_until(
     goal.dedup();
     negative_goal.sort_unstable();
     negative_goal.dedup();
-
-    Ok(GroundTask { facts, operators, initial: initial_facts, goal, negative_goal, verdict })
+    (goal, negative_goal, verdict)
 }
 
 fn literal_text(literal: &Literal) -> String {
