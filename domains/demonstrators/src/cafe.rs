@@ -26,7 +26,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use lamp_geometry::{CollisionShape, Pose, Vec3};
 use lamp_robot::{ARM_GROUP, BASE_GROUP, GRIPPER_GROUP, IkConfig, wrap_angle};
 use lamp_spec::{Mobility, RobotKind};
-use lamp_world::{Body, Scene, SpecWorld, reach};
+use lamp_world::{Body, LinkGoal, Scene, SpecWorld, reach};
 use nalgebra::Translation3;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
@@ -429,8 +429,13 @@ impl<'a> Cafe<'a> {
         seed: &[f64],
         rng: &mut ChaCha8Rng,
     ) -> Attempt<Vec<f64>> {
-        reach(scene, robot, ARM_GROUP, None, target, seed, &ik_config(), rng)
-            .map_err(|error| format!("inverse kinematics: {error}"))
+        reach(
+            scene,
+            &LinkGoal { robot, group: ARM_GROUP, link: None, target, start: seed },
+            &ik_config(),
+            rng,
+        )
+        .map_err(|error| format!("inverse kinematics: {error}"))
     }
 }
 

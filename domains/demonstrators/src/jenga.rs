@@ -16,7 +16,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use lamp_geometry::{CollisionShape, Pose};
 use lamp_robot::{ARM_GROUP, IkConfig};
 use lamp_spec::{Mobility, RobotKind};
-use lamp_world::{Body, RESTING_GAP, Scene, SpecWorld, reach};
+use lamp_world::{Body, LinkGoal, RESTING_GAP, Scene, SpecWorld, reach};
 use nalgebra::Translation3;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
@@ -277,8 +277,13 @@ impl<'a> Jenga<'a> {
         target: &Pose,
         rng: &mut ChaCha8Rng,
     ) -> Attempt<Vec<f64>> {
-        reach(scene, robot, ARM_GROUP, None, target, &self.tucked, &ik_config(), rng)
-            .map_err(|error| format!("inverse kinematics: {error}"))
+        reach(
+            scene,
+            &LinkGoal { robot, group: ARM_GROUP, link: None, target, start: &self.tucked },
+            &ik_config(),
+            rng,
+        )
+        .map_err(|error| format!("inverse kinematics: {error}"))
     }
 }
 

@@ -3,7 +3,7 @@
 
 use lamp_geometry::{Pose, Rotation, Vec3};
 use lamp_robot::IkConfig;
-use lamp_world::{MotionConfig, Scene, densify, plan_motion, straight_line};
+use lamp_world::{LinkGoal, MotionConfig, Scene, densify, plan_motion, straight_line};
 use rand_chacha::ChaCha8Rng;
 
 use lamp_world::Recorder;
@@ -89,8 +89,13 @@ pub(crate) fn move_straight(
 ) -> Attempt<()> {
     let config = motion_config();
     let start = configuration_of(scene, robot)?;
-    let path = straight_line(scene, robot, group, None, &start, target, &config, ik)
-        .map_err(|error| format!("straight move ({group}): {error}"))?;
+    let path = straight_line(
+        scene,
+        &LinkGoal { robot, group, link: None, target, start: &start },
+        &config,
+        ik,
+    )
+    .map_err(|error| format!("straight move ({group}): {error}"))?;
     let model = scene.robots()[robot].robot().clone();
     let states = densify(&model, &path, &config)
         .map_err(|error| format!("straight move ({group}): {error}"))?;

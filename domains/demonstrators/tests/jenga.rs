@@ -11,7 +11,7 @@ use lamp_geometry::{Pose, Rotation, Vec3};
 use lamp_physics::{PhysicsBody, first_unsettled};
 use lamp_robot::{ARM_GROUP, IkConfig};
 use lamp_spec::Spec;
-use lamp_world::{RESTING_GAP, Scene, SpecWorld, reach};
+use lamp_world::{LinkGoal, RESTING_GAP, Scene, SpecWorld, reach};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -57,7 +57,13 @@ fn reaches_top_grasp(scene: &Scene, robot: usize, block: &Pose) -> bool {
     let mut config = IkConfig::new();
     config.restarts = 100;
     let mut rng = ChaCha8Rng::seed_from_u64(1);
-    reach(scene, robot, ARM_GROUP, None, &grasp, &seed, &config, &mut rng).is_ok()
+    reach(
+        scene,
+        &LinkGoal { robot, group: ARM_GROUP, link: None, target: &grasp, start: &seed },
+        &config,
+        &mut rng,
+    )
+    .is_ok()
 }
 
 #[test]

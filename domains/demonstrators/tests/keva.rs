@@ -12,7 +12,7 @@ use lamp_geometry::{Pose, Rotation, Vec3};
 use lamp_physics::{PhysicsBody, first_unsettled};
 use lamp_robot::{ARM_GROUP, IkConfig};
 use lamp_spec::Spec;
-use lamp_world::{RESTING_GAP, SpecWorld, reach};
+use lamp_world::{LinkGoal, RESTING_GAP, SpecWorld, reach};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -202,7 +202,14 @@ fn missed_by_the_yumi(
         let home = scene.robots()[robot].configuration().to_vec();
         for (plank, pose) in at(problem, &scene) {
             let target = pose * grasp;
-            if reach(&scene, robot, ARM_GROUP, None, &target, &home, &config, &mut rng).is_err() {
+            if reach(
+                &scene,
+                &LinkGoal { robot, group: ARM_GROUP, link: None, target: &target, start: &home },
+                &config,
+                &mut rng,
+            )
+            .is_err()
+            {
                 missed.push(format!("{}: {plank}", problem.name));
             }
         }

@@ -5,7 +5,7 @@ use std::hint::black_box;
 use std::path::PathBuf;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use lamp_robot::{IkConfig, Mount, Pose, Robot, solve_ik};
+use lamp_robot::{IkConfig, IkGoal, Mount, Pose, Robot, solve_ik};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -61,7 +61,13 @@ fn bench_ik(criterion: &mut Criterion, name: &str, robot: &Robot, group_name: &s
             let (target, start) = &problems[next % TARGETS];
             next += 1;
             black_box(
-                solve_ik(robot, &group, link, target, start, &config, &mut rng, &mut |_| true).ok(),
+                solve_ik(
+                    &IkGoal { robot, group: &group, link, target, seed: start },
+                    &config,
+                    &mut rng,
+                    &mut |_| true,
+                )
+                .ok(),
             )
         })
     });

@@ -87,19 +87,25 @@ fn error_norms(error: &Vector6<f64>) -> (f64, f64) {
     (error.fixed_rows::<3>(0).norm(), error.fixed_rows::<3>(3).norm())
 }
 
-/// Finds a configuration placing `link` at `target`, changing only the coordinates of `group`
-/// (others are copied from `seed`). See the module docs for the method.
-#[allow(clippy::too_many_arguments)] // the signature is the contract with the world crate
+/// What an inverse-kinematics solve looks for: `link` of `robot` at `target`, changing only the
+/// coordinates of `group` (others are copied from `seed`, where the first attempt starts).
+#[derive(Debug, Clone, Copy)]
+pub struct IkGoal<'a> {
+    pub robot: &'a Robot,
+    pub group: &'a JointGroup,
+    pub link: LinkId,
+    pub target: &'a Pose,
+    pub seed: &'a [f64],
+}
+
+/// Finds a configuration that meets `goal`. See the module docs for the method.
 pub fn solve_ik(
-    robot: &Robot,
-    group: &JointGroup,
-    link: LinkId,
-    target: &Pose,
-    seed: &[f64],
+    goal: &IkGoal<'_>,
     config: &IkConfig,
     rng: &mut ChaCha8Rng,
     accept: &mut dyn FnMut(&[f64]) -> bool,
 ) -> Result<Vec<f64>, IkError> {
+    let IkGoal { robot, group, link, target, seed } = *goal;
     validate(robot, group, link, target, seed, config)?;
     if let Some(result) = solve_floating_base_exactly(robot, group, link, target, seed, accept) {
         return result;

@@ -2,7 +2,7 @@
 
 mod common;
 
-use lamp_robot::{IkConfig, IkError, Mount, Pose, Robot, pose_error_norms, solve_ik};
+use lamp_robot::{IkConfig, IkError, IkGoal, Mount, Pose, Robot, pose_error_norms, solve_ik};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -21,9 +21,12 @@ fn round_trips(robot: &Robot, group_name: &str, count: usize, seed: u64) -> usiz
         robot.sample_uniform(&group, &neutral, &mut rng, &mut goal);
         robot.sample_uniform(&group, &neutral, &mut rng, &mut start);
         let target = robot.link_pose(&goal, link);
-        if let Ok(solution) =
-            solve_ik(robot, &group, link, &target, &start, &config, &mut rng, &mut |_| true)
-        {
+        if let Ok(solution) = solve_ik(
+            &IkGoal { robot, group: &group, link, target: &target, seed: &start },
+            &config,
+            &mut rng,
+            &mut |_| true,
+        ) {
             let (position, orientation) =
                 pose_error_norms(&robot.link_pose(&solution, link), &target);
             assert!(
@@ -83,7 +86,13 @@ fn local_solves_converge_with_a_coordinate_at_its_limit() {
         }
         start[torso] = lower;
         let target = robot.link_pose(&goal, link);
-        if solve_ik(&robot, &group, link, &target, &start, &config, &mut rng, &mut |_| true).is_ok()
+        if solve_ik(
+            &IkGoal { robot: &robot, group: &group, link, target: &target, seed: &start },
+            &config,
+            &mut rng,
+            &mut |_| true,
+        )
+        .is_ok()
         {
             successes += 1;
         }
@@ -133,11 +142,7 @@ fn floating_gripper_ik_over_the_base_is_exact() {
         robot.sample_uniform(&group, &neutral, &mut rng, &mut goal);
         let target = robot.link_pose(&goal, link);
         let solution = solve_ik(
-            &robot,
-            &group,
-            link,
-            &target,
-            &neutral,
+            &IkGoal { robot: &robot, group: &group, link, target: &target, seed: &neutral },
             &IkConfig::new(),
             &mut rng,
             &mut |_| true,
@@ -161,21 +166,29 @@ fn acceptance_callback_rejections_lead_to_other_solutions_or_a_clear_error() {
 
     // Reject the first two converged solutions: the third is returned and differs from them.
     let mut seen: Vec<Vec<f64>> = Vec::new();
-    let solution =
-        solve_ik(&robot, &group, link, &target, &neutral, &IkConfig::new(), &mut rng, &mut |q| {
+    let solution = solve_ik(
+        &IkGoal { robot: &robot, group: &group, link, target: &target, seed: &neutral },
+        &IkConfig::new(),
+        &mut rng,
+        &mut |q| {
             seen.push(q.to_vec());
             seen.len() > 2
-        })
-        .expect("a third solution");
+        },
+    )
+    .expect("a third solution");
     assert_eq!(seen.len(), 3);
     assert_eq!(seen[2], solution);
 
     // Reject everything: NoSolution reports every rejection.
     let mut config = IkConfig::new();
     config.restarts = 4;
-    let error =
-        solve_ik(&robot, &group, link, &target, &neutral, &config, &mut rng, &mut |_| false)
-            .unwrap_err();
+    let error = solve_ik(
+        &IkGoal { robot: &robot, group: &group, link, target: &target, seed: &neutral },
+        &config,
+        &mut rng,
+        &mut |_| false,
+    )
+    .unwrap_err();
     match error {
         IkError::NoSolution { attempts, rejected, .. } => {
             assert_eq!(attempts, 5);
@@ -194,11 +207,13 @@ fn unreachable_target_is_refused_without_iterating() {
     let target = Pose::translation(5.0, 0.0, 1.0);
     let mut calls = 0;
     let error = solve_ik(
-        &robot,
-        &group,
-        link,
-        &target,
-        &robot.neutral_configuration(),
+        &IkGoal {
+            robot: &robot,
+            group: &group,
+            link,
+            target: &target,
+            seed: &robot.neutral_configuration(),
+        },
         &IkConfig::new(),
         &mut rng,
         &mut |_| {
@@ -248,13 +263,25 @@ fn malformed_requests_are_errors_not_panics() {
     let mut rng = ChaCha8Rng::seed_from_u64(1);
     let config = IkConfig::new();
     let short_seed = vec![0.0; 3];
-    let result =
-        solve_ik(&robot, &group, 1, &Pose::identity(), &short_seed, &config, &mut rng, &mut |_| {
-            true
-        });
+    let result = solve_ik(
+        &IkGoal {
+            robot: &robot,
+            group: &group,
+            link: 1,
+            target: &Pose::identity(),
+            seed: &short_seed,
+        },
+        &config,
+        &mut rng,
+        &mut |_| true,
+    );
     assert!(matches!(result, Err(IkError::InvalidRequest { .. })));
     let seed = robot.neutral_configuration();
-    let result =
-        solve_ik(&robot, &group, 999, &Pose::identity(), &seed, &config, &mut rng, &mut |_| true);
+    let result = solve_ik(
+        &IkGoal { robot: &robot, group: &group, link: 999, target: &Pose::identity(), seed: &seed },
+        &config,
+        &mut rng,
+        &mut |_| true,
+    );
     assert!(matches!(result, Err(IkError::InvalidRequest { .. })));
 }

@@ -3,7 +3,7 @@
 
 use lamp_plugin_api::{Candidate, MotionOutcome, MotionPlanner, MotionRequest};
 use lamp_robot::{IkConfig, Robot};
-use lamp_world::{MotionConfig, Recorder, RobotSpace, Scene, densify, straight_line};
+use lamp_world::{LinkGoal, MotionConfig, Recorder, RobotSpace, Scene, densify, straight_line};
 
 use crate::error::SolveError;
 use crate::host::GroupHost;
@@ -222,7 +222,13 @@ fn straight_first(
         orientation_tolerance: STRAIGHT_ORIENTATION_TOLERANCE,
         ..IkConfig::new()
     };
-    straight_line(scene, robot, group, Some(link), start, &target, config, &ik).ok()
+    straight_line(
+        scene,
+        &LinkGoal { robot, group, link: Some(link), target: &target, start },
+        config,
+        &ik,
+    )
+    .ok()
 }
 
 /// The smallest joint group that holds every coordinate that changes from `start` to `goal`.

@@ -14,8 +14,8 @@ use std::cell::RefCell;
 use lamp_plugin_api::{HostError, HostServices, Pose as WirePose};
 use lamp_robot::{ALL_GROUP, ARM_GROUP, IkConfig, LinkId, Robot};
 use lamp_world::{
-    DEFAULT_ANGULAR_RESOLUTION, DEFAULT_LINEAR_RESOLUTION, MAX_EDGE_STEPS, ReachError, RobotSpace,
-    Scene, Space, edge_steps, reach,
+    DEFAULT_ANGULAR_RESOLUTION, DEFAULT_LINEAR_RESOLUTION, LinkGoal, MAX_EDGE_STEPS, ReachError,
+    RobotSpace, Scene, Space, edge_steps, reach,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -133,11 +133,7 @@ impl HostServices for SceneHost<'_> {
         let mut rng = self.rng.borrow_mut();
         match reach(
             self.scene,
-            index,
-            group,
-            Some(link),
-            &target,
-            seed_q,
+            &LinkGoal { robot: index, group, link: Some(link), target: &target, start: seed_q },
             &IkConfig { restarts: REFINEMENT_IK_RESTARTS, ..IkConfig::default() },
             &mut rng,
         ) {

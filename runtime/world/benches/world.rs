@@ -15,7 +15,7 @@ use std::time::Instant;
 use criterion::{Criterion, criterion_group, criterion_main};
 use lamp_geometry::{Shape, Vec3};
 use lamp_robot::IkConfig;
-use lamp_world::{Body, MotionConfig, Scene, plan_motion, reach};
+use lamp_world::{Body, LinkGoal, MotionConfig, Scene, plan_motion, reach};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use support::{domain, pose};
@@ -88,8 +88,13 @@ fn shelf() -> (Scene, usize, Vec<f64>, Vec<f64>) {
     assert!(scene.is_valid(fetch, &tucked), "{:?}", scene.first_contact(fetch, &tucked));
     let target = pose(0.95, 0.0, 0.92, 0.0, 0.0, 0.0);
     let mut rng = ChaCha8Rng::seed_from_u64(1);
-    let goal =
-        reach(&scene, fetch, "arm", None, &target, &tucked, &IkConfig::new(), &mut rng).unwrap();
+    let goal = reach(
+        &scene,
+        &LinkGoal { robot: fetch, group: "arm", link: None, target: &target, start: &tucked },
+        &IkConfig::new(),
+        &mut rng,
+    )
+    .unwrap();
     (scene, fetch, tucked, goal)
 }
 

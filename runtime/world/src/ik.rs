@@ -2,7 +2,7 @@
 //! (damped least squares with random restarts) with the scene as its acceptance test.
 
 use lamp_geometry::Pose;
-use lamp_robot::{IkConfig, IkError, LinkId, solve_ik};
+use lamp_robot::{IkConfig, IkError, IkGoal, LinkId, solve_ik};
 use rand_chacha::ChaCha8Rng;
 
 use crate::motion::MotionError;
@@ -22,19 +22,27 @@ pub enum ReachError {
     Ik(#[from] IkError),
 }
 
-/// A configuration of robot `robot` placing `link` (default: its gripper link) at `target`,
-/// changing only the coordinates of `group`, valid in the scene (carrying what it holds).
-#[allow(clippy::too_many_arguments)] // mirrors lamp_robot::solve_ik plus the scene
+/// Where a move of a scene's robot takes one of its links: robot `robot` (an index into the
+/// scene's robots) places `link` (default: its gripper link) at `target`, changing only the
+/// coordinates of `group`, from the configuration `start` (the seed of [`reach`], the first
+/// state of [`straight_line`](crate::straight_line)).
+#[derive(Debug, Clone, Copy)]
+pub struct LinkGoal<'a> {
+    pub robot: usize,
+    pub group: &'a str,
+    pub link: Option<LinkId>,
+    pub target: &'a Pose,
+    pub start: &'a [f64],
+}
+
+/// A configuration that meets `goal`, valid in the scene (carrying what it holds).
 pub fn reach(
     scene: &Scene,
-    robot: usize,
-    group: &str,
-    link: Option<LinkId>,
-    target: &Pose,
-    seed: &[f64],
+    goal: &LinkGoal<'_>,
     config: &IkConfig,
     rng: &mut ChaCha8Rng,
 ) -> Result<Vec<f64>, ReachError> {
+    let LinkGoal { robot, group, link, target, start: seed } = *goal;
     let state = scene.robots.get(robot).ok_or(MotionError::UnknownRobot { robot })?;
     let model = &state.robot;
     let joint_group = model.group(group).ok_or_else(|| MotionError::UnknownGroup {
@@ -46,5 +54,6 @@ pub fn reach(
         None => return Err(ReachError::NoGripper { robot: state.name.clone() }),
     };
     let mut accept = |q: &[f64]| scene.is_valid(robot, q);
-    Ok(solve_ik(model, joint_group, link, target, seed, config, rng, &mut accept)?)
+    let goal = IkGoal { robot: model, group: joint_group, link, target, seed };
+    Ok(solve_ik(&goal, config, rng, &mut accept)?)
 }

@@ -7,12 +7,12 @@
 //! no restarts, so that the arm stays on one branch; a solution that jumps, or an edge between
 //! two solutions that touches anything, ends the move with an error saying how far it got.
 
-use lamp_geometry::Pose;
-use lamp_robot::{IkConfig, IkError, LinkId, solve_ik};
+use lamp_robot::{IkConfig, IkError, IkGoal, solve_ik};
 use lamp_rrt::{MAX_EDGE_STEPS, Space};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use crate::ik::LinkGoal;
 use crate::motion::{MotionConfig, MotionError, RobotSpace, edge_steps};
 use crate::scene::Scene;
 
@@ -47,22 +47,19 @@ pub enum StraightLineError {
     Collision { percent: f64, contact: String },
 }
 
-/// Configurations of `group` that move `link` (default: the robot's gripper link) from where it
-/// is in `start` to `target` along a straight line, starting with `start`; consecutive ones are
+/// Configurations of `goal.group` that move `goal.link` (default: the robot's gripper link) from
+/// where it is in `goal.start` to `goal.target` along a straight line, starting with
+/// `goal.start`; consecutive ones are
 /// joined by collision-free edges at the checking resolution of `motion`. `ik` gives the
 /// tolerances at `target`; on the way, the solver's default tolerances (1 mm, 0.01 rad) keep the
 /// link that close to the line. Its restarts are not used.
-#[allow(clippy::too_many_arguments)] // mirrors `reach` plus the motion settings
 pub fn straight_line(
     scene: &Scene,
-    robot: usize,
-    group: &str,
-    link: Option<LinkId>,
-    start: &[f64],
-    target: &Pose,
+    goal: &LinkGoal<'_>,
     motion: &MotionConfig,
     ik: &IkConfig,
 ) -> Result<Vec<Vec<f64>>, StraightLineError> {
+    let LinkGoal { robot, group, link, target, start } = *goal;
     let space = RobotSpace::new(scene, robot, group, start, start, motion)?;
     let state = &scene.robots()[robot];
     let model = state.robot();
@@ -95,9 +92,9 @@ pub fn straight_line(
         let pose = from.lerp_slerp(target, t);
         let previous = path.last().expect("the path starts with `start`");
         let config = if i == count { &at_the_end } else { &on_the_way };
-        let q =
-            solve_ik(model, joint_group, link, &pose, previous, config, &mut unused, &mut |_| true)
-                .map_err(|source| StraightLineError::Unreachable { percent, source })?;
+        let goal = IkGoal { robot: model, group: joint_group, link, target: &pose, seed: previous };
+        let q = solve_ik(&goal, config, &mut unused, &mut |_| true)
+            .map_err(|source| StraightLineError::Unreachable { percent, source })?;
         let steps =
             edge_steps(model, previous, &q, motion.linear_resolution, motion.angular_resolution);
         if steps > MAX_STEP_RESOLUTIONS {

@@ -9,7 +9,7 @@ use std::f64::consts::PI;
 
 use lamp_robot::IkConfig;
 use lamp_world::{
-    MAX_EDGE_STEPS, MotionConfig, MotionError, RrtConfig, RrtError, Scene, Space,
+    LinkGoal, MAX_EDGE_STEPS, MotionConfig, MotionError, RrtConfig, RrtError, Scene, Space,
     StraightLineError, densify, plan_motion, reach, rrt_connect, straight_line,
 };
 use rand::SeedableRng;
@@ -142,8 +142,13 @@ fn collision_free_ik_reaches_over_the_table_within_tolerance() {
     let robot = scene.robots()[fetch].robot().clone();
     let target = pose(1.85, -1.0, 0.95, 0.0, 0.0, 0.0);
     let mut rng = ChaCha8Rng::seed_from_u64(3);
-    let q =
-        reach(&scene, fetch, "arm", None, &target, &tucked, &IkConfig::new(), &mut rng).unwrap();
+    let q = reach(
+        &scene,
+        &LinkGoal { robot: fetch, group: "arm", link: None, target: &target, start: &tucked },
+        &IkConfig::new(),
+        &mut rng,
+    )
+    .unwrap();
     assert!(scene.is_valid(fetch, &q));
     let gripper = robot.link_id("gripper_link").unwrap();
     let (position, orientation) =
@@ -152,7 +157,12 @@ fn collision_free_ik_reaches_over_the_table_within_tolerance() {
 
     // Inside the table top there is nothing collision-free to find.
     let inside = pose(2.0, -1.0, 0.68, 0.0, 0.0, 0.0);
-    let error = reach(&scene, fetch, "arm", None, &inside, &tucked, &IkConfig::new(), &mut rng);
+    let error = reach(
+        &scene,
+        &LinkGoal { robot: fetch, group: "arm", link: None, target: &inside, start: &tucked },
+        &IkConfig::new(),
+        &mut rng,
+    );
     assert!(error.is_err());
 }
 
@@ -161,8 +171,13 @@ fn fetch_arm_paths_into_a_cluttered_table_are_collision_free() {
     let (scene, fetch, tucked) = fetch_at_table();
     let target = pose(1.85, -0.95, 0.95, 0.0, 0.0, 0.0);
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let goal =
-        reach(&scene, fetch, "arm", None, &target, &tucked, &IkConfig::new(), &mut rng).unwrap();
+    let goal = reach(
+        &scene,
+        &LinkGoal { robot: fetch, group: "arm", link: None, target: &target, start: &tucked },
+        &IkConfig::new(),
+        &mut rng,
+    )
+    .unwrap();
     let config = MotionConfig::default();
     let plan = plan_motion(&scene, fetch, "arm", &tucked, &goal, &config, &mut rng).unwrap();
     assert_eq!(plan.waypoints.first().unwrap(), &tucked);
@@ -170,8 +185,13 @@ fn fetch_arm_paths_into_a_cluttered_table_are_collision_free() {
     assert_path_collision_free(&scene, fetch, &plan.waypoints, &config);
 
     let mut again = ChaCha8Rng::seed_from_u64(5);
-    let goal_again =
-        reach(&scene, fetch, "arm", None, &target, &tucked, &IkConfig::new(), &mut again).unwrap();
+    let goal_again = reach(
+        &scene,
+        &LinkGoal { robot: fetch, group: "arm", link: None, target: &target, start: &tucked },
+        &IkConfig::new(),
+        &mut again,
+    )
+    .unwrap();
     let replan =
         plan_motion(&scene, fetch, "arm", &tucked, &goal_again, &config, &mut again).unwrap();
     assert_eq!(plan, replan, "same seed, same path");
@@ -190,13 +210,25 @@ fn a_straight_move_keeps_the_gripper_on_the_line_and_stops_at_the_table() {
     let above = pose(1.85, -1.0, 0.95, 0.0, 0.0, 0.0);
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let ik = IkConfig::new();
-    let start = reach(&scene, fetch, "arm", None, &above, &tucked, &ik, &mut rng).unwrap();
+    let start = reach(
+        &scene,
+        &LinkGoal { robot: fetch, group: "arm", link: None, target: &above, start: &tucked },
+        &ik,
+        &mut rng,
+    )
+    .unwrap();
     let config = MotionConfig::default();
 
     // Down 12 cm: every solution is on the vertical line through the start, and so is every
     // state between them, to within the IK tolerance plus the chord of one small step.
     let lower = pose(1.85, -1.0, 0.83, 0.0, 0.0, 0.0);
-    let path = straight_line(&scene, fetch, "arm", None, &start, &lower, &config, &ik).unwrap();
+    let path = straight_line(
+        &scene,
+        &LinkGoal { robot: fetch, group: "arm", link: None, target: &lower, start: &start },
+        &config,
+        &ik,
+    )
+    .unwrap();
     assert_eq!(path.first().unwrap(), &start);
     assert!(path.len() >= 24, "a solution every 5 mm: {}", path.len());
     let (position, _) =
@@ -211,7 +243,12 @@ fn a_straight_move_keeps_the_gripper_on_the_line_and_stops_at_the_table() {
 
     // Down into the table top: refused part of the way, with nothing to follow.
     let inside = pose(1.85, -1.0, 0.70, 0.0, 0.0, 0.0);
-    match straight_line(&scene, fetch, "arm", None, &start, &inside, &config, &ik) {
+    match straight_line(
+        &scene,
+        &LinkGoal { robot: fetch, group: "arm", link: None, target: &inside, start: &start },
+        &config,
+        &ik,
+    ) {
         Err(StraightLineError::Collision { percent, contact }) => {
             assert!(percent > 50.0 && percent < 100.0, "{percent} %");
             assert!(contact.contains("table1"), "{contact}");
