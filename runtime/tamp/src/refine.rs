@@ -102,21 +102,28 @@ pub enum Refined {
     Failed,
 }
 
-/// Refines `actions` from `initial` so that they reach `goal`, recording into `recorder`.
+/// A plan to refine: its grounded `actions` from the scene `initial`, the `goal` they must
+/// reach, and the `seed` of its candidate streams.
+#[derive(Debug, Clone, Copy)]
+pub struct PlanToRefine<'a> {
+    pub initial: &'a Scene,
+    pub actions: &'a [GroundedAction],
+    pub goal: &'a BTreeSet<GroundAtom>,
+    pub seed: u64,
+}
+
+/// Refines `plan` so that it reaches its goal, recording into `recorder`.
 /// The plan is given up after `max_refused` wasted candidates, or [`WASTED_PER_STEP`] per step
 /// of a longer plan: refused ones, accepted ones backtracked over, and those whose side effect
 /// needed a replan.
-#[allow(clippy::too_many_arguments)] // the loop's inputs are distinct and all needed
 pub fn refine_plan(
     context: &Context<'_>,
     plugins: &mut Plugins<'_>,
-    initial: &Scene,
-    actions: &[GroundedAction],
-    goal: &BTreeSet<GroundAtom>,
-    seed: u64,
+    plan: &PlanToRefine<'_>,
     recorder: &mut Recorder,
     counts: &mut RefineCounts,
 ) -> Result<Refined, SolveError> {
+    let PlanToRefine { initial, actions, goal, seed } = *plan;
     let start_len = recorder.len();
     let mut search = Search { actions: actions.to_vec(), levels: Vec::new(), refused: 0, seed };
     let mut rests = Rests::default();

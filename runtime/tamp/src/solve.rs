@@ -17,7 +17,7 @@ use crate::error::{Progress, SolveError};
 use crate::ground::{call_text, ground_step, pddl_atom};
 use crate::planning::{Planned, goal_holds_initially, plans, relax};
 use crate::plugins::Plugins;
-use crate::refine::{Context, RefineCounts, Refined, difference, mix, refine_plan};
+use crate::refine::{Context, PlanToRefine, RefineCounts, Refined, difference, mix, refine_plan};
 use crate::settings::SolveSettings;
 use crate::state::abstraction;
 use crate::summary::Summary;
@@ -74,34 +74,32 @@ pub fn solve(
     }
     let mut summary = Summary { problem: problem.name.clone(), ..Summary::default() };
     let mut counts = RefineCounts::default();
-    let outcome = solve_with(
-        input,
-        plugins,
-        settings,
-        progress,
-        &domain,
-        &mut problem,
-        &mut summary,
-        &mut counts,
-    );
+    let inputs = LoopInputs { input, settings, progress, domain: &domain };
+    let outcome = solve_with(&inputs, plugins, &mut problem, &mut summary, &mut counts);
     outcome.map_err(|error| match error {
         SolveError::Cancelled(_) => SolveError::Cancelled(progress_of(&summary, &counts)),
         other => other,
     })
 }
 
+/// What the loop of [`solve`] reads and never changes.
+#[derive(Clone, Copy)]
+struct LoopInputs<'a> {
+    input: &'a SolveInput<'a>,
+    settings: &'a SolveSettings<'a>,
+    progress: &'a dyn Fn(&str),
+    domain: &'a Domain,
+}
+
 /// The loop of [`solve`], which fills `summary` and `counts` as it goes.
-#[allow(clippy::too_many_arguments)] // the loop's inputs and its running counts
 fn solve_with(
-    input: &SolveInput<'_>,
+    inputs: &LoopInputs<'_>,
     plugins: &mut Plugins<'_>,
-    settings: &SolveSettings<'_>,
-    progress: &dyn Fn(&str),
-    domain: &Domain,
     problem: &mut Problem,
     summary: &mut Summary,
     counts: &mut RefineCounts,
 ) -> Result<Solution, SolveError> {
+    let LoopInputs { input, settings, progress, domain } = *inputs;
     let mut attempts = 0;
     loop {
         progress("planning");
@@ -160,16 +158,9 @@ fn solve_with(
                 let mut recorder = Recorder::default();
                 recorder.record(input.scene);
                 let seed = mix(settings.seed, attempts, 0);
-                let outcome = refine_plan(
-                    &context,
-                    plugins,
-                    input.scene,
-                    &actions,
-                    &goal,
-                    seed,
-                    &mut recorder,
-                    counts,
-                )?;
+                let plan =
+                    PlanToRefine { initial: input.scene, actions: &actions, goal: &goal, seed };
+                let outcome = refine_plan(&context, plugins, &plan, &mut recorder, counts)?;
                 if let Refined::Done { steps, starts, .. } = outcome {
                     summary.seconds_refining += started.elapsed().as_secs_f64();
                     progress("validating");
