@@ -19,8 +19,8 @@ use std::collections::BTreeMap;
 use lamp_robot::{LinkId, Robot};
 pub use lamp_spec::{FrameObject, FrameRobot, GraspJoint, Ros2Mapping};
 use lamp_trajectory::{
-    BodyDescription, RobotDescription, RobotState, Step, Trajectory, TrajectoryError,
-    TrajectoryHeader, read_standard_channels,
+    BagTfMessage, BodyDescription, RobotDescription, RobotState, StandardRecording, Step,
+    Trajectory, TrajectoryError, TrajectoryHeader, read_standard_channels,
 };
 use nalgebra::Isometry3;
 
@@ -257,6 +257,32 @@ pub fn ros2_trajectory(
 ) -> Result<Trajectory, Ros2Error> {
     let held_topic = mapping.robot.as_ref().and_then(|robot| robot.held_topic.as_deref());
     let recording = read_standard_channels(bytes, file, held_topic.as_slice())?;
+    let held_messages = held_messages(&recording, file, held_topic)?;
+    let (header, joints) = header_and_joints(domain, mapping, robot);
+    let mut reader = BagReader::new(file, mapping, robot, &recording, held_messages, joints);
+    let mut steps: Vec<Step> = Vec::new();
+    for message in &recording.tf {
+        if let Some(step) = reader.step(message)? {
+            steps.push(step);
+        }
+    }
+    if steps.is_empty() {
+        return Err(reader.missing_frame());
+    }
+    // Step times start at zero, as in a native file.
+    let start = steps[0].time_nanoseconds;
+    for step in &mut steps {
+        step.time_nanoseconds -= start;
+    }
+    Ok(Trajectory { header, steps })
+}
+
+/// The messages of the held topic, after checking that the bag has `/tf` and that topic.
+fn held_messages<'r>(
+    recording: &'r StandardRecording,
+    file: &str,
+    held_topic: Option<&str>,
+) -> Result<&'r [(u64, String)], Ros2Error> {
     if recording.tf.is_empty() {
         return Err(Ros2Error::NoTf { file: file.to_string() });
     }
@@ -268,21 +294,16 @@ pub fn ros2_trajectory(
             topics: topics.join(", "),
         });
     }
-    let held_messages = held_topic.map(|topic| recording.strings[topic].as_slice()).unwrap_or(&[]);
+    Ok(held_topic.map(|topic| recording.strings[topic].as_slice()).unwrap_or(&[]))
+}
 
-    // Frame → (parent, pose in the parent, stamp), updated message by message.
-    let mut tree: BTreeMap<&str, (&str, Isometry3<f64>, u64)> = BTreeMap::new();
-    for message in &recording.tf_static {
-        for transform in &message.transforms {
-            tree.insert(&transform.frame, (&transform.parent, transform.pose, 0));
-        }
-    }
-    let mut frames: Vec<&str> =
-        mapping.objects.iter().map(|object| object.frame.as_str()).collect();
-    if let Some(robot) = &mapping.robot {
-        frames.push(&robot.base_frame);
-    }
-
+/// The trajectory's header, and the robot's joints with one coordinate: (URDF name, coordinate
+/// index).
+fn header_and_joints<'a>(
+    domain: &str,
+    mapping: &Ros2Mapping,
+    robot: Option<&MappedRobot<'a>>,
+) -> (TrajectoryHeader, Vec<(&'a str, usize)>) {
     let mut header = TrajectoryHeader {
         domain: domain.to_string(),
         seed: 0,
@@ -297,7 +318,6 @@ pub fn ros2_trajectory(
             .collect(),
         robots: vec![],
     };
-    // The robot's joints with one coordinate: (URDF name, coordinate index).
     let mut joints: Vec<(&str, usize)> = Vec::new();
     if let (Some(mapped), Some(robot)) = (&mapping.robot, robot) {
         header.robots.push(RobotDescription {
@@ -312,95 +332,196 @@ pub fn ros2_trajectory(
             }
         }
     }
-    // With several robots in one bag, each robot's frames and joints carry its prefix, as lamp
-    // writes them (`fetch/base_link`, `fetch/shoulder_pan_joint`): a robot frame `P/ROOT`, where
-    // ROOT is the robot's root link, reads its joints as `P/JOINT`, else by their bare names.
-    let prefix = match (&mapping.robot, robot) {
-        (Some(mapped), Some(robot)) => mapped
-            .base_frame
-            .strip_suffix(robot.model.link_name(0))
-            .filter(|prefix| prefix.ends_with('/'))
-            .unwrap_or(""),
-        _ => "",
-    };
-    // The prefixed names, made once: the lookup runs for every joint at every step.
-    let grasp_joint = robot.and_then(|robot| robot.grasp.as_ref()).map(|g| g.joint.joint.as_str());
-    let prefixed: BTreeMap<&str, String> = joints
-        .iter()
-        .map(|(joint, _)| *joint)
-        .chain(grasp_joint)
-        .map(|joint| (joint, format!("{prefix}{joint}")))
-        .collect();
-    let joint_value = |values: &BTreeMap<&str, f64>, joint: &str| {
-        let named = prefixed.get(joint).and_then(|name| values.get(name.as_str()));
-        named.or_else(|| values.get(joint)).copied()
-    };
-    let frame_index: BTreeMap<&str, usize> =
-        mapping.objects.iter().enumerate().map(|(index, o)| (o.frame.as_str(), index)).collect();
+    (header, joints)
+}
 
-    let mut steps: Vec<Step> = Vec::new();
-    let mut previous_log_time = None;
-    let mut root: Option<String> = None;
-    let (mut next_joint_state, mut next_held) = (0, 0);
-    let mut joint_values: BTreeMap<&str, f64> = BTreeMap::new();
-    let mut held: Option<usize> = None;
-    // Whether the grasp joint was closed at the previous step (none before the first).
-    let mut was_closed: Option<bool> = None;
-    let mut previous_positions: Vec<nalgebra::Vector3<f64>> = Vec::new();
-    for message in &recording.tf {
+/// Each mapped frame's pose in the root of its tree, and that root.
+type FramePoses<'a> = Vec<(Isometry3<f64>, &'a str)>;
+
+/// A bag read `/tf` message by `/tf` message: the frame tree, the latest joint values and held
+/// frame, and what the checks between steps remember.
+struct BagReader<'a> {
+    file: &'a str,
+    mapping: &'a Ros2Mapping,
+    robot: Option<&'a MappedRobot<'a>>,
+    recording: &'a StandardRecording,
+    held_messages: &'a [(u64, String)],
+    /// The robot's joints with one coordinate: (URDF name, coordinate index).
+    joints: Vec<(&'a str, usize)>,
+    /// The mapped objects' frames, then the robot's base frame.
+    frames: Vec<&'a str>,
+    frame_index: BTreeMap<&'a str, usize>,
+    /// Each joint's name with the robot's prefix, made once: the lookup runs for every joint at
+    /// every step.
+    prefixed: BTreeMap<&'a str, String>,
+    /// Frame → (parent, pose in the parent, stamp), updated message by message.
+    tree: BTreeMap<&'a str, (&'a str, Isometry3<f64>, u64)>,
+    previous_log_time: Option<u64>,
+    root: Option<String>,
+    next_joint_state: usize,
+    next_held: usize,
+    joint_values: BTreeMap<&'a str, f64>,
+    held: Option<usize>,
+    /// Whether the grasp joint was closed at the previous step (none before the first).
+    was_closed: Option<bool>,
+    previous_positions: Vec<nalgebra::Vector3<f64>>,
+}
+
+impl<'a> BagReader<'a> {
+    fn new(
+        file: &'a str,
+        mapping: &'a Ros2Mapping,
+        robot: Option<&'a MappedRobot<'a>>,
+        recording: &'a StandardRecording,
+        held_messages: &'a [(u64, String)],
+        joints: Vec<(&'a str, usize)>,
+    ) -> BagReader<'a> {
+        let mut tree = BTreeMap::new();
+        for message in &recording.tf_static {
+            for transform in &message.transforms {
+                tree.insert(
+                    transform.frame.as_str(),
+                    (transform.parent.as_str(), transform.pose, 0),
+                );
+            }
+        }
+        let mut frames: Vec<&str> =
+            mapping.objects.iter().map(|object| object.frame.as_str()).collect();
+        if let Some(robot) = &mapping.robot {
+            frames.push(&robot.base_frame);
+        }
+        // With several robots in one bag, each robot's frames and joints carry its prefix, as
+        // lamp writes them (`fetch/base_link`, `fetch/shoulder_pan_joint`): a robot frame
+        // `P/ROOT`, where ROOT is the robot's root link, reads its joints as `P/JOINT`, else by
+        // their bare names.
+        let prefix = match (&mapping.robot, robot) {
+            (Some(mapped), Some(robot)) => mapped
+                .base_frame
+                .strip_suffix(robot.model.link_name(0))
+                .filter(|prefix| prefix.ends_with('/'))
+                .unwrap_or(""),
+            _ => "",
+        };
+        let grasp_joint =
+            robot.and_then(|robot| robot.grasp.as_ref()).map(|g| g.joint.joint.as_str());
+        let prefixed = joints
+            .iter()
+            .map(|(joint, _)| *joint)
+            .chain(grasp_joint)
+            .map(|joint| (joint, format!("{prefix}{joint}")))
+            .collect();
+        let frame_index = mapping
+            .objects
+            .iter()
+            .enumerate()
+            .map(|(index, o)| (o.frame.as_str(), index))
+            .collect();
+        BagReader {
+            file,
+            mapping,
+            robot,
+            recording,
+            held_messages,
+            joints,
+            frames,
+            frame_index,
+            prefixed,
+            tree,
+            previous_log_time: None,
+            root: None,
+            next_joint_state: 0,
+            next_held: 0,
+            joint_values: BTreeMap::new(),
+            held: None,
+            was_closed: None,
+            previous_positions: Vec::new(),
+        }
+    }
+
+    /// The step at `message`, or none while a mapped frame is still unknown.
+    fn step(&mut self, message: &'a BagTfMessage) -> Result<Option<Step>, Ros2Error> {
         let time = message.log_time;
-        if let Some(previous) = previous_log_time.filter(|previous| time < *previous) {
+        self.update_tree(message)?;
+        self.catch_up(time)?;
+        let Some(poses) = self.mapped_poses(time)? else { return Ok(None) };
+        self.check_roots(&poses)?;
+        self.check_jumps(&poses, time)?;
+        let body_poses: Vec<Isometry3<f64>> =
+            poses.iter().take(self.mapping.objects.len()).map(|(pose, _)| *pose).collect();
+        let robots = self.robot_states(&poses, &body_poses, time)?;
+        Ok(Some(Step { time_nanoseconds: time, body_poses, robots }))
+    }
+
+    /// Takes in `message`'s transforms, refusing log times or stamps that go back.
+    fn update_tree(&mut self, message: &'a BagTfMessage) -> Result<(), Ros2Error> {
+        let time = message.log_time;
+        if let Some(previous) = self.previous_log_time.filter(|previous| time < *previous) {
             return Err(Ros2Error::Timing {
-                file: file.to_string(),
+                file: self.file.to_string(),
                 reason: format!("a `/tf` message at {time} ns follows one at {previous} ns"),
             });
         }
-        previous_log_time = Some(time);
+        self.previous_log_time = Some(time);
         for transform in &message.transforms {
-            if let Some((_, _, stamp)) = tree.get(transform.frame.as_str())
+            if let Some((_, _, stamp)) = self.tree.get(transform.frame.as_str())
                 && transform.stamp_nanoseconds < *stamp
             {
                 return Err(Ros2Error::Timing {
-                    file: file.to_string(),
+                    file: self.file.to_string(),
                     reason: format!(
                         "the stamp of frame `{}` goes back from {stamp} ns to {} ns",
                         transform.frame, transform.stamp_nanoseconds
                     ),
                 });
             }
-            tree.insert(
+            self.tree.insert(
                 &transform.frame,
                 (&transform.parent, transform.pose, transform.stamp_nanoseconds),
             );
         }
+        Ok(())
+    }
+
+    /// Takes in the joint states and held frames logged up to `time`.
+    fn catch_up(&mut self, time: u64) -> Result<(), Ros2Error> {
+        let recording = self.recording;
         while let Some(state) =
-            recording.joint_states.get(next_joint_state).filter(|s| s.log_time <= time)
+            recording.joint_states.get(self.next_joint_state).filter(|s| s.log_time <= time)
         {
             for (name, value) in state.names.iter().zip(&state.positions) {
-                joint_values.insert(name, *value);
+                self.joint_values.insert(name, *value);
             }
-            next_joint_state += 1;
+            self.next_joint_state += 1;
         }
-        while let Some((_, text)) = held_messages.get(next_held).filter(|(t, _)| *t <= time) {
-            held = match text.as_str() {
+        while let Some((_, text)) =
+            self.held_messages.get(self.next_held).filter(|(t, _)| *t <= time)
+        {
+            self.held = match text.as_str() {
                 "" => None,
-                frame => Some(*frame_index.get(frame).ok_or_else(|| Ros2Error::UnknownHeld {
-                    file: file.to_string(),
-                    frame: frame.to_string(),
-                    time_nanoseconds: time,
-                })?),
+                frame => {
+                    Some(*self.frame_index.get(frame).ok_or_else(|| Ros2Error::UnknownHeld {
+                        file: self.file.to_string(),
+                        frame: frame.to_string(),
+                        time_nanoseconds: time,
+                    })?)
+                }
             };
-            next_held += 1;
+            self.next_held += 1;
         }
-        // Steps start once every mapped frame is known.
-        let mut poses = Vec::with_capacity(frames.len());
-        for frame in &frames {
-            match world_pose(&tree, frame) {
+        Ok(())
+    }
+
+    /// Every mapped frame's pose in the root of its tree, with that root; none while a frame is
+    /// still unknown (steps start once every mapped frame is known).
+    fn mapped_poses(&self, time: u64) -> Result<Option<FramePoses<'a>>, Ros2Error> {
+        let mut poses = Vec::with_capacity(self.frames.len());
+        for frame in &self.frames {
+            match world_pose(&self.tree, frame) {
                 Ok((pose, frame_root)) => poses.push((pose, frame_root)),
-                Err(TreeGap::Unknown) => break,
+                Err(TreeGap::Unknown) => return Ok(None),
                 Err(TreeGap::Cycle(cycle)) => {
                     return Err(Ros2Error::TfCycle {
-                        file: file.to_string(),
+                        file: self.file.to_string(),
                         frame: frame.to_string(),
                         time_nanoseconds: time,
                         cycle: cycle
@@ -413,7 +534,7 @@ pub fn ros2_trajectory(
                 }
                 Err(TreeGap::TooDeep(deepest)) => {
                     return Err(Ros2Error::TfTooDeep {
-                        file: file.to_string(),
+                        file: self.file.to_string(),
                         frame: frame.to_string(),
                         time_nanoseconds: time,
                         max_depth: MAX_TREE_DEPTH,
@@ -422,14 +543,16 @@ pub fn ros2_trajectory(
                 }
             }
         }
-        if poses.len() < frames.len() {
-            continue;
-        }
-        for (frame, (_, frame_root)) in frames.iter().zip(&poses) {
-            let expected = root.get_or_insert_with(|| frame_root.to_string());
+        Ok(Some(poses))
+    }
+
+    /// Refuses mapped frames in different trees.
+    fn check_roots(&mut self, poses: &[(Isometry3<f64>, &str)]) -> Result<(), Ros2Error> {
+        for (frame, (_, frame_root)) in self.frames.iter().zip(poses) {
+            let expected = self.root.get_or_insert_with(|| frame_root.to_string());
             if frame_root != expected {
                 return Err(Ros2Error::MissingFrame {
-                    file: file.to_string(),
+                    file: self.file.to_string(),
                     frame: frame.to_string(),
                     reason: format!(
                         "is in the tree of `{frame_root}`, not in that of `{expected}` with the other frames"
@@ -437,85 +560,103 @@ pub fn ros2_trajectory(
                 });
             }
         }
+        Ok(())
+    }
+
+    /// Refuses a mapped frame that moves more than [`MAX_FRAME_JUMP`] since the last step.
+    fn check_jumps(
+        &mut self,
+        poses: &[(Isometry3<f64>, &str)],
+        time: u64,
+    ) -> Result<(), Ros2Error> {
         let positions: Vec<_> = poses.iter().map(|(pose, _)| pose.translation.vector).collect();
-        for ((frame, position), before) in frames.iter().zip(&positions).zip(&previous_positions) {
+        for ((frame, position), before) in
+            self.frames.iter().zip(&positions).zip(&self.previous_positions)
+        {
             let distance = (position - before).norm();
             if distance > MAX_FRAME_JUMP {
                 return Err(Ros2Error::Jump {
-                    file: file.to_string(),
+                    file: self.file.to_string(),
                     frame: frame.to_string(),
                     time_nanoseconds: time,
                     distance,
                 });
             }
         }
-        previous_positions = positions;
-        let body_poses: Vec<Isometry3<f64>> =
-            poses.iter().take(mapping.objects.len()).map(|(pose, _)| *pose).collect();
-        let mut robots = Vec::new();
-        if let (Some(mapped), Some(robot)) = (&mapping.robot, robot) {
-            let mut q = robot.model.neutral_configuration();
-            let base = poses[mapping.objects.len()].0;
-            robot.model.mount().write_coordinates(&base, &mut q);
-            for (joint, coordinate) in &joints {
-                let value =
-                    joint_value(&joint_values, joint).ok_or_else(|| Ros2Error::MissingJoint {
-                        file: file.to_string(),
-                        robot: mapped.robot.clone(),
-                        joint: joint.to_string(),
-                    })?;
-                let (lower, upper) = recordable_range(&robot.model.coordinates()[*coordinate]);
-                if !(lower - JOINT_LIMIT_SLACK..=upper + JOINT_LIMIT_SLACK).contains(&value) {
-                    return Err(Ros2Error::JointOutOfRange {
-                        file: file.to_string(),
-                        robot: mapped.robot.clone(),
-                        joint: joint.to_string(),
-                        value,
-                        lower,
-                        upper,
-                        time_nanoseconds: time,
-                    });
-                }
-                q[*coordinate] = value;
-            }
-            if let Some(grasp) = &robot.grasp {
-                let joint = grasp.joint.joint.as_str();
-                let value =
-                    joint_value(&joint_values, joint).ok_or_else(|| Ros2Error::MissingJoint {
-                        file: file.to_string(),
-                        robot: mapped.robot.clone(),
-                        joint: joint.to_string(),
-                    })?;
-                let closed = value < grasp.joint.closed_below;
-                if !closed {
-                    held = None;
-                } else if was_closed != Some(true) {
-                    held = grasped_object(grasp, robot.model, &q, &body_poses);
-                }
-                was_closed = Some(closed);
-            }
-            let held = robot.gripper.iter().map(|_| held).collect();
-            robots.push(RobotState { positions: q, held });
-        }
-        steps.push(Step { time_nanoseconds: time, body_poses, robots });
+        self.previous_positions = positions;
+        Ok(())
     }
-    if steps.is_empty() {
-        let missing = frames
+
+    /// The robot's state at this step (none without a robot): its configuration from the base
+    /// frame and the joint values, and what it holds.
+    fn robot_states(
+        &mut self,
+        poses: &[(Isometry3<f64>, &str)],
+        body_poses: &[Isometry3<f64>],
+        time: u64,
+    ) -> Result<Vec<RobotState>, Ros2Error> {
+        let (Some(mapped), Some(robot)) = (&self.mapping.robot, self.robot) else {
+            return Ok(Vec::new());
+        };
+        let missing = |joint: &str| Ros2Error::MissingJoint {
+            file: self.file.to_string(),
+            robot: mapped.robot.clone(),
+            joint: joint.to_string(),
+        };
+        let mut q = robot.model.neutral_configuration();
+        let base = poses[self.mapping.objects.len()].0;
+        robot.model.mount().write_coordinates(&base, &mut q);
+        for (joint, coordinate) in &self.joints {
+            let value = self.joint_value(joint).ok_or_else(|| missing(joint))?;
+            let (lower, upper) = recordable_range(&robot.model.coordinates()[*coordinate]);
+            if !(lower - JOINT_LIMIT_SLACK..=upper + JOINT_LIMIT_SLACK).contains(&value) {
+                return Err(Ros2Error::JointOutOfRange {
+                    file: self.file.to_string(),
+                    robot: mapped.robot.clone(),
+                    joint: joint.to_string(),
+                    value,
+                    lower,
+                    upper,
+                    time_nanoseconds: time,
+                });
+            }
+            q[*coordinate] = value;
+        }
+        if let Some(grasp) = &robot.grasp {
+            let joint = grasp.joint.joint.as_str();
+            let value = self.joint_value(joint).ok_or_else(|| missing(joint))?;
+            let closed = value < grasp.joint.closed_below;
+            if !closed {
+                self.held = None;
+            } else if self.was_closed != Some(true) {
+                self.held = grasped_object(grasp, robot.model, &q, body_poses);
+            }
+            self.was_closed = Some(closed);
+        }
+        let held = robot.gripper.iter().map(|_| self.held).collect();
+        Ok(vec![RobotState { positions: q, held }])
+    }
+
+    /// A joint's latest value, under the robot's prefix or else its bare name.
+    fn joint_value(&self, joint: &str) -> Option<f64> {
+        let named = self.prefixed.get(joint).and_then(|name| self.joint_values.get(name.as_str()));
+        named.or_else(|| self.joint_values.get(joint)).copied()
+    }
+
+    /// The error of a bag in which the mapped frames are never all known: the first frame that
+    /// is still missing.
+    fn missing_frame(&self) -> Ros2Error {
+        let missing = self
+            .frames
             .iter()
-            .find(|frame| world_pose(&tree, frame).is_err())
+            .find(|frame| world_pose(&self.tree, frame).is_err())
             .map_or_else(String::new, |frame| frame.to_string());
-        return Err(Ros2Error::MissingFrame {
-            file: file.to_string(),
+        Ros2Error::MissingFrame {
+            file: self.file.to_string(),
             frame: missing,
             reason: "never appears on `/tf` or `/tf_static`".to_string(),
-        });
+        }
     }
-    // Step times start at zero, as in a native file.
-    let start = steps[0].time_nanoseconds;
-    for step in &mut steps {
-        step.time_nanoseconds -= start;
-    }
-    Ok(Trajectory { header, steps })
 }
 
 /// The movable object whose origin is nearest the gripper link at configuration `q`, within the
