@@ -140,33 +140,8 @@ fn evaluate_checked(
     let spec_dir = &checked.dir;
     let problems = select_problems(&spec, args.problems.as_deref())
         .map_err(|message| format!("{}: {message}", checked.file_name))?;
-    let counts = args
-        .demos
-        .as_deref()
-        .map(lamp_eval::parse_counts)
-        .transpose()
-        .map_err(|error| render(&error))?;
-    // The same bound as `lampc demos --count` and the spec's `count`.
-    for count in counts.iter().flatten() {
-        lamp_spec::limits::DEMONSTRATIONS
-            .count(*count as f64)
-            .map_err(|error| format!("`--demos`: {error}"))?;
-    }
-    let build_dir = spec_dir.join(lamp_build::DEFAULT_BUILD_DIR);
-    let out = args.out.clone().unwrap_or_else(|| build_dir.join("eval"));
-    let runs = args.runs as usize;
-    let jobs = match args.jobs {
-        Some(jobs) => jobs as usize,
-        None => std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
-    };
-    let executor = match &args.executor {
-        Some(text) => Executor::parse(text).and_then(|executor| {
-            executor.check_program()?;
-            Ok(executor)
-        }),
-        None => Executor::local(),
-    }
-    .map_err(|error| render(&error))?;
+    let Options { counts, build_dir, out, runs, jobs, executor } =
+        options(args, spec_dir, &render)?;
 
     refuse_out_in_a_model_folder(&out)?;
     // Held to the end: a second evaluation into the folder would interleave its journal lines
@@ -187,27 +162,8 @@ fn evaluate_checked(
     let pool = pool::gather(&spec, spec_dir, &build_dir, &world, &adapter, largest, &note)?;
     let counts = counts.unwrap_or_else(|| vec![pool.files.len()]);
 
-    // Every solve in order; subsets drawn, their digests taken.
-    let mut slots = Vec::new();
-    let mut subsets: BTreeMap<String, (lamp_build::Digest, Vec<usize>)> = BTreeMap::new();
-    for &count in &counts {
-        for run in 1..=runs {
-            let indices = lamp_eval::draw_subset(&pool.entries, count, seed, run)
-                .map_err(|error| render(&error))?;
-            let files: Vec<DemoFile> = indices.iter().map(|&i| pool.files[i].clone()).collect();
-            let digest = lamp_build::demonstration_digest(&files);
-            subsets.entry(digest.to_string()).or_insert((digest, indices));
-            for problem in &problems {
-                slots.push(Slot {
-                    demos: count,
-                    run,
-                    problem: problem.name.clone(),
-                    objects: objects_of(&spec, problem),
-                    key: (digest.to_string(), problem.name.clone()),
-                });
-            }
-        }
-    }
+    let draw = Draw { spec: &spec, pool: &pool, problems: &problems, counts: &counts, runs, seed };
+    let (slots, subsets) = draw_slots(&draw).map_err(|error| render(&error))?;
 
     results.retain(|key, _| slots.iter().any(|slot| slot.key == *key));
     if skipped > 0 {
@@ -217,43 +173,14 @@ fn evaluate_checked(
         ));
     }
     let mut journal = Journal::open(&journal_path, &settings.key)?;
-    // The subsets with solves still to do, in the order of their first solve.
-    let mut work: Vec<SubsetWork> = Vec::new();
-    for slot in &slots {
-        if results.contains_key(&slot.key) {
-            continue;
-        }
-        let subset = &slot.key.0;
-        match work.iter_mut().find(|work| work.digest.to_string() == *subset) {
-            Some(work) if work.problems.contains(&slot.problem) => {}
-            Some(work) => work.problems.push(slot.problem.clone()),
-            None => {
-                let (digest, indices) = subsets[subset].clone();
-                work.push(SubsetWork { digest, indices, problems: vec![slot.problem.clone()] });
-            }
-        }
-    }
+    let work = pending_work(&slots, &results, &subsets);
     let reused = slots.iter().filter(|slot| results.contains_key(&slot.key)).count();
     let through = match args.executor {
         Some(_) => format!(" through `{}`", executor.text()),
         None => String::new(),
     };
-    note(&format!(
-        "{} solves ({} count(s) × {runs} run(s) × {} problem(s)), {reused} already in the journal; {} demonstrations in the pool ({} cut{}); {jobs} at once{through}",
-        slots.len(),
-        counts.len(),
-        problems.len(),
-        pool.files.len(),
-        pool.entries.iter().filter(|demo| demo.cut).count(),
-        if pool.generated > 0 { format!(", {} generated", pool.generated) } else { String::new() },
-    ));
+    note(&plan_note(&draw, slots.len(), reused, jobs, &through));
 
-    let progress = progress_bar(slots.len() as u64);
-    let solved_in = |results: &BTreeMap<Key, Row>| {
-        slots.iter().filter(|slot| results.get(&slot.key).is_some_and(|row| row.solved)).count()
-    };
-    progress.set_position(reused as u64);
-    progress.set_message(format!("{} solved", solved_in(&results)));
     let context = BuildContext {
         spec: &spec,
         spec_file: &checked.file_name,
@@ -270,12 +197,168 @@ fn evaluate_checked(
         jobs,
         executor: &executor,
     };
+    let ending =
+        run_solves(&schedule_settings, work, &learn, &slots, &mut results, &mut journal, reused)?;
+    let kept = slots.iter().filter(|slot| results.contains_key(&slot.key)).count();
+    if !completed(ending, kept, slots.len(), &journal_path, &render)? {
+        return Ok(false);
+    }
+
+    let rows: Vec<Row> = slots
+        .iter()
+        .filter_map(|slot| {
+            let row = results.get(&slot.key)?;
+            Some(Row { demos: slot.demos, run: slot.run, objects: slot.objects, ..row.clone() })
+        })
+        .collect();
+    let info = eval_info(&checked.file_name, &draw, settings);
+    write_outputs(&out, &info, &rows)?;
+    print_summary(&info, &rows, &out, started.elapsed());
+    Ok(true)
+}
+
+/// The evaluation's settings from its flags (besides the seed and the problems).
+struct Options {
+    /// The counts of `--demos`, if given.
+    counts: Option<Vec<usize>>,
+    build_dir: PathBuf,
+    out: PathBuf,
+    runs: usize,
+    jobs: usize,
+    executor: Executor,
+}
+
+/// Reads the flags, for a spec in `spec_dir`; an error is a message to print.
+fn options(
+    args: &Args,
+    spec_dir: &Path,
+    render: &dyn Fn(&dyn miette::Diagnostic) -> String,
+) -> Result<Options, String> {
+    let counts = demonstration_counts(args, render)?;
+    let build_dir = spec_dir.join(lamp_build::DEFAULT_BUILD_DIR);
+    let out = args.out.clone().unwrap_or_else(|| build_dir.join("eval"));
+    let runs = args.runs as usize;
+    let jobs = match args.jobs {
+        Some(jobs) => jobs as usize,
+        None => std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
+    };
+    let executor = executor_of(args).map_err(|error| render(&error))?;
+    Ok(Options { counts, build_dir, out, runs, jobs, executor })
+}
+
+/// The counts of `--demos`, if given, each within the bounds of `lampc demos --count` and the
+/// spec's `count`.
+fn demonstration_counts(
+    args: &Args,
+    render: &dyn Fn(&dyn miette::Diagnostic) -> String,
+) -> Result<Option<Vec<usize>>, String> {
+    let counts =
+        args.demos.as_deref().map(lamp_eval::parse_counts).transpose().map_err(|e| render(&e))?;
+    for count in counts.iter().flatten() {
+        lamp_spec::limits::DEMONSTRATIONS
+            .count(*count as f64)
+            .map_err(|error| format!("`--demos`: {error}"))?;
+    }
+    Ok(counts)
+}
+
+/// The command each solve runs in: `--executor`'s, checked to be there, or this binary's worker.
+fn executor_of(args: &Args) -> Result<Executor, executor::ExecutorError> {
+    match &args.executor {
+        Some(text) => {
+            let executor = Executor::parse(text)?;
+            executor.check_program()?;
+            Ok(executor)
+        }
+        None => Executor::local(),
+    }
+}
+
+/// What the solves of an evaluation are drawn from.
+struct Draw<'a> {
+    spec: &'a Spec,
+    pool: &'a pool::Pool,
+    problems: &'a [&'a Problem],
+    counts: &'a [usize],
+    runs: usize,
+    seed: u64,
+}
+
+/// A drawn subset's digest and its indices into the pool, by the digest's text.
+type Subsets = BTreeMap<String, (lamp_build::Digest, Vec<usize>)>;
+
+/// Every solve in order; subsets drawn, their digests taken.
+fn draw_slots(draw: &Draw<'_>) -> Result<(Vec<Slot>, Subsets), lamp_eval::EvalError> {
+    let mut slots = Vec::new();
+    let mut subsets = Subsets::new();
+    for &count in draw.counts {
+        for run in 1..=draw.runs {
+            let indices = lamp_eval::draw_subset(&draw.pool.entries, count, draw.seed, run)?;
+            let files: Vec<DemoFile> =
+                indices.iter().map(|&i| draw.pool.files[i].clone()).collect();
+            let digest = lamp_build::demonstration_digest(&files);
+            subsets.entry(digest.to_string()).or_insert((digest, indices));
+            for problem in draw.problems {
+                slots.push(Slot {
+                    demos: count,
+                    run,
+                    problem: problem.name.clone(),
+                    objects: objects_of(draw.spec, problem),
+                    key: (digest.to_string(), problem.name.clone()),
+                });
+            }
+        }
+    }
+    Ok((slots, subsets))
+}
+
+/// The subsets with solves still to do, in the order of their first solve.
+fn pending_work(
+    slots: &[Slot],
+    results: &BTreeMap<Key, Row>,
+    subsets: &Subsets,
+) -> Vec<SubsetWork> {
+    let mut work: Vec<SubsetWork> = Vec::new();
+    for slot in slots {
+        if results.contains_key(&slot.key) {
+            continue;
+        }
+        let subset = &slot.key.0;
+        match work.iter_mut().find(|work| work.digest.to_string() == *subset) {
+            Some(work) if work.problems.contains(&slot.problem) => {}
+            Some(work) => work.problems.push(slot.problem.clone()),
+            None => {
+                let (digest, indices) = subsets[subset].clone();
+                work.push(SubsetWork { digest, indices, problems: vec![slot.problem.clone()] });
+            }
+        }
+    }
+    work
+}
+
+/// Runs the solves still to do with a progress bar, each result journalled as it comes; an
+/// error is a journal line that could not be written.
+fn run_solves(
+    schedule_settings: &schedule::Settings<'_>,
+    work: Vec<SubsetWork>,
+    learn: &(dyn Fn(&SubsetWork) -> Learned + Sync),
+    slots: &[Slot],
+    results: &mut BTreeMap<Key, Row>,
+    journal: &mut Journal,
+    reused: usize,
+) -> Result<Ending, String> {
+    let progress = progress_bar(slots.len() as u64);
+    let solved_in = |results: &BTreeMap<Key, Row>| {
+        slots.iter().filter(|slot| results.get(&slot.key).is_some_and(|row| row.solved)).count()
+    };
+    progress.set_position(reused as u64);
+    progress.set_message(format!("{} solved", solved_in(results)));
     let mut write_error = None;
     let current = RefCell::new(String::new());
     let ending = schedule::run(
-        &schedule_settings,
+        schedule_settings,
         work,
-        &learn,
+        learn,
         &|| INTERRUPTED.load(Ordering::Relaxed),
         &mut |problem| *current.borrow_mut() = problem.to_string(),
         &mut |error| {
@@ -304,54 +387,75 @@ fn evaluate_checked(
             results.insert(done.key.clone(), row);
             let finished = slots.iter().filter(|slot| slot.key == done.key).count();
             progress.inc(finished as u64);
-            progress.set_message(format!("{} · {} solved", current.borrow(), solved_in(&results)));
+            progress.set_message(format!("{} · {} solved", current.borrow(), solved_in(results)));
         },
     );
     progress.finish_and_clear();
     if let Some(message) = write_error {
         return Err(message);
     }
-    let kept = || slots.iter().filter(|slot| results.contains_key(&slot.key)).count();
+    Ok(ending)
+}
+
+/// The line that says what the evaluation is about to do.
+fn plan_note(draw: &Draw<'_>, slots: usize, reused: usize, jobs: usize, through: &str) -> String {
+    let (runs, pool) = (draw.runs, draw.pool);
+    format!(
+        "{} solves ({} count(s) × {runs} run(s) × {} problem(s)), {reused} already in the journal; {} demonstrations in the pool ({} cut{}); {jobs} at once{through}",
+        slots,
+        draw.counts.len(),
+        draw.problems.len(),
+        pool.files.len(),
+        pool.entries.iter().filter(|demo| demo.cut).count(),
+        if pool.generated > 0 { format!(", {} generated", pool.generated) } else { String::new() },
+    )
+}
+
+/// Whether every solve ran: when interrupted it says so and how many of the `total` solves are
+/// `kept` in the journal; a broken executor is an error that says the same.
+fn completed(
+    ending: Ending,
+    kept: usize,
+    total: usize,
+    journal_path: &Path,
+    render: &dyn Fn(&dyn miette::Diagnostic) -> String,
+) -> Result<bool, String> {
     match ending {
-        Ending::Complete => {}
+        Ending::Complete => Ok(true),
         Ending::Interrupted => {
             eprintln!(
                 "lampc eval: interrupted; {} of {} solves are kept in {}; run the same command again to continue",
-                kept(),
-                slots.len(),
+                kept,
+                total,
                 journal_path.display()
             );
-            return Ok(false);
+            Ok(false)
         }
-        Ending::Broken(error) => {
-            return Err(format!(
-                "{}lampc eval: stopped by the executor's failure, which is not recorded as a result; {} of {} solves are kept in {}; run the same command again to continue",
-                render(&error),
-                kept(),
-                slots.len(),
-                journal_path.display()
-            ));
-        }
+        Ending::Broken(error) => Err(format!(
+            "{}lampc eval: stopped by the executor's failure, which is not recorded as a result; {} of {} solves are kept in {}; run the same command again to continue",
+            render(&error),
+            kept,
+            total,
+            journal_path.display()
+        )),
     }
+}
 
-    let rows: Vec<Row> = slots
-        .iter()
-        .filter_map(|slot| {
-            let row = results.get(&slot.key)?;
-            Some(Row { demos: slot.demos, run: slot.run, objects: slot.objects, ..row.clone() })
-        })
-        .collect();
-    let info = EvalInfo {
-        spec: checked.file_name.clone(),
-        domain: spec.domain.clone(),
-        seed,
-        counts,
-        runs,
-        problems: problems
+/// What `eval.json` says of the evaluation besides its rows.
+fn eval_info(spec_file: &str, draw: &Draw<'_>, settings: SettingsInfo) -> EvalInfo {
+    let pool = draw.pool;
+    EvalInfo {
+        spec: spec_file.to_string(),
+        domain: draw.spec.domain.clone(),
+        seed: draw.seed,
+        counts: draw.counts.to_vec(),
+        runs: draw.runs,
+        problems: draw
+            .problems
             .iter()
             .map(|problem| ProblemInfo {
                 name: problem.name.clone(),
-                objects: objects_of(&spec, problem),
+                objects: objects_of(draw.spec, problem),
             })
             .collect(),
         pool: PoolInfo {
@@ -362,10 +466,7 @@ fn evaluate_checked(
             digest: lamp_build::demonstration_digest(&pool.files).to_string(),
         },
         settings,
-    };
-    write_outputs(&out, &info, &rows)?;
-    print_summary(&info, &rows, &out, started.elapsed());
-    Ok(true)
+    }
 }
 
 /// The spec's problems whose names match one of the comma-separated globs of `filter` (all
