@@ -27,12 +27,13 @@ use lamp_world::{Recorder, Scene};
 
 use crate::error::SolveError;
 use crate::execute::{MotionCounts, Rejection, execute};
-use crate::ground::{Broken, effects_hold, first_broken};
+use crate::ground::{Broken, effects_hold, first_broken, progress};
 use crate::host::SceneHost;
 use crate::planning::plan_from;
 use crate::plugins::Plugins;
 use crate::settings::SolveSettings;
 use crate::state::{abstraction, world_state};
+use crate::summary::{ObjectPose, ReplanPoint};
 use crate::targets::first_miss_where_reached;
 
 /// What the refinement loop shares.
@@ -66,11 +67,20 @@ struct Level {
     scene: Scene,
     /// The abstract state of `scene`.
     state: BTreeSet<GroundAtom>,
+    /// The abstract state the plan's segment predicts before this step: the state its steps
+    /// reach in the domain from where the segment starts (the initial state, or the state reached
+    /// at the last replan before this step).
+    predicted: BTreeSet<GroundAtom>,
     recorded: usize,
     stream: Box<dyn CandidateStream>,
-    /// The steps after this one as they were when the level was opened, kept while a candidate
-    /// of this level has replaced them by a replan.
-    replaced_rest: Option<Vec<GroundedAction>>,
+    /// Set while a candidate of this level has replaced the steps after it by a replan.
+    replaced: Option<Replaced>,
+}
+
+/// The steps after a level as they were when it was opened, and the replan that replaced them.
+struct Replaced {
+    rest: Vec<GroundedAction>,
+    point: ReplanPoint,
 }
 
 /// The counts of one refinement.
@@ -97,6 +107,8 @@ pub enum Refined {
         scene: Scene,
         /// Per step, the index of the recorded state its motion begins with.
         starts: Vec<usize>,
+        /// The replans on the way, in step order.
+        replans: Vec<ReplanPoint>,
     },
     /// The streams ran dry or the refusal budget ran out.
     Failed,
@@ -129,16 +141,30 @@ pub fn refine_plan(
     let mut rests = Rests::default();
     let mut scene = initial.clone();
     let mut state = abstraction(context.artifact, context.participants, &scene)?;
+    let mut predicted = state.clone();
     loop {
         if search.levels.len() == search.actions.len() {
             let starts = search.levels.iter().map(|level| level.recorded).collect();
-            return Ok(Refined::Done { steps: search.actions, scene, starts });
+            let replans = search
+                .levels
+                .iter_mut()
+                .filter_map(|level| level.replaced.take().map(|replaced| replaced.point))
+                .collect();
+            return Ok(Refined::Done { steps: search.actions, scene, starts, replans });
         }
         if (context.settings.cancelled)() {
             return Err(SolveError::cancelled());
         }
         let before = std::mem::take(&mut state);
-        search.open_level(context, plugins, &scene, before, recorder.len(), counts)?;
+        let before_predicted = std::mem::take(&mut predicted);
+        search.open_level(
+            context,
+            plugins,
+            &scene,
+            (before, before_predicted),
+            recorder.len(),
+            counts,
+        )?;
         loop {
             let Some((at, candidate)) = search.next_candidate(context, counts)? else {
                 recorder.steps.truncate(start_len);
@@ -170,14 +196,18 @@ pub fn refine_plan(
             let why = match verdict {
                 Verdict::Accepted(reached) => {
                     search.refused -= 1;
+                    predicted = progress(&search.levels[at].predicted, &search.actions[at]);
                     scene = trial;
                     state = reached;
                     break;
                 }
                 Verdict::Replanned(reached, rest) => {
+                    let expected = progress(&search.levels[at].predicted, &search.actions[at]);
+                    let point = replan_point(context, at, &expected, &reached, &trial)?;
                     let old = search.actions.split_off(at + 1);
                     search.actions.extend(rest);
-                    search.levels[at].replaced_rest = Some(old);
+                    search.levels[at].replaced = Some(Replaced { rest: old, point });
+                    predicted = reached.clone();
                     scene = trial;
                     state = reached;
                     break;
@@ -207,13 +237,13 @@ struct Search {
 
 impl Search {
     /// Opens the refiner's stream for the next step, from `scene`, the state it starts in, whose
-    /// abstract state is `state`.
+    /// abstract state is the first of `states` and the one the plan predicts there the second.
     fn open_level(
         &mut self,
         context: &Context<'_>,
         plugins: &mut Plugins<'_>,
         scene: &Scene,
-        state: BTreeSet<GroundAtom>,
+        states: (BTreeSet<GroundAtom>, BTreeSet<GroundAtom>),
         recorded: usize,
         counts: &mut RefineCounts,
     ) -> Result<(), SolveError> {
@@ -229,12 +259,14 @@ impl Search {
             .refiner
             .refine(&request, &host)
             .map_err(|error| SolveError::from_plugin("refiner", error))?;
+        let (state, predicted) = states;
         self.levels.push(Level {
             scene: scene.clone(),
             state,
+            predicted,
             recorded,
             stream,
-            replaced_rest: None,
+            replaced: None,
         });
         if index + 1 > counts.deepest {
             counts.deepest = index + 1;
@@ -258,9 +290,9 @@ impl Search {
             if self.refused >= wasted_budget(context.settings.max_refused, self.actions.len()) {
                 return Ok(None);
             }
-            if let Some(rest) = level.replaced_rest.take() {
+            if let Some(replaced) = level.replaced.take() {
                 self.actions.truncate(at + 1);
-                self.actions.extend(rest);
+                self.actions.extend(replaced.rest);
             }
             let host_seed = mix(self.seed, at as u64, counts.candidates as u64);
             let host = SceneHost::new(&level.scene, host_seed, context.settings.cancelled);
@@ -352,6 +384,43 @@ impl Judge<'_, '_, '_> {
             None => Verdict::Refused(format!("{broken}, and no plan reaches the goal from there")),
         })
     }
+}
+
+/// The replan after step `at` (0-based): the atoms `reached` has that `expected` (the state the
+/// plan predicted) lacks and the reverse, with the poses in `trial` of every object they name.
+fn replan_point(
+    context: &Context<'_>,
+    at: usize,
+    expected: &BTreeSet<GroundAtom>,
+    reached: &BTreeSet<GroundAtom>,
+    trial: &Scene,
+) -> Result<ReplanPoint, SolveError> {
+    let added: Vec<&GroundAtom> = reached.difference(expected).collect();
+    let deleted: Vec<&GroundAtom> = expected.difference(reached).collect();
+    let named: BTreeSet<&str> = added
+        .iter()
+        .chain(&deleted)
+        .flat_map(|atom| atom.arguments.iter().map(String::as_str))
+        .collect();
+    let (participants, snapshot) = lamp_participants::scene_snapshot(context.participants, trial)
+        .map_err(SolveError::internal)?;
+    let mut poses: Vec<ObjectPose> = participants
+        .iter()
+        .zip(&snapshot.poses)
+        .filter(|(participant, _)| named.contains(participant.name.as_str()))
+        .map(|(participant, pose)| {
+            let t = pose.translation.vector;
+            let q = pose.rotation.quaternion();
+            ObjectPose {
+                object: participant.name.clone(),
+                position: [t.x, t.y, t.z],
+                rotation: [q.i, q.j, q.k, q.w],
+            }
+        })
+        .collect();
+    poses.sort_by(|a, b| a.object.cmp(&b.object));
+    let texts = |atoms: &[&GroundAtom]| atoms.iter().map(ToString::to_string).collect();
+    Ok(ReplanPoint { after_step: at + 1, added: texts(&added), deleted: texts(&deleted), poses })
 }
 
 /// What a broken rest of the plan misses, for messages.

@@ -161,7 +161,7 @@ fn solve_with(
                 let plan =
                     PlanToRefine { initial: input.scene, actions: &actions, goal: &goal, seed };
                 let outcome = refine_plan(&context, plugins, &plan, &mut recorder, counts)?;
-                if let Refined::Done { steps, starts, .. } = outcome {
+                if let Refined::Done { steps, starts, replans, .. } = outcome {
                     summary.seconds_refining += started.elapsed().as_secs_f64();
                     progress("validating");
                     let started = Instant::now();
@@ -178,6 +178,7 @@ fn solve_with(
                     summary.success = !summary.is_partial();
                     summary.plan =
                         steps.iter().map(|step| call_text(&step.name, &step.arguments)).collect();
+                    summary.replan_points = replans;
                     fill(summary, counts, recorder.len());
                     let trajectory =
                         Trajectory { header: input.header.clone(), steps: recorder.steps };

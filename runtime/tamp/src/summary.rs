@@ -3,6 +3,11 @@
 //!
 //! A summary exists only for a validated trajectory. It is a success when the trajectory reaches
 //! the whole goal, and a partial result when goal atoms had to be dropped (`relaxed_goal`).
+//!
+//! Where a step reached a state other than the one its plan predicted and the rest of the plan
+//! was planned again from there, the summary says so (`replan_points`), and the plan's text marks
+//! the place ([`Summary::plan_text`]): the plan is then made of segments, each a plan from the
+//! state it starts in.
 
 use serde::Serialize;
 
@@ -19,6 +24,10 @@ pub struct Summary {
     pub relaxed_goal: Vec<String>,
     /// The refined plan, one `(action args…)` per step.
     pub plan: Vec<String>,
+    /// The replans `plan` went through, in its order: after which step the state reached
+    /// differed from the one predicted, and how. Replans that backtracking undid are not here
+    /// (`replans` counts them all).
+    pub replan_points: Vec<ReplanPoint>,
     /// Symbolic plans tried (each refinement round counts every plan it tries).
     pub plans_tried: usize,
     /// Refiner candidates tried.
@@ -39,9 +48,101 @@ pub struct Summary {
     pub seconds_validating: f64,
 }
 
+/// One replan of the plan as refined: the state reached after a step differed from the one the
+/// plan's segment predicted, and the steps after it were planned again from the state reached.
+///
+/// The segment that ends here starts in the problem's initial state, or in the state reached at
+/// the replan before; its steps run in the domain from there to `after_step`. The next segment
+/// starts in the state they predict, less `deleted`, plus `added`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct ReplanPoint {
+    /// The step (1-based, in `Summary::plan`) after which the state differed; the steps after it
+    /// are the new plan.
+    pub after_step: usize,
+    /// Atoms true in the state reached that the plan predicted false, sorted.
+    pub added: Vec<String>,
+    /// Atoms the plan predicted true that are false in the state reached, sorted.
+    pub deleted: Vec<String>,
+    /// Where every object these atoms name was in the state reached (world frame), by name.
+    pub poses: Vec<ObjectPose>,
+}
+
+/// Where an object (a body or a robot part) was.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct ObjectPose {
+    pub object: String,
+    /// Metres, world frame.
+    pub position: [f64; 3],
+    /// A unit quaternion, `[x, y, z, w]`.
+    pub rotation: [f64; 4],
+}
+
 impl Summary {
     /// Whether the trajectory reaches only a relaxed goal: some goal atoms were dropped.
     pub fn is_partial(&self) -> bool {
         !self.relaxed_goal.is_empty()
+    }
+
+    /// The plan as text: one step a line, and before the first step of each replanned segment a
+    /// comment line `; replan after step N: added … deleted …`, so that the text splits at those
+    /// lines into plans of their own.
+    pub fn plan_text(&self) -> String {
+        let mut text = String::new();
+        let mut replans = self.replan_points.iter().peekable();
+        for (index, step) in self.plan.iter().enumerate() {
+            while let Some(replan) = replans.next_if(|replan| replan.after_step == index) {
+                text.push_str(&replan.comment());
+                text.push('\n');
+            }
+            text.push_str(step);
+            text.push('\n');
+        }
+        // A replan after the last step leaves an empty segment; it is still marked.
+        for replan in replans {
+            text.push_str(&replan.comment());
+            text.push('\n');
+        }
+        text
+    }
+}
+
+impl ReplanPoint {
+    /// `; replan after step N: added (a b) (c d); deleted (e f)`.
+    pub fn comment(&self) -> String {
+        let atoms = |atoms: &[String]| match atoms.is_empty() {
+            true => "none".to_string(),
+            false => atoms.join(" "),
+        };
+        format!(
+            "; replan after step {}: added {}; deleted {}",
+            self.after_step,
+            atoms(&self.added),
+            atoms(&self.deleted)
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_plan_text_marks_each_replan_before_the_steps_planned_again() {
+        let summary = Summary {
+            plan: ["(pick a)", "(put a)", "(pick b)"].map(String::from).to_vec(),
+            replan_points: vec![ReplanPoint {
+                after_step: 2,
+                added: vec!["(loose a)".to_string()],
+                deleted: vec!["(on a box)".to_string(), "(in a box)".to_string()],
+                poses: Vec::new(),
+            }],
+            ..Summary::default()
+        };
+        assert_eq!(
+            summary.plan_text(),
+            "(pick a)\n(put a)\n; replan after step 2: added (loose a); deleted (on a box) (in a box)\n(pick b)\n"
+        );
+        let plain = Summary { replan_points: Vec::new(), ..summary };
+        assert_eq!(plain.plan_text(), "(pick a)\n(put a)\n(pick b)\n");
     }
 }

@@ -93,6 +93,17 @@ fn a_plan_whose_rest_breaks_is_replanned_from_the_reached_state() {
     assert!(solution.summary.replans >= 1, "{:?}", solution.summary);
     assert_eq!(planner.calls, 1 + solution.summary.replans, "one call per replan");
     assert_eq!(solution.summary.plan.len(), 19, "the plan refined is the replanned one");
+    // The summary says where: after the first step, in a state no different from the one the
+    // plan predicted (the plan was wrong, not the world), and the plan's text marks it.
+    let points = &solution.summary.replan_points;
+    assert_eq!(points.len(), 1, "{points:?}");
+    assert_eq!(points[0].after_step, 1);
+    assert!(points[0].added.is_empty() && points[0].deleted.is_empty(), "{points:?}");
+    assert!(points[0].poses.is_empty(), "no atom differs, so no object is named: {points:?}");
+    let text = solution.summary.plan_text();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 20, "{text}");
+    assert_eq!(lines[1], "; replan after step 1: added none; deleted none");
     check_packed("pack4_01", &solution);
 }
 

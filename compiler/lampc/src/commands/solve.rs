@@ -287,11 +287,7 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
     let mut summary_json =
         serde_json::to_string_pretty(summary).map_err(|error| error.to_string())?;
     summary_json.push('\n');
-    let mut plan_text = String::new();
-    for step in &summary.plan {
-        plan_text.push_str(step);
-        plan_text.push('\n');
-    }
+    let plan_text = summary.plan_text();
     let contents: [&[u8]; 4] =
         [&mcap, plan_text.as_bytes(), summary_json.as_bytes(), picture.as_bytes()];
     let files: Vec<(&Path, &[u8])> = SOLUTION_FILES.iter().map(Path::new).zip(contents).collect();
