@@ -137,6 +137,67 @@ fn solve_writes_a_validated_trajectory_plan_summary_and_picture() {
     assert!(labels.windows(2).all(|pair| pair[0].0 < pair[1].0), "labels in time order");
 }
 
+/// `domains/tools/validate_plan.py`, which checks a solution's plan, segment by segment, with
+/// unified-planning's sequential plan validator.
+fn validate_plan_script() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains/tools/validate_plan.py")
+}
+
+/// What the independent validator says of the solution in `out` to `problem` of the model in
+/// `build`; panics with its words when a segment is not valid.
+fn validated(build: &Path, problem: &str, out: &Path) -> String {
+    let model = build.join("model");
+    let output = Command::new("python3")
+        .arg(validate_plan_script())
+        .arg(model.join("domain.pddl"))
+        .arg(model.join("problems").join(format!("{problem}.pddl")))
+        .arg(out)
+        .output()
+        .expect("python3 runs");
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "{problem}: the plan does not validate:\n{stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    stdout
+}
+
+/// Each segment of a solution's plan (split at its replan marks) is a plan of the emitted domain
+/// from the state it starts in, by a validator that shares no code with lamp: unified-planning's
+/// `PlanValidator` (pinned in tests/oracles.txt). A Packing problem from the shared build, and
+/// Keva's `pi_tower_3`, whose plank let go of on its marker settles out of the learned region and
+/// is placed again after a replan.
+#[test]
+fn every_segment_of_a_solution_is_valid_for_an_independent_validator() {
+    if !lamp_test_support::python_oracle("unified_planning", "unified-planning") {
+        return;
+    }
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let out = scratch.path().join("pack4_01");
+    let mut command = lampc();
+    command.arg("solve").arg(spec()).args(["--problem", "pack4_01", "--build"]).arg(built());
+    run(command.arg("--out").arg(&out));
+    let verdict = validated(built(), "pack4_01", &out);
+    assert!(verdict.contains("reaches the goal"), "{verdict}");
+
+    let keva = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains/keva/keva.lamp");
+    let (demos, build) = (scratch.path().join("keva-demos"), scratch.path().join("keva-build"));
+    run(lampc().arg("demos").arg(&keva).arg("--out").arg(&demos));
+    run(lampc().arg("build").arg(&keva).arg("--demos").arg(&demos).arg("--out").arg(&build));
+    let out = scratch.path().join("pi_tower_3");
+    let mut command = lampc();
+    command.arg("solve").arg(&keva).args(["--problem", "pi_tower_3", "--build"]).arg(&build);
+    run(command.arg("--out").arg(&out));
+    let verdict = validated(&build, "pi_tower_3", &out);
+    assert!(verdict.contains("reaches the goal"), "{verdict}");
+    let summary = std::fs::read_to_string(out.join("summary.json")).expect("a summary");
+    let summary: serde_json::Value = serde_json::from_str(&summary).expect("JSON");
+    let replans = summary["replan_points"].as_array().expect("a list of replans");
+    let segments = verdict.lines().filter(|line| line.starts_with("segment ")).count();
+    assert_eq!(segments, replans.len() + 1, "{verdict}");
+}
+
 /// Every first-party plugin built as a shared library (with its `shared-library` feature, which
 /// exports the entry symbol), by the same cargo into the same target folder and profile as this
 /// test, once: the library of each package.
