@@ -8,7 +8,8 @@
 //! one robot (the arm tucks relative to the base), or the gripper holding the secondary when the
 //! primary is an object (a held can is carried into the box), or the gripper holding the primary
 //! when the secondary is an object (a held block is put on one below it, in a pair whose primary
-//! is the block above). Of several added regions, the narrowest is sampled.
+//! is the block above). Of several added regions, one relative to a frame no robot carries is
+//! sampled first, then the narrowest.
 //!
 //! Grasp changes follow the held flag of the regions: an added held region (g = 1) whose gripper
 //! does not hold its object yet is a grab, done after the motion; a deleted held region whose
@@ -165,22 +166,28 @@ pub(crate) fn realisation(
             region,
         })
     };
-    // Of the regions the action adds, the narrowest is sampled and the others are tested (the
-    // stream keeps a candidate only when every effect holds): an intersection is sampled best
-    // from its narrowest member. Ties keep the effects' order.
-    let spread = |(pair, region): (usize, usize)| {
-        artifact.pairs[pair].regions[region].model.position_spread()
+    // Of the regions the action adds, one is sampled and the others are tested (the stream keeps
+    // a candidate only when every effect holds). A region of an object robots carry is placed
+    // wherever that object came to rest, off its own target by up to its region's width, so
+    // sampling it builds each placement on the error of the one before, and up a stack the
+    // errors add until no sample meets the fixed frames: a frame nothing carries (a marker, a
+    // table) comes first. Then an intersection is sampled best from its narrowest member. Ties
+    // keep the effects' order.
+    let carried = carried_types(artifact);
+    let order = |(pair, region): (usize, usize)| {
+        let drifts = carried.contains(artifact.pairs[pair].primary.as_str());
+        (drifts, artifact.pairs[pair].regions[region].model.position_spread())
     };
-    let mut regions: Vec<(f64, Mover)> = add
+    let mut regions: Vec<((bool, f64), Mover)> = add
         .iter()
         .filter_map(|atom| match relation_kind(artifact, &atom.predicate) {
             Some(RelationKind::Region { pair, region, .. }) => {
-                mover_for(atom, Some((pair, region))).map(|mover| (spread((pair, region)), mover))
+                mover_for(atom, Some((pair, region))).map(|mover| (order((pair, region)), mover))
             }
             _ => None,
         })
         .collect();
-    regions.sort_by(|a, b| a.0.total_cmp(&b.0));
+    regions.sort_by(|a, b| a.0.0.cmp(&b.0.0).then(a.0.1.total_cmp(&b.0.1)));
     let regions = regions.into_iter().map(|(_, mover)| mover);
     let outside = add.iter().filter_map(|atom| match relation_kind(artifact, &atom.predicate) {
         Some(RelationKind::Outside { .. }) => mover_for(atom, None),
@@ -188,6 +195,16 @@ pub(crate) fn realisation(
     });
     let mover = regions.chain(outside).next();
     Realisation { mover, releases, grabs }
+}
+
+/// The types robots carry: the secondaries of held regions (g = 1).
+fn carried_types(artifact: &SamplerArtifact) -> std::collections::BTreeSet<&str> {
+    artifact
+        .pairs
+        .iter()
+        .filter(|pair| pair.regions.iter().any(|region| region.g == 1))
+        .map(|pair| pair.secondary.as_str())
+        .collect()
 }
 
 #[cfg(test)]
@@ -211,6 +228,11 @@ mod tests {
 
     /// Blocks above blocks (a wide and a narrow region), blocks on markers, and a grasp.
     fn artifact() -> SamplerArtifact {
+        artifact_with_marker_spread(0.001)
+    }
+
+    /// [`artifact`] with the marker region's standard deviation `sigma`.
+    fn artifact_with_marker_spread(sigma: f64) -> SamplerArtifact {
         let pair = |primary: &str, secondary: &str, regions: Vec<String>| {
             format!(
                 r#"{{"primary": "{primary}", "secondary": "{secondary}", "regions": [{}]}}"#,
@@ -229,7 +251,7 @@ mod tests {
                 ]
             ),
             pair("gripper", "block", vec![region("gripper_block_1", 1, [0.0, 0.0, 0.1], 0.002)]),
-            pair("loc", "block", vec![region("loc_block_1", 0, [0.0, 0.0, 0.0], 0.001)]),
+            pair("loc", "block", vec![region("loc_block_1", 0, [0.0, 0.0, 0.0], sigma)]),
         );
         let artifact: SamplerArtifact = serde_json::from_str(&json).unwrap();
         artifact.validate().unwrap();
@@ -284,10 +306,21 @@ mod tests {
         let on_marker = atom("loc_block_1", &["m2", "b2"]);
         let narrow = atom("block_block_2", &["b1", "b2"]);
         let mover = placement(&[wide.clone(), narrow.clone(), on_marker.clone()]);
-        assert_eq!(mover.region, Some((2, 0)), "the marker's region is the narrowest");
+        assert_eq!(mover.region, Some((2, 0)), "the marker's region is fixed and the narrowest");
         assert!(matches!(&mover.anchor, Anchor::HeldSecondary { primary, .. } if primary == "m2"));
         let mover = placement(&[wide, narrow]);
         assert_eq!(mover.region, Some((0, 1)));
+    }
+
+    #[test]
+    fn a_region_of_a_frame_no_robot_carries_is_sampled_before_a_narrower_one_of_a_carried_object() {
+        // The marker's region is five times wider than the narrow block region; blocks are carried
+        // (the gripper's held region), markers are not.
+        let artifact = artifact_with_marker_spread(0.01);
+        let add = [atom("block_block_2", &["b1", "b2"]), atom("loc_block_1", &["m2", "b2"])];
+        let mover = realisation(&artifact, &view(), &add, &[]).mover.unwrap();
+        assert_eq!(mover.region, Some((2, 0)));
+        assert!(matches!(&mover.anchor, Anchor::HeldSecondary { primary, .. } if primary == "m2"));
     }
 
     #[test]
