@@ -114,8 +114,21 @@ pub fn progress(before: &BTreeSet<GroundAtom>, action: &GroundedAction) -> BTree
 
 /// Whether `action`'s effects hold in `state`: every add is true and every delete false.
 pub fn effects_hold(state: &BTreeSet<GroundAtom>, action: &GroundedAction) -> bool {
-    action.add_effects.iter().all(|atom| state.contains(&learned_atom(atom)))
-        && !action.delete_effects.iter().any(|atom| state.contains(&learned_atom(atom)))
+    unmet_effects(state, action).is_none()
+}
+
+/// The effects of `action` that `state` does not show, if any: the adds that are false
+/// (`missing`) and the deletes that still hold (`unwanted`), each in effect order.
+pub fn unmet_effects(state: &BTreeSet<GroundAtom>, action: &GroundedAction) -> Option<Broken> {
+    let missing: Vec<GroundAtom> =
+        action.add_effects.iter().map(learned_atom).filter(|atom| !state.contains(atom)).collect();
+    let unwanted: Vec<GroundAtom> = action
+        .delete_effects
+        .iter()
+        .map(learned_atom)
+        .filter(|atom| state.contains(atom))
+        .collect();
+    (!missing.is_empty() || !unwanted.is_empty()).then_some(Broken { index: 0, missing, unwanted })
 }
 
 /// Where the rest of a plan breaks when run from `state`: the index in `rest` of the first
@@ -234,6 +247,12 @@ mod tests {
             Broken { index: 1, missing: vec![learned_atom(&on1)], unwanted: Vec::new() }
         );
         assert!(effects_hold(&reached, &action("none", &[], &[&held], &[&on1])));
+        let unmet = unmet_effects(&reached, &action("put", &[], &[&on1], &[&held]))
+            .expect("the put's effects do not hold");
+        assert_eq!(
+            (unmet.missing, unmet.unwanted),
+            (vec![learned_atom(&on1)], vec![learned_atom(&held)])
+        );
     }
 
     /// A block placed across two that must each be on some marker ("on no marker" false): the

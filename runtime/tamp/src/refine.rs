@@ -27,7 +27,7 @@ use lamp_world::{Recorder, Scene};
 
 use crate::error::SolveError;
 use crate::execute::{MotionCounts, Rejection, execute};
-use crate::ground::{Broken, effects_hold, first_broken, progress};
+use crate::ground::{Broken, first_broken, progress, unmet_effects};
 use crate::host::SceneHost;
 use crate::planning::plan_from;
 use crate::plugins::Plugins;
@@ -351,10 +351,8 @@ impl Judge<'_, '_, '_> {
     ) -> Result<Verdict, SolveError> {
         let context = self.context;
         let reached = abstraction(context.artifact, context.participants, trial)?;
-        if !effects_hold(&reached, &actions[at]) {
-            return Ok(Verdict::Refused(
-                "its effects do not hold in the state reached".to_string(),
-            ));
+        if let Some(unmet) = unmet_effects(&reached, &actions[at]) {
+            return Ok(Verdict::Refused(unmet_text(&unmet)));
         }
         if let Some(miss) = first_miss_where_reached(context.targets, self.goal, &reached, trial) {
             return Ok(Verdict::Refused(miss.to_string()));
@@ -437,6 +435,18 @@ fn broken_text(broken: &Broken, actions: &[GroundedAction], at: usize) -> String
         needs.push(format!("the absence of {}", atom_list(&broken.unwanted)));
     }
     format!("the state reached breaks {what}, which needs {}", needs.join(" and "))
+}
+
+/// Which effects the state reached lacks, for messages.
+fn unmet_text(unmet: &Broken) -> String {
+    let mut lacks = Vec::new();
+    if !unmet.missing.is_empty() {
+        lacks.push(format!("{} false", atom_list(&unmet.missing)));
+    }
+    if !unmet.unwanted.is_empty() {
+        lacks.push(format!("{} still true", atom_list(&unmet.unwanted)));
+    }
+    format!("its effects do not hold in the state reached ({})", lacks.join("; "))
 }
 
 /// Atoms in one state and not the other, for messages.
