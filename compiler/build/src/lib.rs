@@ -21,6 +21,7 @@ pub mod at_goals;
 pub mod config;
 pub mod digest;
 pub mod error;
+pub mod grasps;
 pub mod initial_scene;
 pub mod input;
 pub mod manifest;
@@ -43,6 +44,7 @@ pub use at_goals::{GoalWarning, at_goal_atoms};
 pub use config::learn_config;
 pub use digest::{Digest, demonstration_digest, file_digest};
 pub use error::BuildError;
+pub use grasps::{GrabDistanceWarning, grasps_outside_grab_distance};
 pub use initial_scene::{
     CONTACT_TOLERANCE, MAX_DISTANCE, SceneIssue, check_initial_scenes, initial_scene_issues,
     problem_scene_issues,

@@ -17,6 +17,7 @@ use crate::at_goals::GoalWarning;
 use crate::config::learn_config;
 use crate::digest::{Digest, demonstration_digest};
 use crate::error::BuildError;
+use crate::grasps::{GrabDistanceWarning, grasps_outside_grab_distance};
 use crate::initial_scene::check_initial_scenes;
 use crate::input::DemoFile;
 use crate::manifest::{MANIFEST_FILE, Manifest};
@@ -32,7 +33,7 @@ pub use crate::model_folder::{
 };
 
 /// What a build learned and wrote, for the front end to report.
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Summary {
     /// Demonstrations learned from.
     pub demonstrations: usize,
@@ -54,12 +55,14 @@ pub struct Summary {
     pub problems_skipped: Vec<(String, String)>,
     /// Warnings about the goals of written problems, in spec order.
     pub warnings: Vec<GoalWarning>,
+    /// Robots whose `grab distance` some recorded grasp lies outside, in spec order.
+    pub grab_warnings: Vec<GrabDistanceWarning>,
     /// The demonstration digest.
     pub digest: String,
 }
 
 /// Every artifact in memory, and the summary.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Artifacts {
     /// Every artifact by path, the manifest of all the others included.
     pub files: Vec<ArtifactFile>,
@@ -122,6 +125,7 @@ pub fn artifacts(
             .map(|(name, resolved)| (name.clone(), resolved.relation.clone()))
             .collect(),
         digest: provenance.digest.clone(),
+        grab_warnings: grasps_outside_grab_distance(spec, demonstrations),
         ..Summary::default()
     };
     let mut files = vec![ArtifactFile { path: DOMAIN_FILE.into(), contents: domain_text }];

@@ -122,6 +122,21 @@ pub(crate) fn render_goal_warning(
     render_located(warning, &spans, sources, colour)
 }
 
+/// Renders a grab-distance warning at the robot's `grab distance`, where it is known.
+pub(crate) fn render_grab_warning(
+    warning: &lamp_build::GrabDistanceWarning,
+    places: &lamp_lang::GoalPlaces,
+    sources: &lamp_lang::SourceMap,
+    colour: bool,
+) -> String {
+    let spans: Vec<_> = places
+        .grab_distance(&warning.robot)
+        .map(|span| ("a grab succeeds only in this range", span))
+        .into_iter()
+        .collect();
+    render_located(warning, &spans, sources, colour)
+}
+
 /// Renders a structure finding at the object's line in the structure and at the problem's
 /// structure goal, where they are known.
 pub(crate) fn render_structure_issue(

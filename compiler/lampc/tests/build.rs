@@ -396,3 +396,38 @@ problem float_1 {
     }
     assert_eq!(tree(&out.join("model")), BTreeMap::new(), "nothing is written");
 }
+
+/// A `grab distance` that no recorded grasp lies in builds (the model is what the demonstrations
+/// show), but the build warns at the clause, naming the recorded range and a range to write.
+#[test]
+fn a_grab_distance_no_recorded_grasp_lies_in_is_warned_about_at_the_clause() {
+    let scratch = tempfile::tempdir().expect("scratch");
+    let demos = scratch.path().join("demos");
+    fixture::write_packing_fixture(&demos, DEMOS, SEED);
+    let robots = fixture::workspace_root().join("domains/robots/");
+    let bundled = std::fs::read_to_string(fixture::packing_spec_path()).expect("the bundled spec");
+    let spec = scratch.path().join("packing.lamp");
+    let with_paths = bundled.replace("\"../robots/", &format!("\"{}/", robots.display()));
+    std::fs::write(&spec, &with_paths).expect("writes the spec");
+    let quiet = build(&spec, &demos, &scratch.path().join("quiet"));
+    assert!(quiet.status.success(), "{}", text(&quiet.stderr));
+    assert!(!text(&quiet.stderr).contains("grab_distance"), "{}", text(&quiet.stderr));
+
+    let wrong =
+        with_paths.replace("grab distance 0.207 m .. 0.23 m", "grab distance 0.05 m .. 0.1 m");
+    assert_ne!(wrong, with_paths, "the bundled spec's grab distance");
+    std::fs::write(&spec, wrong).expect("writes the spec");
+    let output = build(&spec, &demos, &scratch.path().join("out"));
+    let stderr = text(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    for expected in [
+        "lamp::build::grab_distance",
+        "robot `gripper`:",
+        "recorded grasps are outside its `grab distance` 0.050 m .. 0.100 m; the recorded ones are",
+        "  grab distance 0.05 m .. 0.1 m",
+        "a grab succeeds only in this range",
+        "such as `grab distance",
+    ] {
+        assert!(stderr.contains(expected), "`{expected}` in:\n{stderr}");
+    }
+}

@@ -29,7 +29,8 @@ pub struct CheckOutcome {
     pub places: GoalPlaces,
 }
 
-/// Where goals are written in the spec's files.
+/// Where goals, and the settings the build checks against the demonstrations, are written in the
+/// spec's files.
 #[derive(Debug, Clone, Default)]
 pub struct GoalPlaces {
     /// Each `at` goal by (problem, object).
@@ -38,6 +39,8 @@ pub struct GoalPlaces {
     structure_goals: std::collections::BTreeMap<String, Span>,
     /// Each structure's objects by (structure, object): the whole placement line.
     structure_objects: std::collections::BTreeMap<(String, String), Span>,
+    /// Each robot's `grab distance` clause, by robot.
+    grab_distances: std::collections::BTreeMap<String, Span>,
 }
 
 impl GoalPlaces {
@@ -54,6 +57,15 @@ impl GoalPlaces {
     /// Where structure `structure` places `object`.
     pub fn structure_object(&self, structure: &str, object: &str) -> Option<Span> {
         self.structure_objects.get(&(structure.to_string(), object.to_string())).copied()
+    }
+
+    /// Where robot `robot`'s `grab distance` is written.
+    pub fn grab_distance(&self, robot: &str) -> Option<Span> {
+        self.grab_distances.get(robot).copied()
+    }
+
+    pub(crate) fn add_grab_distance(&mut self, robot: &str, span: Span) {
+        self.grab_distances.insert(robot.to_string(), span);
     }
 
     pub(crate) fn add_structure_goal(&mut self, problem: &str, span: Span) {

@@ -152,6 +152,9 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
     };
     let replaced = timings.time("write", || write_all(&folder, &lock, &artifacts.files))?;
     print_summary(&spec_file, folder.path(), &artifacts, &timings);
+    for warning in &artifacts.summary.grab_warnings {
+        eprint!("{}", crate::diagnostics::render_grab_warning(warning, &places, &sources, colour));
+    }
     for warning in &artifacts.summary.warnings {
         eprint!("{}", crate::diagnostics::render_goal_warning(warning, &places, &sources, colour));
     }

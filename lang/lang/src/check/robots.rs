@@ -111,6 +111,7 @@ impl Checker<'_> {
                                 "a range `MIN .. MAX` with 0 ≤ MIN ≤ MAX",
                             ) {
                                 grab = Some((low, high));
+                                self.places.add_grab_distance(&robot.name.text, *span);
                             }
                         }
                     }
