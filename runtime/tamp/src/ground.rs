@@ -112,23 +112,24 @@ pub fn progress(before: &BTreeSet<GroundAtom>, action: &GroundedAction) -> BTree
     after
 }
 
-/// Whether `action`'s effects hold in `state`: every add is true and every delete false.
-pub fn effects_hold(state: &BTreeSet<GroundAtom>, action: &GroundedAction) -> bool {
-    unmet_effects(state, action).is_none()
+/// The effects of an action a state does not show: the adds that are false and the deletes that
+/// still hold, each in effect order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Unmet {
+    pub missing: Vec<GroundAtom>,
+    pub unwanted: Vec<GroundAtom>,
 }
 
-/// The effects of `action` that `state` does not show, if any: the adds that are false
-/// (`missing`) and the deletes that still hold (`unwanted`), each in effect order.
-pub fn unmet_effects(state: &BTreeSet<GroundAtom>, action: &GroundedAction) -> Option<Broken> {
-    let missing: Vec<GroundAtom> =
-        action.add_effects.iter().map(learned_atom).filter(|atom| !state.contains(atom)).collect();
-    let unwanted: Vec<GroundAtom> = action
-        .delete_effects
-        .iter()
-        .map(learned_atom)
-        .filter(|atom| state.contains(atom))
-        .collect();
-    (!missing.is_empty() || !unwanted.is_empty()).then_some(Broken { index: 0, missing, unwanted })
+/// The effects of `action` that `state` does not show, if any.
+pub fn unmet_effects(state: &BTreeSet<GroundAtom>, action: &GroundedAction) -> Option<Unmet> {
+    let missing = atoms_where(state, &action.add_effects, false);
+    let unwanted = atoms_where(state, &action.delete_effects, true);
+    (!missing.is_empty() || !unwanted.is_empty()).then_some(Unmet { missing, unwanted })
+}
+
+/// Of `atoms`, those whose truth in `state` is `held`, in order.
+fn atoms_where(state: &BTreeSet<GroundAtom>, atoms: &[WireAtom], held: bool) -> Vec<GroundAtom> {
+    atoms.iter().map(learned_atom).filter(|atom| state.contains(atom) == held).collect()
 }
 
 /// Where the rest of a plan breaks when run from `state`: the index in `rest` of the first
@@ -150,11 +151,8 @@ pub fn first_broken(
 ) -> Option<Broken> {
     let mut state = state.clone();
     for (index, action) in rest.iter().enumerate() {
-        let atoms_where = |atoms: &[WireAtom], held: bool| -> Vec<GroundAtom> {
-            atoms.iter().map(learned_atom).filter(|atom| state.contains(atom) == held).collect()
-        };
-        let missing = atoms_where(&action.preconditions, false);
-        let unwanted = atoms_where(&action.negative_preconditions, true);
+        let missing = atoms_where(&state, &action.preconditions, false);
+        let unwanted = atoms_where(&state, &action.negative_preconditions, true);
         if !missing.is_empty() || !unwanted.is_empty() {
             return Some(Broken { index, missing, unwanted });
         }
@@ -246,7 +244,7 @@ mod tests {
             broken,
             Broken { index: 1, missing: vec![learned_atom(&on1)], unwanted: Vec::new() }
         );
-        assert!(effects_hold(&reached, &action("none", &[], &[&held], &[&on1])));
+        assert!(unmet_effects(&reached, &action("none", &[], &[&held], &[&on1])).is_none());
         let unmet = unmet_effects(&reached, &action("put", &[], &[&on1], &[&held]))
             .expect("the put's effects do not hold");
         assert_eq!(

@@ -27,7 +27,7 @@ use lamp_world::{Recorder, Scene};
 
 use crate::error::SolveError;
 use crate::execute::{MotionCounts, Rejection, execute};
-use crate::ground::{Broken, first_broken, progress, unmet_effects};
+use crate::ground::{Broken, Unmet, first_broken, progress, unmet_effects};
 use crate::host::SceneHost;
 use crate::planning::plan_from;
 use crate::plugins::Plugins;
@@ -438,7 +438,7 @@ fn broken_text(broken: &Broken, actions: &[GroundedAction], at: usize) -> String
 }
 
 /// Which effects the state reached lacks, for messages.
-fn unmet_text(unmet: &Broken) -> String {
+fn unmet_text(unmet: &Unmet) -> String {
     let mut lacks = Vec::new();
     if !unmet.missing.is_empty() {
         lacks.push(format!("{} false", atom_list(&unmet.missing)));

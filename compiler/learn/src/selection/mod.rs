@@ -228,17 +228,10 @@ pub fn select(
     let mut position_bins = [1; 3];
     let mut margins = [0.0; 3];
     for axis in 0..3 {
-        let padded = |low: f64, high: f64, floor: f64| {
-            let pad = (EXTENT_PADDING * (high - low)).max(floor);
-            (low - pad, high + pad)
-        };
         let (intervals, bins): (Vec<(f64, f64)>, Option<usize>) = if fixed_axes[axis] {
             // One cell across every value the demonstrations show.
-            let low = extents.iter().map(|(low, _)| low[axis]).fold(f64::INFINITY, f64::min);
-            let high = extents.iter().map(|(_, high)| high[axis]).fold(f64::NEG_INFINITY, f64::max);
-            let floor = floors.iter().copied().fold(PLACEMENT_TOLERANCE, f64::max);
             (
-                vec![padded(low, high, floor)],
+                vec![padded_span(&extents, &floors, axis)],
                 Some(pinned.position_bins.map_or(1, |bins| bins[axis])),
             )
         } else {
@@ -289,12 +282,12 @@ pub fn select(
     let (mut shares, mut cells) = best_cell_shares(&grid, &found, tracks, demonstrations);
     // Each axis's bins must keep every group whole, so groups far apart on one axis can still share a cell
     // when their intervals chain along the others: then each place gets a box of its own.
-    let places = cells.values().collect::<BTreeSet<_>>().len();
+    let places = place_count(&cells);
     if places < found.len() && chosen.position_bins && chosen.half_range {
         let boxes = place_boxes(&extents, &floors, fixed_axes);
         let boxed = Grid::with_boxes(&settings, boxes.clone());
         let (boxed_shares, boxed_cells) = best_cell_shares(&boxed, &found, tracks, demonstrations);
-        if boxed_cells.values().collect::<BTreeSet<_>>().len() > places {
+        if place_count(&boxed_cells) > places {
             margins = box_margins(&boxes, &extents);
             (grid, shares, cells) = (boxed, boxed_shares, boxed_cells);
         }
@@ -335,19 +328,26 @@ pub fn select(
     }
 }
 
+/// A group's interval `(low, high)` along an axis, padded by [`EXTENT_PADDING`] of its extent and at least
+/// `floor`.
+fn padded(low: f64, high: f64, floor: f64) -> (f64, f64) {
+    let pad = (EXTENT_PADDING * (high - low)).max(floor);
+    (low - pad, high + pad)
+}
+
+/// Every group's values along `axis` as one interval, padded by the largest of their floors: the one cell of
+/// a fixed axis.
+fn padded_span(extents: &[([f64; 3], [f64; 3])], floors: &[f64], axis: usize) -> (f64, f64) {
+    let low = extents.iter().map(|(low, _)| low[axis]).fold(f64::INFINITY, f64::min);
+    let high = extents.iter().map(|(_, high)| high[axis]).fold(f64::NEG_INFINITY, f64::max);
+    let floor = floors.iter().copied().fold(PLACEMENT_TOLERANCE, f64::max);
+    padded(low, high, floor)
+}
+
 /// One box per place: each group's keyframe extent, padded as for the grid, with boxes that overlap joined (they
 /// are one place), in order of their lower corner. Along a fixed axis every box spans every group.
 fn place_boxes(extents: &[([f64; 3], [f64; 3])], floors: &[f64], fixed: [bool; 3]) -> Vec<Bounds> {
-    let padded = |low: f64, high: f64, floor: f64| {
-        let pad = (EXTENT_PADDING * (high - low)).max(floor);
-        (low - pad, high + pad)
-    };
-    let floor = floors.iter().copied().fold(PLACEMENT_TOLERANCE, f64::max);
-    let span = [0, 1, 2].map(|axis| {
-        let low = extents.iter().map(|(low, _)| low[axis]).fold(f64::INFINITY, f64::min);
-        let high = extents.iter().map(|(_, high)| high[axis]).fold(f64::NEG_INFINITY, f64::max);
-        padded(low, high, floor)
-    });
+    let span = [0, 1, 2].map(|axis| padded_span(extents, floors, axis));
     let mut boxes: Vec<Bounds> = extents
         .iter()
         .zip(floors)
@@ -465,6 +465,11 @@ fn best_cell_shares(
         })
         .collect();
     (shares, wanted)
+}
+
+/// How many places the labelled cells make.
+fn place_count(cells: &BTreeMap<FlaggedCell, usize>) -> usize {
+    cells.values().collect::<BTreeSet<_>>().len()
 }
 
 /// Every group's cells, labelled with their place: groups that share a cell are one place, named by the
