@@ -4,9 +4,13 @@
 //! one t2 at a time; `nowhere_<t1>_<t2>_<k>(y)` ("y is in region k of no t1") only if y can be in region k of
 //! one t1 at a time.
 //! With the side's switch at `auto`, the caller's [`ShapeOracle`] answers whether two bodies fit at once at the
-//! region's candidate poses: the corners of every voxel, each with the centre rotation of every rotation cell
-//! (deduplicated, in index order), as the secondary in the primary's frame for the primary side, and inverted (the
-//! primary in the secondary's frame) for the secondary side.
+//! region's candidate poses: the corners of the positions the demonstrations show in the region (each of its
+//! groups' keyframe boxes, where the settings were chosen from them), else of every voxel, each with the centre
+//! rotation of every rotation cell (deduplicated, in index order), as the secondary in the primary's frame for
+//! the primary side, and inverted (the primary in the secondary's frame) for the secondary side.
+//! A chosen cell is the demonstrated box padded by the tolerance of a membership test: room for noise, not for a
+//! second body. A plank on its marker, within 1.5 mm in height, pads to 7.4 mm, which a second 7 mm plank would
+//! fit above; the demonstrations never put two there.
 //! The candidates are sample-free, so the decision never draws from the learner's generator.
 //! Two fit → the side is off for the region; they cannot, or the type's shape is unknown (robot parts) → on.
 //! The primary side of a pair whose primary is a robot part stays on without a test: such a region is where the
@@ -18,7 +22,7 @@ use std::fmt;
 
 use crate::config::{PairSettings, Switch, TypePair};
 use crate::demo::Pose;
-use crate::discretise::Grid;
+use crate::discretise::{Bounds, Grid};
 use crate::regions::RegionCells;
 
 /// Geometry the learner does not know: the shapes of the participants' types.
@@ -118,6 +122,7 @@ pub fn decide(
     settings: &PairSettings,
     grid: &Grid,
     cells: &RegionCells,
+    demonstrated: &[Bounds],
     oracle: &dyn ShapeOracle,
 ) -> RegionSides {
     let mut candidates: Option<Vec<Pose>> = None;
@@ -125,7 +130,8 @@ pub fn decide(
         Switch::On => Side { on: true, reason: SideReason::Setting },
         Switch::Off => Side { on: false, reason: SideReason::Setting },
         Switch::Auto => {
-            let poses = candidates.get_or_insert_with(|| candidate_poses(grid, cells));
+            let poses =
+                candidates.get_or_insert_with(|| candidate_poses(grid, cells, demonstrated));
             let answer = if invert {
                 let inverted: Vec<Pose> = poses.iter().map(Pose::inverse).collect();
                 oracle.two_fit(type_name, &inverted)
@@ -148,14 +154,20 @@ pub fn decide(
     RegionSides { clear, nowhere }
 }
 
-/// The region's candidate poses of the secondary in the primary's frame: every voxel corner (deduplicated) with
-/// the centre rotation of every rotation cell of the region (deduplicated), corners and cells in index order.
-pub fn candidate_poses(grid: &Grid, cells: &RegionCells) -> Vec<Pose> {
+/// The region's candidate poses of the secondary in the primary's frame: every corner of the `demonstrated` boxes,
+/// or with none every voxel corner (deduplicated), with the centre rotation of every rotation cell of the region
+/// (deduplicated), corners and cells in index order.
+pub fn candidate_poses(grid: &Grid, cells: &RegionCells, demonstrated: &[Bounds]) -> Vec<Pose> {
     let rotations: BTreeSet<[usize; 3]> = cells.voxels.values().flatten().copied().collect();
     let rotations: Vec<nalgebra::UnitQuaternion<f64>> =
         rotations.into_iter().map(|cell| grid.rotation_cell_centre(cell)).collect();
-    let positions =
-        if grid.boxes().is_empty() { grid_corners(grid, cells) } else { box_corners(grid, cells) };
+    let positions = if !demonstrated.is_empty() {
+        demonstrated.iter().copied().flat_map(corners).collect()
+    } else if grid.boxes().is_empty() {
+        grid_corners(grid, cells)
+    } else {
+        cells.voxels.keys().flat_map(|voxel| corners(grid.voxel_bounds(*voxel))).collect()
+    };
     let mut poses = Vec::with_capacity(positions.len() * rotations.len());
     for position in positions {
         for rotation in &rotations {
@@ -186,20 +198,13 @@ fn grid_corners(grid: &Grid, cells: &RegionCells) -> Vec<nalgebra::Vector3<f64>>
         .collect()
 }
 
-/// The corners of a grid of boxes' voxels, box by box.
-fn box_corners(grid: &Grid, cells: &RegionCells) -> Vec<nalgebra::Vector3<f64>> {
-    cells
-        .voxels
-        .keys()
-        .flat_map(|voxel| {
-            let bounds = grid.voxel_bounds(*voxel);
-            (0..8).map(move |corner: usize| {
-                nalgebra::Vector3::from_fn(|axis, _| {
-                    if (corner >> axis) & 1 == 0 { bounds[axis].0 } else { bounds[axis].1 }
-                })
-            })
+/// The eight corners of a box.
+fn corners(bounds: Bounds) -> impl Iterator<Item = nalgebra::Vector3<f64>> {
+    (0..8).map(move |corner: usize| {
+        nalgebra::Vector3::from_fn(|axis, _| {
+            if (corner >> axis) & 1 == 0 { bounds[axis].0 } else { bounds[axis].1 }
         })
-        .collect()
+    })
 }
 
 #[cfg(test)]
@@ -248,7 +253,7 @@ mod tests {
 
     #[test]
     fn candidates_are_the_deduplicated_corners_times_the_cell_centres() {
-        let poses = candidate_poses(&grid(), &cells());
+        let poses = candidate_poses(&grid(), &cells(), &[]);
         // Two voxels sharing a face have 12 distinct corners; two distinct rotation cells.
         assert_eq!(poses.len(), 24);
         let first = poses[0];
@@ -265,6 +270,26 @@ mod tests {
     }
 
     #[test]
+    fn demonstrated_boxes_replace_the_cells_as_the_room_a_region_offers() {
+        // A plank's marker region: demonstrated within 1.5 mm in height, in a cell 20 cm tall.
+        let demonstrated = [[(-0.0016, 0.0016), (-0.0014, 0.0014), (0.0, 0.0015)]];
+        let poses = candidate_poses(&grid(), &cells(), &demonstrated);
+        // Eight corners of the one box, each with the region's two rotation cells.
+        assert_eq!(poses.len(), 16);
+        for pose in &poses {
+            let at = pose.translation.vector;
+            assert!((0..3).all(|axis| {
+                demonstrated[0][axis].0 <= at[axis] && at[axis] <= demonstrated[0][axis].1
+            }));
+        }
+        let highest = poses.iter().map(|pose| pose.translation.z).fold(f64::MIN, f64::max);
+        assert_eq!(highest, 0.0015);
+        // Two boxes (two groups in one region) give the corners of both.
+        let two = [demonstrated[0], [(0.05, 0.06), (0.0, 0.0), (0.0, 0.0)]];
+        assert_eq!(candidate_poses(&grid(), &cells(), &two).len(), 32);
+    }
+
+    #[test]
     fn two_fit_turns_a_side_off_and_unknown_shapes_leave_it_on() {
         let pair = TypePair::new("surface", "can");
         let oracle = Table {
@@ -272,7 +297,7 @@ mod tests {
             asked: RefCell::new(Vec::new()),
         };
         let settings = PairSettings::default();
-        let sides = decide(&pair, false, &settings, &grid(), &cells(), &oracle);
+        let sides = decide(&pair, false, &settings, &grid(), &cells(), &[], &oracle);
         assert_eq!(sides.clear, Side { on: false, reason: SideReason::TwoFit });
         assert_eq!(sides.nowhere, Side { on: true, reason: SideReason::OneAtATime });
         let asked = oracle.asked.borrow();
@@ -282,18 +307,18 @@ mod tests {
         drop(asked);
         // Two cans fit in the gripper's region, but the gripper goes to one can at a time.
         let gripper = TypePair::new("gripper", "can");
-        let sides = decide(&gripper, true, &settings, &grid(), &cells(), &oracle);
+        let sides = decide(&gripper, true, &settings, &grid(), &cells(), &[], &oracle);
         assert_eq!(sides.clear, Side { on: true, reason: SideReason::RobotPart });
         assert_eq!(sides.nowhere, Side { on: true, reason: SideReason::UnknownShape });
         assert_eq!(
-            decide(&pair, false, &settings, &grid(), &cells(), &NoShapes),
+            decide(&pair, false, &settings, &grid(), &cells(), &[], &NoShapes),
             RegionSides {
                 clear: Side { on: true, reason: SideReason::UnknownShape },
                 nowhere: Side { on: true, reason: SideReason::UnknownShape },
             }
         );
         let off = PairSettings { clear: Switch::Off, ..PairSettings::default() };
-        let sides = decide(&gripper, true, &off, &grid(), &cells(), &oracle);
+        let sides = decide(&gripper, true, &off, &grid(), &cells(), &[], &oracle);
         assert_eq!(sides.clear, Side { on: false, reason: SideReason::Setting });
     }
 
@@ -304,7 +329,7 @@ mod tests {
         let settings =
             PairSettings { clear: Switch::On, nowhere: Switch::Off, ..PairSettings::default() };
         let pair = TypePair::new("surface", "can");
-        let sides = decide(&pair, false, &settings, &grid(), &cells(), &oracle);
+        let sides = decide(&pair, false, &settings, &grid(), &cells(), &[], &oracle);
         assert_eq!(sides.clear, Side { on: true, reason: SideReason::Setting });
         assert_eq!(sides.nowhere, Side { on: false, reason: SideReason::Setting });
         assert!(oracle.asked.borrow().is_empty());

@@ -14,7 +14,7 @@ use crate::actions::{self, AbstractDemonstration, Action};
 use crate::capacity::{self, RegionSides, ShapeOracle};
 use crate::config::{LearnConfig, PairSettings, TypePair};
 use crate::demo::{self, Demonstration, Pose, Role};
-use crate::discretise::{Grid, RotationCell, Voxel};
+use crate::discretise::{Bounds, Grid, RotationCell, Voxel};
 use crate::error::LearnError;
 use crate::features::{FEATURE_DIMENSION, pose_features};
 use crate::occupancy::Occupancy;
@@ -228,7 +228,18 @@ fn find_regions(
     let regions = regions::components(&critical, |a, b| place(a) == place(b))
         .into_iter()
         .map(|cells| {
-            let sides = capacity::decide(pair, primary_moves, &settings, &grid, &cells, shapes);
+            let demonstrated = selection
+                .as_ref()
+                .map_or_else(Vec::new, |selection| demonstrated_boxes(selection, &grid, &cells));
+            let sides = capacity::decide(
+                pair,
+                primary_moves,
+                &settings,
+                &grid,
+                &cells,
+                &demonstrated,
+                shapes,
+            );
             summarise(&grid, cells, sides, &observations)
         })
         .collect();
@@ -240,6 +251,21 @@ fn find_regions(
         demonstrations: occupancy.demonstrations(),
         regions,
     }
+}
+
+/// The keyframe boxes of the selection's groups whose centre lies in the region: where the demonstrations put
+/// the secondary in it, without the tolerance its cells add around them.
+fn demonstrated_boxes(selection: &Selection, grid: &Grid, cells: &RegionCells) -> Vec<Bounds> {
+    selection
+        .groups
+        .iter()
+        .filter(|group| {
+            let centre = Pose::translation(group.centre[0], group.centre[1], group.centre[2]);
+            group.g == cells.g
+                && grid.voxel(&centre).is_some_and(|voxel| cells.voxels.contains_key(&voxel))
+        })
+        .map(|group| [0, 1, 2].map(|axis| (group.low[axis], group.high[axis])))
+        .collect()
 }
 
 /// Every participant pair's relative motion through every demonstration, with held flags and contact changes.
