@@ -56,12 +56,10 @@ fn putting_a_plank_onto_planks_needs_it_held_and_them_on_their_markers() {
         .find(|region| region.summary.g == 1)
         .map(|region| region.relation.clone())
         .expect("a held region");
-    // How many planks each placing action puts the plank onto, or beside: 0 (the table), 1 (an
-    // upright on a flat plank at three places, a roof on a post, a pi's second leg beside the
-    // first) or 2 (a lintel, a log-cabin plank at two slots turned either way, a second leg
-    // beside the first on a flat plank). Some are learned twice: with and without the relation
-    // in the other direction, which the placement noise puts in a cell too few demonstrations
-    // visit to be critical.
+    // How many planks each placing action puts the plank onto: 0 (the table), 1 (an upright on a
+    // flat plank at its centre or either end, a roof on a post) or 2 (a lintel across two legs,
+    // a log-cabin plank across two at its slots, turned either way). Two planks relate only where
+    // they touch, so a pi's legs, 7.75 cm apart, are in no region of each other.
     let mut supports = Vec::new();
     for (action, moved) in placing(model) {
         let held = action
@@ -89,39 +87,27 @@ fn putting_a_plank_onto_planks_needs_it_held_and_them_on_their_markers() {
         supports.push(below.len());
     }
     supports.sort();
-    assert_eq!(supports, [0, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 2, 2, 2, 2, 2, 2], "{supports:?}");
+    assert_eq!(supports, [0, 1, 1, 1, 1, 2, 2, 2, 2, 2], "{supports:?}");
 }
 
 #[test]
-fn a_pis_legs_are_ordered_by_what_the_learned_actions_add() {
-    // In pi_tower_3, p1 stands on the side its grasp side faces away from, p2 on the other: the
-    // YuMi reaches p2 only once p1 is standing. Every learned action that adds a goal relation
-    // between the two legs moves p2, so every plan places p1 first.
-    let (model, artifacts) = &*KEVA_BUILD;
+fn a_pis_legs_are_in_no_region_of_each_other_and_its_lintel_rests_on_both() {
+    // In pi_tower_3 the legs stand 7.75 cm apart: two planks relate only where they touch, so the
+    // goal says nothing between the legs, and the lintel is in a region of each.
+    let (_, artifacts) = &*KEVA_BUILD;
     let text = artifact(artifacts, "problems/pi_tower_3.pddl");
     let goal = &text[text.find("(:goal").expect("a goal")..];
-    let mut between_legs = Vec::new();
-    for pair in [("p1", "p2"), ("p2", "p1")] {
-        for atom in goal.split('(').filter(|atom| atom.starts_with("plank_plank_")) {
+    let related: Vec<[&str; 2]> = goal
+        .split('(')
+        .filter(|atom| atom.starts_with("plank_plank_"))
+        .map(|atom| {
             let words: Vec<&str> = atom.trim_end_matches([')', ' ', '\n']).split(' ').collect();
-            if words[1..] == [pair.0, pair.1] {
-                between_legs.push((words[0].to_string(), [pair.0, pair.1]));
-            }
-        }
-    }
-    assert_eq!(between_legs.len(), 2, "both directions of the legs' relation: {between_legs:?}");
-    let mut moved_legs = BTreeSet::new();
-    for (predicate, planks) in &between_legs {
-        for (action, moved) in placing(model) {
-            for atom in plank_added(action).into_iter().filter(|atom| &atom.predicate == predicate)
-            {
-                let position = atom.arguments.iter().position(|argument| *argument == moved);
-                let position = position.expect("the moved plank is one of the two");
-                moved_legs.insert(planks[position]);
-            }
-        }
-    }
-    assert_eq!(moved_legs, BTreeSet::from(["p2"]));
+            [words[1], words[2]]
+        })
+        .collect();
+    let between = |a: &str, b: &str| related.iter().any(|pair| *pair == [a, b] || *pair == [b, a]);
+    assert!(!between("p1", "p2"), "the legs do not touch: {related:?}");
+    assert!(between("p1", "p3") && between("p2", "p3"), "the lintel rests on both: {related:?}");
 }
 
 #[test]
