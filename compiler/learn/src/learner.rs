@@ -1,6 +1,6 @@
 //! The pipeline up to induced actions, generic over how a region becomes a membership test.
 //!
-//! Stages: validate → type pairs → per pair: occupancy over all demonstrations → critical cells → regions with
+//! Stages: validate → objects steadied between grasps ([`rigid`]) → type pairs → per pair: occupancy over all demonstrations → critical cells → regions with
 //! provenance → one classifier per region (fitted in region order from one seeded generator) → vocabulary →
 //! abstraction of every snapshot → actions.
 
@@ -21,6 +21,7 @@ use crate::occupancy::Occupancy;
 use crate::pairs;
 use crate::regions::{self, RegionCells};
 use crate::relations::PairVocabulary;
+use crate::rigid;
 use crate::selection::{self, Selection, Track, TrackFrame};
 
 /// Where a region came from and what it looks like.
@@ -104,6 +105,8 @@ pub(crate) fn induce<C: RegionClassifier>(
 ) -> Result<Induced<C>, LearnError> {
     config.validate()?;
     let roles = demo::validate(demonstrations)?;
+    let steadied: Vec<Demonstration> = demonstrations.iter().map(rigid::steady).collect();
+    let demonstrations = steadied.as_slice();
     let mut learned = Vec::new();
     let mut empty_pairs = Vec::new();
     for pair in pairs::type_pairs(&roles, config) {

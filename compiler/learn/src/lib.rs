@@ -29,6 +29,7 @@ pub mod pairs;
 mod placements;
 pub mod region_model;
 pub mod regions;
+mod rigid;
 pub use lamp_abstraction::relations;
 pub mod report;
 pub mod selection;
