@@ -66,6 +66,6 @@ pub use ros2::{
 };
 pub use samplers::{SAMPLERS_FORMAT, SAMPLERS_VERSION, SamplersFile};
 pub use shapes::SpecShapes;
-pub use spec_sources::SpecSources;
+pub use spec_sources::{ProblemSources, SpecSources};
 pub use structure_goals::{placed_structure_issues, structure_goal_atoms};
 pub use structure_issue::StructureIssue;

@@ -24,7 +24,7 @@ pub const MANIFEST_FILE: &str = "manifest.json";
 /// The `format` field of every manifest.
 pub const MANIFEST_FORMAT: &str = "lamp-build-manifest";
 /// The manifest version; bumped when its shape or meaning changes.
-pub const MANIFEST_VERSION: u32 = 3;
+pub const MANIFEST_VERSION: u32 = 4;
 /// The name of the per-file digest: FNV-1a (64 bit) over the file's bytes (see [`file_digest`]).
 pub const MANIFEST_DIGEST: &str = "fnv1a64";
 
@@ -137,13 +137,26 @@ impl Manifest {
         if self.sources.model != current.model {
             return Err(BuildFolderError::SpecChanged { spec: self.provenance.spec.clone() });
         }
-        if self.sources.problems.get(problem) != current.problems.get(problem) {
-            return Err(BuildFolderError::ProblemChanged {
-                problem: problem.to_string(),
-                spec: self.provenance.spec.clone(),
-            });
+        let changed = |parts: &str| BuildFolderError::ProblemChanged {
+            problem: problem.to_string(),
+            spec: self.provenance.spec.clone(),
+            parts: parts.to_string(),
+        };
+        match (self.sources.problems.get(problem), current.problems.get(problem)) {
+            (Some(built), Some(now)) => {
+                let parts = built.changed_parts(now);
+                match parts.split_last() {
+                    None => Ok(()),
+                    Some((last, [])) => Err(changed(last)),
+                    Some((last, rest)) => Err(changed(&format!("{} and {last}", rest.join(", ")))),
+                }
+            }
+            (None, None) => Ok(()),
+            // Only an unchecked build gets here: a problem file the manifest does not list is
+            // refused before the sources are compared.
+            (None, Some(_)) => Err(changed("its whole problem, which the build did not have")),
+            (Some(_), None) => Err(changed("its whole problem, which the spec no longer has")),
         }
-        Ok(())
     }
 
     /// Checks `bytes` read from `path` against the manifest's entry.
@@ -315,9 +328,10 @@ pub enum BuildFolderError {
     )]
     SpecChanged { spec: String },
 
-    /// The problem, a relation alias or a structure changed since the build.
+    /// The problem's scene or goal, a relation alias or a structure changed since the build;
+    /// `parts` says which.
     #[error(
-        "problem `{problem}` changed in {spec} since the build (its scene or goal, a relation alias or a structure): its problem file answers the old one"
+        "problem `{problem}` changed in {spec} since the build ({parts}): its problem file answers the old one"
     )]
     #[diagnostic(
         code(lamp::solve::changed_problem),
@@ -325,22 +339,33 @@ pub enum BuildFolderError {
             "Run `lampc build SPEC` again to write the problem files from the spec as it is now."
         )
     )]
-    ProblemChanged { problem: String, spec: String },
+    ProblemChanged { problem: String, spec: String, parts: String },
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::digest::Digest;
+    use crate::spec_sources::ProblemSources;
 
     fn provenance(digest: u64) -> Provenance {
         Provenance::new("packing.lamp", "packing", 1, 3, Digest(digest))
     }
 
     fn sources(problem_digest: &str) -> SpecSources {
+        with_goal(problem_digest, "goal")
+    }
+
+    fn with_goal(scene: &str, goal: &str) -> SpecSources {
+        let problem = ProblemSources {
+            scene: scene.to_string(),
+            goal: goal.to_string(),
+            aliases: "aliases".to_string(),
+            structures: "structures".to_string(),
+        };
         SpecSources {
             model: "fnv1a64:0000000000000001".to_string(),
-            problems: [("p1".to_string(), problem_digest.to_string())].into(),
+            problems: [("p1".to_string(), problem)].into(),
         }
     }
 
@@ -410,8 +435,21 @@ mod tests {
         let changed = manifest.check_sources(&sources("edited"), "p1").expect_err("refused");
         assert_eq!(code(&changed), "lamp::solve::changed_problem");
         assert!(
-            changed.to_string().starts_with("problem `p1` changed in packing.lamp"),
+            changed
+                .to_string()
+                .starts_with("problem `p1` changed in packing.lamp since the build (its scene):"),
             "{changed}"
+        );
+        // Which parts changed is said, so that a user knows which edit the build has not seen.
+        let goal = manifest.check_sources(&with_goal("p1", "trimmed"), "p1").expect_err("refused");
+        assert!(goal.to_string().contains("since the build (its goal):"), "{goal}");
+        let mut all = with_goal("edited", "trimmed");
+        let problem = all.problems.get_mut("p1").expect("p1");
+        problem.aliases = "renamed".to_string();
+        let three = manifest.check_sources(&all, "p1").expect_err("refused");
+        assert!(
+            three.to_string().contains("(its scene, its goal and the relation aliases)"),
+            "{three}"
         );
         let relearn =
             SpecSources { model: "fnv1a64:0000000000000002".to_string(), ..sources("p1") };

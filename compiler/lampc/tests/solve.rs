@@ -740,7 +740,18 @@ fn a_spec_edited_since_the_build_is_refused_naming_what_changed() {
     let text = stderr(&output);
     assert!(!output.status.success(), "{text}");
     assert!(text.contains("lamp::solve::changed_problem"), "{text}");
-    assert!(text.contains("problem `pack4_03` changed in packing.lamp since the build"), "{text}");
+    assert!(
+        text.contains("problem `pack4_03` changed in packing.lamp since the build (its goal)"),
+        "{text}"
+    );
+    assert!(!out.exists(), "nothing is written");
+
+    // pack4_03's can1 moved 1 cm: the build's initial state is the old scene's.
+    let moved = edited_spec(scratch.path(), |text| {
+        text.replacen("can can1 at (0, -0.32, 0.001)", "can can1 at (0.01, -0.32, 0.001)", 1)
+    });
+    let text = stderr(&solve_with(&moved));
+    assert!(text.contains("changed in packing.lamp since the build (its scene)"), "{text}");
     assert!(!out.exists(), "nothing is written");
 
     // Another problem's edit leaves pack4_03's file valid.
