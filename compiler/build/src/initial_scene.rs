@@ -14,6 +14,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use crate::error::BuildError;
 pub use crate::scene_issue::SceneIssue;
+use crate::scene_issue::TARGET;
 use lamp_geometry::Pose;
 use lamp_spec::{Problem, RobotKind, Spec};
 use lamp_world::{Contact, Scene, SpecWorld};
@@ -214,8 +215,7 @@ fn placement_issues(spec: &Spec, problem: &Problem) -> Vec<SceneIssue> {
             .map(|robot| robot.mount);
         ("robot", &placement.robot, placement.base.or(mount))
     });
-    let targets =
-        problem.goal.at.iter().map(|target| ("the target of", &target.object, Some(target.pose)));
+    let targets = problem.goal.at.iter().map(|target| (TARGET, &target.object, Some(target.pose)));
     objects
         .chain(robots)
         .chain(targets)

@@ -65,6 +65,7 @@ pub use ros2::{
     FrameObject, FrameRobot, MAX_TREE_DEPTH, MappedRobot, Ros2Error, Ros2Mapping, ros2_trajectory,
 };
 pub use samplers::{SAMPLERS_FORMAT, SAMPLERS_VERSION, SamplersFile};
+pub use scene_issue::IssuePlace;
 pub use shapes::SpecShapes;
 pub use spec_sources::{ProblemSources, SpecSources};
 pub use structure_goals::{placed_structure_issues, structure_goal_atoms};

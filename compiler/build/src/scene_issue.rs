@@ -4,6 +4,9 @@
 use miette::Diagnostic;
 use thiserror::Error;
 
+/// The `what` of a placement finding about an `at` goal's target.
+pub(crate) const TARGET: &str = "the target of";
+
 /// One reason a problem's initial scene is not one the solver can start from.
 #[derive(Debug, Clone, PartialEq, Error, Diagnostic)]
 pub enum SceneIssue {
@@ -113,7 +116,37 @@ pub enum SceneIssue {
     Unbuildable { problem: String, reason: String },
 }
 
+/// Where in the spec a finding's subject is written, for rendering it there.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum IssuePlace<'a> {
+    /// The line of the problem's scene that places this object or robot.
+    Scene(&'a str),
+    /// The problem's `at` goal on this object.
+    AtGoal(&'a str),
+}
+
 impl SceneIssue {
+    /// What the finding is about, where the spec writes it, in the order the message names them.
+    pub fn places(&self) -> Vec<IssuePlace<'_>> {
+        use IssuePlace::{AtGoal, Scene};
+        match self {
+            SceneIssue::NotFinite { what, name, .. }
+            | SceneIssue::OutOfRange { what, name, .. } => {
+                // A target's pose is its `at` goal's; every other placement is a scene line.
+                if *what == TARGET { vec![AtGoal(name)] } else { vec![Scene(name)] }
+            }
+            SceneIssue::Contact { first, second, .. } => vec![Scene(first), Scene(second)],
+            SceneIssue::TargetContact { object, .. }
+            | SceneIssue::TargetUnsupported { object, .. } => vec![AtGoal(object)],
+            SceneIssue::TargetsOverlap { first, second, .. } => vec![AtGoal(first), AtGoal(second)],
+            SceneIssue::Unsupported { object, .. } => vec![Scene(object)],
+            SceneIssue::RobotCollision { robot, .. } | SceneIssue::RobotLimits { robot, .. } => {
+                vec![Scene(robot)]
+            }
+            SceneIssue::Unbuildable { .. } => Vec::new(),
+        }
+    }
+
     /// The problem the finding is about.
     pub fn problem(&self) -> &str {
         match self {

@@ -157,6 +157,32 @@ pub(crate) fn render_structure_issue(
     render_located(issue, &spans, sources, colour)
 }
 
+/// Renders an initial-scene finding at the lines that place its objects or robots in the
+/// problem's scene, or at its `at` goals, where they are known.
+pub(crate) fn render_scene_issue(
+    issue: &lamp_build::SceneIssue,
+    places: &lamp_lang::GoalPlaces,
+    sources: &lamp_lang::SourceMap,
+    colour: bool,
+) -> String {
+    let problem = issue.problem();
+    let located: Vec<(String, lamp_lang::Span)> = issue
+        .places()
+        .into_iter()
+        .filter_map(|place| match place {
+            lamp_build::IssuePlace::Scene(name) => places
+                .scene_placement(problem, name)
+                .map(|span| (format!("`{name}` is placed here"), span)),
+            lamp_build::IssuePlace::AtGoal(name) => {
+                places.at_goal(problem, name).map(|span| (format!("the goal of `{name}`"), span))
+            }
+        })
+        .collect();
+    let spans: Vec<(&str, lamp_lang::Span)> =
+        located.iter().map(|(label, span)| (label.as_str(), *span)).collect();
+    render_located(issue, &spans, sources, colour)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -213,5 +239,48 @@ problem p {
         let rendered = render_structure_issue(&elsewhere, &outcome.places, &outcome.sources, false);
         assert!(rendered.contains("lamp::build::structure_contact"), "{rendered}");
         assert!(!rendered.contains("placed here"), "{rendered}");
+    }
+
+    #[test]
+    fn a_scene_finding_points_at_the_scene_lines_and_at_the_goals() {
+        let spec = SPEC.replace("domain d\n", "domain d\nseed 1\ntype place { marker }\n").replace(
+            "    structure stack at t1\n",
+            "    at b1 (0.5, 0, 0.016) m within 0.01 m 10 deg\n    at b2 (0.5, 0, 0.016) m within 0.01 m 10 deg\n",
+        );
+        let loader = lamp_lang::MemoryLoader::new([("spec.lamp", spec.as_str())]);
+        let outcome =
+            lamp_lang::check_source("spec.lamp", &spec, std::path::Path::new(""), &loader);
+        assert!(outcome.spec.is_some(), "{:?}", outcome.diagnostics);
+        let render = |issue: &lamp_build::SceneIssue| {
+            render_scene_issue(issue, &outcome.places, &outcome.sources, false)
+        };
+        let contact = lamp_build::SceneIssue::Contact {
+            problem: "p".into(),
+            first: "t1".into(),
+            second: "b2".into(),
+        };
+        let rendered = render(&contact);
+        for expected in [
+            "    table t1 at (0, 0, 0) m",
+            "`t1` is placed here",
+            "    block b2 at (0.3, 0, 0.016) m",
+            "`b2` is placed here",
+        ] {
+            assert!(rendered.contains(expected), "`{expected}` in:\n{rendered}");
+        }
+        let overlap = lamp_build::SceneIssue::TargetsOverlap {
+            problem: "p".into(),
+            first: "b1".into(),
+            second: "b2".into(),
+        };
+        let rendered = render(&overlap);
+        for expected in [
+            "    at b1 (0.5, 0, 0.016) m within 0.01 m 10 deg",
+            "the goal of `b1`",
+            "the goal of `b2`",
+        ] {
+            assert!(rendered.contains(expected), "`{expected}` in:\n{rendered}");
+        }
+        assert!(!rendered.contains("is placed here"), "{rendered}");
     }
 }

@@ -15,7 +15,7 @@ mod solve_setup;
 mod spec_input;
 mod terminal;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
@@ -71,7 +71,23 @@ fn check(spec: &std::path::Path) -> ExitCode {
     let outcome = lamp_lang::check(spec, &files::DiskLoader);
     let colour = crate::terminal::colour();
     eprint!("{}", diagnostics::render_all(&outcome, colour, terminal_width()));
-    match outcome.spec {
+    let dir = spec.parent().filter(|dir| !dir.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    // The scenes as the world builds them: an object in the air or two bodies overlapping is as
+    // much a broken spec as a misspelt name, and is said here rather than first by the build.
+    let scene_errors =
+        outcome.spec.as_ref().map_or(0, |checked| {
+            match lamp_world::SpecWorld::load(dir, checked) {
+                Ok(world) => {
+                    let located = (&outcome.places, &outcome.sources);
+                    spec_input::refuse_scenes(checked, located, &world, None, colour)
+                }
+                Err(error) => {
+                    eprint!("{}", diagnostics::render_error(&error, colour));
+                    1
+                }
+            }
+        });
+    match outcome.spec.filter(|_| scene_errors == 0) {
         Some(spec) => {
             let problems = spec.problems.len();
             eprintln!(
@@ -83,7 +99,7 @@ fn check(spec: &std::path::Path) -> ExitCode {
             ExitCode::SUCCESS
         }
         None => {
-            let count = outcome.diagnostics.len();
+            let count = outcome.diagnostics.len() + scene_errors;
             eprintln!("{}: {count} error(s)", spec_name(&outcome.sources));
             ExitCode::from(EXIT_DIAGNOSTICS)
         }

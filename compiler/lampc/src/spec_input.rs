@@ -34,3 +34,28 @@ pub(crate) fn check_spec(path: &Path, colour: bool) -> Option<CheckedSpec> {
         .map_or_else(|| path.display().to_string(), |name| name.to_string_lossy().into_owned());
     Some(CheckedSpec { spec, dir, file_name, sources: outcome.sources, places: outcome.places })
 }
+
+/// Checks the initial scenes of `problems` (every problem when `None`) in `world`, printing each
+/// finding at its line in the spec; the number of findings.
+///
+/// A scene the solver cannot start from (an object in the air, bodies overlapping, a robot in
+/// collision) is a broken spec: every command that reads the spec refuses it at its line, before
+/// learning or solving answer a world that cannot be.
+pub(crate) fn refuse_scenes(
+    spec: &lamp_spec::Spec,
+    located: (&lamp_lang::GoalPlaces, &lamp_lang::SourceMap),
+    world: &lamp_world::SpecWorld,
+    problem: Option<&str>,
+    colour: bool,
+) -> usize {
+    let mut refused = 0;
+    let (places, sources) = located;
+    for scene in spec.problems.iter().filter(|p| problem.is_none_or(|name| p.name == name)) {
+        let issues = lamp_build::problem_scene_issues(spec, world, scene);
+        refused += issues.len();
+        for issue in &issues {
+            eprint!("{}", crate::diagnostics::render_scene_issue(issue, places, sources, colour));
+        }
+    }
+    refused
+}

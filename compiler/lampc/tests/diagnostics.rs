@@ -110,9 +110,11 @@ fn build_refused(edit: impl FnOnce(&str) -> String) -> String {
     let output = lampc(["build".as_ref(), spec.as_os_str(), "--out".as_ref(), out.as_os_str()]);
     let text = stderr(&output);
     assert_eq!(output.status.code(), Some(1), "{text}");
-    assert!(text.contains("lamp::build::initial_scenes"), "{text}");
     assert!(!text.contains("no_demonstrations"), "refused before looking for any: {text}");
-    assert!(text.contains("lampc build: failed; no model was written"), "{text}");
+    assert!(
+        text.contains("in the problems' initial scenes, which the solver cannot start from; no model was written"),
+        "{text}"
+    );
     assert!(!out.exists(), "nothing is written");
     text
 }
@@ -123,11 +125,54 @@ fn a_build_refuses_an_object_resting_exactly_on_the_table() {
         "can can1 at (-0.25, -0.2, 0.001) m",
         "can can1 at (-0.25, -0.2, 0) m",
     ));
-    assert!(
-        text.contains("the initial scene of 1 problem(s) is not one the solver can start from")
-    );
+    assert!(text.contains("lampc build: 1 finding(s) in the problems' initial scenes"), "{text}");
     assert!(text.contains("lamp::build::scene_contact"), "{text}");
     assert!(text.contains("problem `pack4_01`: `table1` and `can1` touch or overlap"), "{text}");
+    // Both bodies at their lines in the scene.
+    assert!(text.contains("    can can1 at (-0.25, -0.2, 0) m"), "{text}");
+    assert!(text.contains("`can1` is placed here"), "{text}");
+    assert!(text.contains("`table1` is placed here"), "{text}");
+}
+
+/// A can 2.5 m above the table rests on nothing: `check` refuses it at its line in the scene,
+/// and so do `build` and `solve` (before looking at any build), instead of a build that learns
+/// and a solve that "solves" a problem whose start cannot be.
+#[test]
+fn an_object_in_the_air_is_refused_at_its_line_by_check_build_and_solve() {
+    let floating =
+        || replaced("can can1 at (-0.25, -0.2, 0.001) m", "can can1 at (-0.25, -0.2, 2.5) m");
+    let expected = [
+        "lamp::build::scene_unsupported",
+        "problem `pack4_01`: `can1` cannot rest where the scene places it: `can1` would drop 2499.0 mm onto `table1`",
+        "packing.lamp:60:5",
+        "    can can1 at (-0.25, -0.2, 2.5) m",
+        "`can1` is placed here",
+        "help: An object must start standing on something",
+    ];
+    let (code, text) = check(floating());
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("packing.lamp: 1 error(s)"), "{text}");
+    let text_of_build = build_refused(floating());
+    let scratch = tempfile::tempdir().expect("a scratch folder");
+    let spec = packing_copy(scratch.path(), floating());
+    let empty_build = scratch.path().join("no-build");
+    let output = lampc([
+        "solve".as_ref(),
+        spec.as_os_str(),
+        "--problem".as_ref(),
+        "pack4_01".as_ref(),
+        "--build".as_ref(),
+        empty_build.as_os_str(),
+    ]);
+    let text_of_solve = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{text_of_solve}");
+    assert!(!text_of_solve.contains("no_build"), "the scene is judged first: {text_of_solve}");
+    assert!(text_of_solve.contains("lampc solve: failed; no solution files were written"));
+    for text in [&text, &text_of_build, &text_of_solve] {
+        for expected in expected {
+            assert!(text.contains(expected), "`{expected}` in:\n{text}");
+        }
+    }
 }
 
 #[test]
@@ -152,6 +197,7 @@ fn a_build_refuses_a_robot_starting_inside_an_object() {
         "robot gripper at (-0.25, -0.2, 0.12) m rpy (180, 0, 0) deg",
     ));
     assert!(text.contains("lamp::build::robot_start_collision"), "{text}");
+    assert!(text.contains("`gripper` is placed here"), "{text}");
     assert!(
         text.contains("problem `pack4_01`: robot `gripper` starts in collision: link `gripper_link` touches `can1`"),
         "{text}"

@@ -41,6 +41,9 @@ pub struct GoalPlaces {
     structure_objects: std::collections::BTreeMap<(String, String), Span>,
     /// Each robot's `grab distance` clause, by robot.
     grab_distances: std::collections::BTreeMap<String, Span>,
+    /// Each object's and robot's line in a problem's scene by (problem, name): the type or robot
+    /// name to the end of the pose.
+    scene_placements: std::collections::BTreeMap<(String, String), Span>,
 }
 
 impl GoalPlaces {
@@ -62,6 +65,15 @@ impl GoalPlaces {
     /// Where robot `robot`'s `grab distance` is written.
     pub fn grab_distance(&self, robot: &str) -> Option<Span> {
         self.grab_distances.get(robot).copied()
+    }
+
+    /// Where problem `problem`'s scene places the object or robot `name`.
+    pub fn scene_placement(&self, problem: &str, name: &str) -> Option<Span> {
+        self.scene_placements.get(&(problem.to_string(), name.to_string())).copied()
+    }
+
+    pub(crate) fn add_scene_placement(&mut self, problem: &str, name: &str, span: Span) {
+        self.scene_placements.insert((problem.to_string(), name.to_string()), span);
     }
 
     pub(crate) fn add_grab_distance(&mut self, robot: &str, span: Span) {

@@ -86,7 +86,14 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
         .time("load", || lamp_world::SpecWorld::load(&spec_dir, &spec).map_err(BuildError::from))?;
     let adapter = Adapter::new(&spec, &world.robots)?;
     // Before any demonstration is read: a scene the solver cannot start from is a broken spec.
-    lamp_build::check_initial_scenes(&spec, &world)?;
+    let refused =
+        crate::spec_input::refuse_scenes(&spec, (&places, &sources), &world, None, colour);
+    if refused > 0 {
+        eprintln!(
+            "lampc build: {refused} finding(s) in the problems' initial scenes, which the solver cannot start from; no model was written"
+        );
+        return Err(Failure::Spec);
+    }
     let paths = find_demonstrations(&spec, &spec_dir, &build_dir, args.demos.as_deref())?;
     let bags = BagMappings::new(&spec, &spec_dir, args.demos.is_some());
     let folder = OutputFolder::new(&build_dir.join(lamp_build::MODEL_DIR))?;

@@ -190,6 +190,15 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
     // Loaded first: the build is checked against the robot models and shapes as they are now.
     let world = SpecWorld::load(spec_dir, spec)
         .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
+    // Before the build: a problem whose start cannot be (a can in the air) is the spec's fault,
+    // whichever build answers it, and is said at its line rather than as a stale build.
+    let located = (&checked.places, &checked.sources);
+    if crate::spec_input::refuse_scenes(spec, located, &world, Some(&problem.name), colour) > 0 {
+        return Err(format!(
+            "problem `{}`: its initial scene is not one the solver can start from",
+            problem.name
+        ));
+    }
     let ModelFiles { domain, problem: problem_text, samplers, warnings } =
         crate::build_folder::read_model(&build_dir, &problem.name, spec, &world, check)
             .map_err(|error| crate::diagnostics::render_error(error.as_ref(), colour))?;

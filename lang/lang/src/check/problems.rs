@@ -58,7 +58,7 @@ impl Checker<'_> {
             match item {
                 ProblemItem::Scene { items, span } => {
                     if self.once(&mut scene_span, "the scene", *span) {
-                        scene = self.scene(items, declared, &mut objects);
+                        scene = self.scene(&problem.name.text, items, declared, &mut objects);
                     }
                 }
                 ProblemItem::SceneFile(path) => {
@@ -66,7 +66,10 @@ impl Checker<'_> {
                         let parsed =
                             self.load(path).map(|(file, text)| parse_scene_file(file, &text));
                         match parsed {
-                            Some(Ok(items)) => scene = self.scene(&items, declared, &mut objects),
+                            Some(Ok(items)) => {
+                                scene =
+                                    self.scene(&problem.name.text, &items, declared, &mut objects)
+                            }
                             Some(Err(diagnostic)) => {
                                 self.report(diagnostic);
                                 scene_ok = false;
@@ -130,6 +133,7 @@ impl Checker<'_> {
 
     fn scene(
         &mut self,
+        problem: &str,
         items: &[SceneItem],
         declared: &Declared,
         objects: &mut Objects,
@@ -155,6 +159,9 @@ impl Checker<'_> {
                         );
                     }
                     if let (true, true, Some(pose)) = (known, new, pose) {
+                        let span =
+                            Span { end: placement.pose.span.end, ..placement.type_name.span };
+                        self.places.add_scene_placement(problem, &placement.object.text, span);
                         scene.objects.push(lamp_spec::ObjectInstance {
                             name: placement.object.text.clone(),
                             type_name: placement.type_name.text.clone(),
@@ -179,6 +186,14 @@ impl Checker<'_> {
                     if !self.declare(&mut placed_robots, "robot placement", name) {
                         continue;
                     }
+                    let end = [
+                        base.as_ref().map(|pose| pose.span.end),
+                        config.as_ref().map(|c| c.span.end),
+                    ]
+                    .into_iter()
+                    .flatten()
+                    .fold(name.span.end, usize::max);
+                    let written = Span { end, ..name.span };
                     let base = match base {
                         Some(pose) if robot.kind == lamp_spec::RobotKind::FixedArm => {
                             self.report(at(pose.span, |at| SpecError::Conflict {
@@ -209,6 +224,7 @@ impl Checker<'_> {
                         let instance = part_instance(&robot.name, &part.type_name);
                         objects.insert(instance, Some(part.type_name.clone()));
                     }
+                    self.places.add_scene_placement(problem, &name.text, written);
                     scene.robots.push(lamp_spec::RobotPlacement {
                         robot: name.text.clone(),
                         base,
