@@ -82,6 +82,16 @@ pub enum SpecError {
         help: Option<String>,
     },
 
+    #[error("`{name}` is a robot, not an object of the scene")]
+    #[diagnostic(code(lamp::resolve::robot_as_object))]
+    RobotAsObject {
+        name: String,
+        #[label("a robot")]
+        at: SourceSpan,
+        #[help]
+        help: String,
+    },
+
     #[error("unknown structure `{name}`")]
     #[diagnostic(code(lamp::resolve::unknown_structure))]
     UnknownStructure {
@@ -350,6 +360,7 @@ impl SpecError {
             | SpecError::UnknownType { at, .. }
             | SpecError::UnknownRobot { at, .. }
             | SpecError::UnknownObject { at, .. }
+            | SpecError::RobotAsObject { at, .. }
             | SpecError::UnknownStructure { at, .. }
             | SpecError::UnknownConfiguration { at, .. }
             | SpecError::UnknownWord { at, .. }

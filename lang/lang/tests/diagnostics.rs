@@ -83,6 +83,18 @@ fn resolve_unknown_object() {
     );
 }
 
+/// A goal naming the robot itself, which the scene does place, says it is a robot and which
+/// parts a goal can name, rather than that it is not in the scene.
+#[test]
+fn resolve_robot_as_object() {
+    case(
+        "resolve_robot_as_object",
+        "    in_box(c1, box1)",
+        "    in_box(gripper, box1)",
+        &["lamp::resolve::robot_as_object"],
+    );
+}
+
 #[test]
 fn resolve_unknown_structure() {
     case(

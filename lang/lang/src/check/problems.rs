@@ -301,7 +301,7 @@ impl Checker<'_> {
                     }
                 }
                 GoalItem::At { object, pose, distance, angle } => {
-                    let object_type = self.scene_object(object, objects).flatten();
+                    let object_type = self.scene_object(object, objects, declared).flatten();
                     // A type that is no object type is a robot part's: the robot moves itself.
                     let movable = object_type.map(|ty| {
                         declared.object_types.get(ty).is_some_and(|(_, movable)| *movable)
@@ -377,7 +377,7 @@ impl Checker<'_> {
                     }
                     let anchored = scene.objects.iter().any(|object| object.name == anchor.text);
                     if !anchored {
-                        self.scene_object(anchor, objects);
+                        self.scene_object(anchor, objects, declared);
                     }
                     let offset = match offset {
                         Some(pose) => self.structure_pose(
@@ -517,9 +517,37 @@ impl Checker<'_> {
         &mut self,
         name: &Name,
         objects: &'o Objects,
+        declared: &Declared,
     ) -> Option<Option<&'o String>> {
         let found = objects.get(&name.text).map(Option::as_ref);
-        if found.is_none() {
+        if found.is_none()
+            && let Some(robot) = declared.robots.get(&name.text)
+        {
+            // The robot is in the scene, so "not in the scene" would send the user looking for a
+            // typo: what a goal can name of a robot is one of its parts.
+            let parts: Vec<String> = robot
+                .parts
+                .iter()
+                .map(|part| format!("`{}`", part_instance(&robot.name, &part.type_name)))
+                .collect();
+            let help = if parts.is_empty() {
+                format!(
+                    "Robot `{}` declares no `part`, so a goal cannot name any of it.",
+                    robot.name
+                )
+            } else {
+                format!(
+                    "A goal names a robot's parts as `<robot>_<part type>`; `{}` has {}.",
+                    robot.name,
+                    parts.join(", ")
+                )
+            };
+            self.report(at(name.span, |at| SpecError::RobotAsObject {
+                name: name.text.clone(),
+                at,
+                help,
+            }));
+        } else if found.is_none() {
             let help = did_you_mean(&name.text, objects.keys().map(String::as_str));
             self.report(at(name.span, |at| SpecError::UnknownObject {
                 name: name.text.clone(),
@@ -566,7 +594,9 @@ impl Checker<'_> {
         }
         let errors_before = self.diagnostics.len();
         for (argument, expected) in arguments.iter().zip(&signature) {
-            let Some(Some(found)) = self.scene_object(argument, objects) else { continue };
+            let Some(Some(found)) = self.scene_object(argument, objects, declared) else {
+                continue;
+            };
             if found != expected {
                 self.report(at(argument.span, |at| SpecError::ArgumentType {
                     argument: argument.text.clone(),
