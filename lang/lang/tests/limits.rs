@@ -221,6 +221,25 @@ fn a_seed_beyond_2_to_the_53_is_refused_not_rounded() {
     }
 }
 
+/// A demonstrator's seed or object count past what it takes is refused with both bounds, not as
+/// "must be zero or more" for a value that is.
+#[test]
+fn a_demonstrator_seed_or_object_count_too_large_names_the_range() {
+    for (from, to, expected) in [
+        ("seed 3 }", "seed 9007199254740993 }", "a whole number from 0 to 4294967295 (2^32 - 1)"),
+        ("seed 3 }", "seed -1 }", "a whole number from 0 to 4294967295 (2^32 - 1)"),
+        ("objects 1", "objects 0", "a whole number from 1 to 4294967295 (2^32 - 1)"),
+        ("objects 1", "objects 5000000000", "a whole number from 1 to 4294967295 (2^32 - 1)"),
+    ] {
+        let source = VALID.replacen(from, to, 1);
+        let outcome = check(&source);
+        assert_eq!(codes(&outcome), ["lamp::check::out_of_range"], "{to}: {}", render(&outcome));
+        assert!(render(&outcome).contains(expected), "{to}: {}", render(&outcome));
+    }
+    let source = VALID.replacen("seed 3 }", "seed 4294967295 }", 1);
+    assert!(check(&source).spec.is_some(), "the largest seed is taken");
+}
+
 /// A learning grid whose range is not a length a relation could span (`1e300 m` passed the check
 /// and failed in learning as a covariance that is not positive definite), or whose bins are finer
 /// than anything a robot repeats, is refused at its number with the allowed range.

@@ -197,11 +197,12 @@ impl Checker<'_> {
             self.report(at(span, |at| SpecError::NotInteger { what: what.to_string(), at }));
             return None;
         }
-        let expected = if minimum == 0 { "zero or more" } else { "at least 1" };
+        // Both bounds: a value past the top refused as "must be zero or more" names no cause.
+        let expected = format!("a whole number from {minimum} to {} (2^32 - 1)", u32::MAX);
         if value < f64::from(minimum) || value > f64::from(u32::MAX) {
             self.report(at(span, |at| SpecError::OutOfRange {
                 what: what.to_string(),
-                expected: expected.to_string(),
+                expected,
                 at,
             }));
             return None;
