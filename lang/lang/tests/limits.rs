@@ -240,6 +240,25 @@ fn a_demonstrator_seed_or_object_count_too_large_names_the_range() {
     assert!(check(&source).spec.is_some(), "the largest seed is taken");
 }
 
+/// A grab distance past 10 m is a slip of the unit or the exponent: `1e300 m` let a magnet pick
+/// up a can anywhere and the solve succeed. It is refused at the clause with the bound.
+#[test]
+fn a_grab_distance_beyond_ten_metres_is_refused() {
+    for (range, taken) in
+        [("0.0 m .. 1e300 m", false), ("0.0 m .. 10.5 m", false), ("0.0 m .. 10 m", true)]
+    {
+        let written = "grab distance 0.19 m .. 0.22 m";
+        assert!(VALID.contains(written), "the valid spec has a grab distance");
+        let source = VALID.replacen(written, &format!("grab distance {range}"), 1);
+        let outcome = check(&source);
+        assert_eq!(outcome.spec.is_some(), taken, "{range}: {}", render(&outcome));
+        if !taken {
+            assert_eq!(codes(&outcome), ["lamp::check::out_of_range"], "{range}");
+            assert!(render(&outcome).contains("0 ≤ MIN ≤ MAX ≤ 10 m"), "{}", render(&outcome));
+        }
+    }
+}
+
 /// A learning grid whose range is not a length a relation could span (`1e300 m` passed the check
 /// and failed in learning as a covariance that is not positive definite), or whose bins are finer
 /// than anything a robot repeats, is refused at its number with the allowed range.

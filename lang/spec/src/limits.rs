@@ -43,6 +43,12 @@ pub const DEMONSTRATIONS: Limit = Limit::whole(1, 10_000);
 /// learning Packing take 71 s instead of 0.4 s), while the bundled domains use 6, the default.
 pub const COMPONENTS: Limit = Limit::whole(1, 64);
 
+/// The largest grab distance (`robot R { grab distance MIN .. MAX }`), in metres: a grab happens
+/// within reach of a gripper's link, and a few centimetres is what every bundled robot takes; past
+/// ten metres the value is a slip of the unit or the exponent (`1e300 m` let a magnet pick up a
+/// can anywhere in the room, and the solve "succeeded").
+pub const MAX_GRAB_DISTANCE: f64 = 10.0;
+
 /// The half-range of a learned pair's position grid (`learn { position … range (RX, RY, RZ) m }`),
 /// per axis: relative positions in `[-R, R]` are binned. A relation between two objects a
 /// kilometre apart is far beyond any robot's reach; much larger values (`1e300 m`) make the

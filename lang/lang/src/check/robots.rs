@@ -6,6 +6,7 @@ use super::{Checker, Declared, Dimension};
 use crate::ast::{Item, RobotItem};
 use crate::diagnostics::{SpecError, at, did_you_mean};
 use crate::source::Span;
+use lamp_spec::limits::MAX_GRAB_DISTANCE;
 
 const ROBOT_KINDS: [&str; 3] = ["free_flying", "fixed_arm", "mobile_arm"];
 
@@ -103,12 +104,14 @@ impl Checker<'_> {
                         let low = self.measure(min, Dimension::Length);
                         let high = self.measure(max, Dimension::Length);
                         if let (Some(low), Some(high)) = (low, high) {
-                            let ok = 0.0 <= low && low <= high;
+                            let ok = 0.0 <= low && low <= high && high <= MAX_GRAB_DISTANCE;
                             if self.require(
                                 ok,
                                 *span,
                                 "the grab distance range",
-                                "a range `MIN .. MAX` with 0 ≤ MIN ≤ MAX",
+                                &format!(
+                                    "a range `MIN .. MAX` with 0 ≤ MIN ≤ MAX ≤ {MAX_GRAB_DISTANCE} m"
+                                ),
                             ) {
                                 grab = Some((low, high));
                                 self.places.add_grab_distance(&robot.name.text, *span);
