@@ -293,6 +293,43 @@ fn a_problem_glob_that_matches_nothing_and_bad_counts_are_refused() {
     assert!(!scratch.path().join("build").exists(), "nothing is generated or written");
 }
 
+/// A problem to evaluate whose can starts in the air is refused at its line before any
+/// demonstration is made, instead of every row failing the final physics check.
+#[test]
+fn a_problem_starting_in_the_air_is_refused_at_its_line_before_any_work() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let text = std::fs::read_to_string(&spec).expect("the spec");
+    let pack2 = text.find("problem pack2 {").expect("pack2");
+    let can = "    can can1 at (-0.25, -0.2, 0.001) m\n";
+    let at = pack2 + text[pack2..].find(can).expect("pack2's can1");
+    let floating = "    can can1 at (-0.25, -0.2, 2.5) m\n";
+    std::fs::write(&spec, format!("{}{floating}{}", &text[..at], &text[at + can.len()..]))
+        .expect("writes the spec");
+    let out = scratch.path().join("eval");
+    let output = common::lampc([
+        OsStr::new("eval"),
+        spec.as_os_str(),
+        OsStr::new("--problems"),
+        OsStr::new("pack2,unreachable"),
+        OsStr::new("--out"),
+        out.as_os_str(),
+    ]);
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{message}");
+    for expected in [
+        "lamp::build::scene_unsupported",
+        "problem `pack2`: `can1` cannot rest where the scene places it",
+        "    can can1 at (-0.25, -0.2, 2.5) m",
+        "`can1` is placed here",
+        "1 finding(s) in the initial scenes of the problems to evaluate",
+    ] {
+        assert!(message.contains(expected), "`{expected}` in:\n{message}");
+    }
+    assert!(!scratch.path().join("build").exists(), "no demonstration is generated");
+    assert!(!out.join("eval.json").exists(), "nothing is evaluated");
+}
+
 /// An output folder that cannot keep the results is refused before any demonstration is made: one
 /// inside a build's model folder (the next build deletes it), and a journal that is a named pipe
 /// (reading it would wait forever) or a link to a device (it would never end).

@@ -156,6 +156,21 @@ fn evaluate_checked(
     let (mut results, skipped) = journal::read(&journal_path, &settings.key)?;
 
     let world = SpecWorld::load(spec_dir, &spec).map_err(|error| render(&error))?;
+    // Before any demonstration: a problem whose start cannot be (a can in the air) would fail
+    // every row in the final physics check, blaming the solves for the scene.
+    let located = (&checked.places, &checked.sources);
+    let findings: usize = problems
+        .iter()
+        .map(|problem| {
+            crate::spec_input::refuse_scenes(&spec, located, &world, Some(&problem.name), colour)
+        })
+        .sum();
+    if findings > 0 {
+        return Err(format!(
+            "{}: {findings} finding(s) in the initial scenes of the problems to evaluate, which the solver cannot start from; nothing was evaluated",
+            checked.file_name
+        ));
+    }
     let adapter = Adapter::new(&spec, &world.robots).map_err(|error| render(&error))?;
     let largest = counts.as_ref().and_then(|counts| counts.iter().copied().max());
     let note = |message: &str| eprintln!("{}: {message}", checked.file_name);
