@@ -441,9 +441,11 @@ fn a_worker_solves_the_spec_the_evaluation_started_with_not_the_file_on_disk() {
         .chain([OsStr::new("--out"), build.as_os_str()]));
     let model = |path: &str| std::fs::read_to_string(build.join("model").join(path)).expect("read");
     let text = std::fs::read_to_string(&spec).expect("the spec");
+    let manifest: Value = serde_json::from_str(&model("manifest.json")).expect("the manifest");
     let job = serde_json::json!({
         "spec": spec,
         "spec_text": text,
+        "model_sources": manifest["sources"]["model"],
         "problem": "pack2",
         "seed": 1,
         "timeout": null,
@@ -469,6 +471,71 @@ fn a_worker_solves_the_spec_the_evaluation_started_with_not_the_file_on_disk() {
     assert!(output.status.success(), "{}", stderr(&output));
     let row: Value = serde_json::from_slice(&output.stdout).expect("one result row");
     assert_eq!(row["outcome"], "solved", "{row}");
+}
+
+/// The job carries the spec's text but not the robot files it names, which the worker reads
+/// again: one edited since the evaluation started (a collision box 2 mm longer) is an error row
+/// saying so, not a solve of another robot with the old robot's model.
+#[test]
+fn a_worker_refuses_a_robot_model_edited_since_the_evaluation_started() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let repo_robots = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains/robots/");
+    let robots = scratch.path().join("robots");
+    std::fs::create_dir_all(&robots).expect("a robots folder");
+    let urdf = robots.join("magnetic_gripper.urdf");
+    std::fs::copy(repo_robots.join("magnetic_gripper.urdf"), &urdf).expect("copies the URDF");
+    let text = std::fs::read_to_string(&spec).expect("the spec");
+    let text = text.replace(&format!("\"{}/", repo_robots.display()), "\"robots/");
+    assert!(text.contains("\"robots/magnetic_gripper.urdf\""), "the spec names the copy");
+    std::fs::write(&spec, &text).expect("writes the spec");
+    let (demos, build) = (scratch.path().join("demos"), scratch.path().join("build"));
+    run([OsStr::new("demos"), spec.as_os_str(), OsStr::new("--count"), OsStr::new("40")]
+        .into_iter()
+        .chain([OsStr::new("--out"), demos.as_os_str()]));
+    run([OsStr::new("build"), spec.as_os_str(), OsStr::new("--demos"), demos.as_os_str()]
+        .into_iter()
+        .chain([OsStr::new("--out"), build.as_os_str()]));
+    let model = |path: &str| std::fs::read_to_string(build.join("model").join(path)).expect("read");
+    let manifest: Value = serde_json::from_str(&model("manifest.json")).expect("the manifest");
+    let job = serde_json::json!({
+        "spec": spec,
+        "spec_text": text,
+        "model_sources": manifest["sources"]["model"],
+        "problem": "pack2",
+        "seed": 1,
+        "timeout": null,
+        "domain": model("domain.pddl"),
+        "problem_pddl": model("problems/pack2.pddl"),
+        "samplers": model("samplers.json"),
+    });
+    let robot = std::fs::read_to_string(&urdf).expect("the copied URDF");
+    let longer = robot.replacen("0.025 0.025 0.11168", "0.025 0.025 0.11368", 1);
+    assert_ne!(longer, robot, "the box is in the URDF");
+    std::fs::write(&urdf, longer).expect("edits the URDF");
+
+    let mut worker = Command::new(env!("CARGO_BIN_EXE_lampc"))
+        .arg("eval-worker")
+        .current_dir(scratch.path())
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the worker starts");
+    let mut input = worker.stdin.take().expect("its input");
+    std::io::Write::write_all(&mut input, job.to_string().as_bytes()).expect("writes the job");
+    drop(input);
+    let output = worker.wait_with_output().expect("the worker ends");
+    assert!(output.status.success(), "{}", stderr(&output));
+    let row: Value = serde_json::from_slice(&output.stdout).expect("one result row");
+    assert_eq!(row["outcome"], "error", "{row}");
+    let reason = row["reason"].as_str().unwrap_or_default();
+    assert!(
+        reason.contains(
+            "a robot model or mesh file the spec names changed since the evaluation started"
+        ),
+        "{row}"
+    );
 }
 
 /// `lampc eval` of `pack2` and `unreachable` from 30 demonstrations, one run, with `extra` flags.

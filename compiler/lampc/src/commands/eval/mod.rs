@@ -204,9 +204,11 @@ fn evaluate_checked(
         model_file_limit: crate::files::MODEL_FILE_LIMIT,
     };
     let learn = |work: &SubsetWork| learn(&context, &pool.demonstrations, work);
+    let model_sources = lamp_build::SpecSources::of(&spec, &world).model;
     let schedule_settings = schedule::Settings {
         spec: &args.spec,
         spec_text: checked.sources.text(lamp_lang::FileId(0)),
+        model_sources: &model_sources,
         seed,
         timeout: args.timeout,
         jobs,

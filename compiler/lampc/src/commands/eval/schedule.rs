@@ -49,6 +49,9 @@ pub(super) struct Settings<'a> {
     pub(super) spec: &'a std::path::Path,
     /// The spec's text as checked when the evaluation started, handed to every worker.
     pub(super) spec_text: &'a str,
+    /// The digest of what the models are learned from (`SpecSources::model`), robot models and
+    /// object shapes as loaded when the evaluation started, for the worker to compare.
+    pub(super) model_sources: &'a str,
     pub(super) seed: u64,
     pub(super) timeout: Option<f64>,
     pub(super) jobs: usize,
@@ -221,6 +224,7 @@ fn job_text(settings: &Settings<'_>, learned: &Learned, problem: &str) -> Result
     let job = Job {
         spec: settings.spec.to_path_buf(),
         spec_text: settings.spec_text.to_string(),
+        model_sources: settings.model_sources.to_string(),
         problem: problem.to_string(),
         seed: settings.seed,
         timeout: settings.timeout,

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
-use lamp_build::SamplersFile;
+use lamp_build::{SamplersFile, SpecSources};
 use lamp_eval::{Outcome, SolveResult};
 use lamp_participants::ParticipantMap;
 use lamp_tamp::{SolveError, SolveInput};
@@ -33,6 +33,9 @@ pub(super) struct Job {
     /// The spec's text as the parent read it when the evaluation started: every solve answers
     /// that spec (the one the journal's settings key was made from), whatever the file says now.
     pub(super) spec_text: String,
+    /// The digest of the model's sources as the parent loaded them (`SpecSources::model`): the
+    /// spec's text cannot carry the robot and mesh files it names, which the worker reads again.
+    pub(super) model_sources: String,
     pub(super) problem: String,
     /// The evaluation's seed.
     pub(super) seed: u64,
@@ -118,6 +121,13 @@ fn solve(job: &Job) -> SolveResult {
         Ok(world) => world,
         Err(failure) => return error(failure),
     };
+    // The parent digested its spec with the evaluation's seed in place of the spec's.
+    let as_evaluated = lamp_spec::Spec { seed: job.seed, ..spec.clone() };
+    if SpecSources::of(&as_evaluated, &world).model != job.model_sources {
+        return error(
+            "a robot model or mesh file the spec names changed since the evaluation started:              this solve would move another robot than the one its model was learned for",
+        );
+    }
     let participants = match ParticipantMap::new(&spec, &world.robots) {
         Ok(participants) => participants,
         Err(failure) => return error(failure),
