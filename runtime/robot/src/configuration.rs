@@ -83,6 +83,36 @@ impl Robot {
         }
     }
 
+    /// The motion from `a` to `b`, one entry per coordinate, in the units its velocity limit is
+    /// given in: plain differences, wrapped angles the short way round, and a rotation's three
+    /// entries the rotation vector of `b` relative to `a` (about world axes), whose length is the
+    /// geodesic angle between them.
+    pub fn displacement(&self, a: &[f64], b: &[f64], out: &mut [f64]) {
+        for (index, coordinate) in self.coordinates.iter().enumerate() {
+            match coordinate.kind {
+                CoordinateKind::Linear | CoordinateKind::Angle => out[index] = b[index] - a[index],
+                CoordinateKind::WrappedAngle => out[index] = wrap_angle(b[index] - a[index]),
+                CoordinateKind::Rotation(0) => {
+                    let relative = rotation_at(b, index) * rotation_at(a, index).inverse();
+                    write_rotation(&relative, out, index);
+                }
+                CoordinateKind::Rotation(_) => {}
+            }
+        }
+    }
+
+    /// Rewrites the wrapped angles of `q` (continuous joints, a planar yaw) to the value of the
+    /// same angle nearest `previous`, so that a sequence of configurations turns the short way
+    /// round instead of jumping by 2π where it crosses ±π. `q` stays the same configuration:
+    /// forward kinematics and collision checks do not change, only the recorded number does.
+    pub fn unwrap_towards(&self, previous: &[f64], q: &mut [f64]) {
+        for (index, coordinate) in self.coordinates.iter().enumerate() {
+            if coordinate.kind == CoordinateKind::WrappedAngle {
+                q[index] = previous[index] + wrap_angle(q[index] - previous[index]);
+            }
+        }
+    }
+
     /// Copies `reference` into `out` and resamples the coordinates of `group` uniformly within
     /// their limits (wrapped angles over the full circle, rotations uniformly over SO(3) — all three
     /// components of a rotation are resampled if the group names any of them).

@@ -1,5 +1,6 @@
 //! Robots from URDF: kinematic trees, the virtual mount, joint groups, the configuration space,
-//! forward kinematics, Jacobians, inverse kinematics, link collision geometry.
+//! forward kinematics, Jacobians, inverse kinematics, link collision geometry, and the timing of a
+//! path within the joints' velocity and acceleration limits.
 //!
 //! This crate owns the layout of a configuration vector (`docs/robots.md`): no other crate
 //! interprets coordinates; everything goes through [`Robot`] methods.
@@ -13,6 +14,7 @@ mod mesh;
 mod mount;
 mod reach;
 mod robot;
+mod timing;
 mod urdf;
 
 pub use configuration::{
@@ -29,5 +31,9 @@ pub use mount::Mount;
 pub use robot::{
     ALL_GROUP, ARM_GROUP, BASE_GROUP, Coordinate, CoordinateKind, GRIPPER_GROUP, JointGroup,
     LinkGeometry, LinkId, Robot,
+};
+pub use timing::{
+    DEFAULT_ACCELERATION, DEFAULT_JOINT_VELOCITY, Limits, MOUNT_ANGULAR_VELOCITY,
+    MOUNT_LINEAR_VELOCITY, TimingError, time_path,
 };
 pub use urdf::MAX_URDF_BYTES;

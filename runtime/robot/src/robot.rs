@@ -66,6 +66,13 @@ pub struct Coordinate {
     pub upper: f64,
     /// Weight of this coordinate in [`Robot::distance`].
     pub weight: f64,
+    /// The fastest it may move (metres or radians per second, finite and positive): the URDF
+    /// joint's `velocity`, or a default of [`crate::timing`] where the URDF gives none (the mount's
+    /// coordinates, a joint whose limit says 0).
+    pub velocity: f64,
+    /// The fastest its speed may change (per second squared, finite and positive): URDF has no
+    /// acceleration limit, so this is [`crate::DEFAULT_ACCELERATION`] unless the caller sets one.
+    pub acceleration: f64,
 }
 
 /// The motion a joint adds between its frame and its child link.

@@ -15,6 +15,9 @@ use crate::robot::{
     ALL_GROUP, ARM_GROUP, BASE_GROUP, Coordinate, CoordinateKind, GRIPPER_GROUP, Joint, JointGroup,
     Link, LinkGeometry, LinkId, Motion, Robot,
 };
+use crate::timing::{
+    DEFAULT_ACCELERATION, DEFAULT_JOINT_VELOCITY, MOUNT_ANGULAR_VELOCITY, MOUNT_LINEAR_VELOCITY,
+};
 
 /// The largest URDF file read: the bundled robots' are under 100 KiB, so 64 MiB is beyond any
 /// robot description, while a wrong path (a log, a device) cannot fill the memory.
@@ -224,6 +227,8 @@ fn mount_coordinates(mount: &Mount) -> Vec<Coordinate> {
         lower: f64::NEG_INFINITY,
         upper: f64::INFINITY,
         weight: 1.0,
+        velocity: MOUNT_LINEAR_VELOCITY,
+        acceleration: DEFAULT_ACCELERATION,
     };
     let rotation = |name: &str, component: u8| Coordinate {
         name: name.into(),
@@ -231,6 +236,8 @@ fn mount_coordinates(mount: &Mount) -> Vec<Coordinate> {
         lower: -PI,
         upper: PI,
         weight: 1.0,
+        velocity: MOUNT_ANGULAR_VELOCITY,
+        acceleration: DEFAULT_ACCELERATION,
     };
     match mount {
         Mount::Fixed(_) => Vec::new(),
@@ -243,6 +250,8 @@ fn mount_coordinates(mount: &Mount) -> Vec<Coordinate> {
                 lower: -PI,
                 upper: PI,
                 weight: 1.0,
+                velocity: MOUNT_ANGULAR_VELOCITY,
+                acceleration: DEFAULT_ACCELERATION,
             },
         ],
         Mount::Floating => vec![
@@ -293,6 +302,18 @@ fn convert_joint(
         }
         Ok((lower, upper))
     };
+    // URDF requires `velocity` on a moving joint's limit; urdf-rs reads a missing <limit> as 0,
+    // which cannot mean "never moves" for a joint a planner moves, so 0 takes the default.
+    let velocity = || {
+        let value = joint.limit.velocity;
+        if value == 0.0 {
+            Ok(DEFAULT_JOINT_VELOCITY)
+        } else if value.is_finite() && value > 0.0 {
+            Ok(value)
+        } else {
+            Err(invalid(format!("velocity limit {value} is not a speed")))
+        }
+    };
     let first_coordinate = coordinates.len();
     let motion = match joint.joint_type {
         urdf_rs::JointType::Fixed => Motion::Fixed,
@@ -304,6 +325,8 @@ fn convert_joint(
                 lower,
                 upper,
                 weight: 1.0,
+                velocity: velocity()?,
+                acceleration: DEFAULT_ACCELERATION,
             });
             Motion::Revolute { axis: axis()? }
         }
@@ -314,6 +337,8 @@ fn convert_joint(
                 lower: -PI,
                 upper: PI,
                 weight: 1.0,
+                velocity: velocity()?,
+                acceleration: DEFAULT_ACCELERATION,
             });
             Motion::Revolute { axis: axis()? }
         }
@@ -325,6 +350,8 @@ fn convert_joint(
                 lower,
                 upper,
                 weight: 1.0,
+                velocity: velocity()?,
+                acceleration: DEFAULT_ACCELERATION,
             });
             Motion::Prismatic { axis: axis()? }
         }
@@ -350,6 +377,8 @@ fn convert_joint(
                     lower,
                     upper,
                     weight: 1.0,
+                    velocity: velocity()?,
+                    acceleration: DEFAULT_ACCELERATION,
                 });
             }
             Motion::Planar { normal, e1, e2 }
@@ -362,6 +391,8 @@ fn convert_joint(
                     lower: f64::NEG_INFINITY,
                     upper: f64::INFINITY,
                     weight: 1.0,
+                    velocity: velocity()?,
+                    acceleration: DEFAULT_ACCELERATION,
                 });
             }
             for (component, suffix) in ["rx", "ry", "rz"].into_iter().enumerate() {
@@ -371,6 +402,8 @@ fn convert_joint(
                     lower: -PI,
                     upper: PI,
                     weight: 1.0,
+                    velocity: velocity()?,
+                    acceleration: DEFAULT_ACCELERATION,
                 });
             }
             Motion::Floating

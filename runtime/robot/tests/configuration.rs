@@ -7,7 +7,10 @@ use std::f64::consts::PI;
 
 use approx::assert_relative_eq;
 use lamp_geometry::{Rotation, Vec3};
-use lamp_robot::{Mount, wrap_angle};
+use lamp_robot::{
+    DEFAULT_ACCELERATION, DEFAULT_JOINT_VELOCITY, MOUNT_ANGULAR_VELOCITY, MOUNT_LINEAR_VELOCITY,
+    Mount, wrap_angle,
+};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -247,4 +250,64 @@ fn uniform_rotation_sampling_covers_so3_evenly() {
     assert!(mean.norm() < 0.02, "mean direction {mean:?}");
     let fraction = f64::from(below) / f64::from(samples);
     assert!((fraction - 0.25).abs() < 0.015, "P(z < -0.5) = {fraction}");
+}
+
+#[test]
+fn velocity_limits_come_from_the_urdf_and_the_mount_from_documented_defaults() {
+    let robot = common::load("fetch.urdf", Mount::Planar);
+    let limit = |name: &str| {
+        let coordinate = &robot.coordinates()[robot.coordinate_index(name).expect(name)];
+        (coordinate.velocity, coordinate.acceleration)
+    };
+    // fetch.urdf: torso 0.1 m/s, upper-arm roll 1.571 rad/s, wrist roll 2.268 rad/s.
+    assert_eq!(limit("torso_lift_joint"), (0.1, DEFAULT_ACCELERATION));
+    assert_eq!(limit("upperarm_roll_joint"), (1.571, DEFAULT_ACCELERATION));
+    assert_eq!(limit("wrist_roll_joint"), (2.268, DEFAULT_ACCELERATION));
+    assert_eq!(limit("base_x"), (MOUNT_LINEAR_VELOCITY, DEFAULT_ACCELERATION));
+    assert_eq!(limit("base_yaw"), (MOUNT_ANGULAR_VELOCITY, DEFAULT_ACCELERATION));
+    let gripper = common::load("magnetic_gripper.urdf", Mount::Floating);
+    let velocities: Vec<f64> = gripper.coordinates().iter().map(|c| c.velocity).collect();
+    assert_eq!(velocities[..3], [MOUNT_LINEAR_VELOCITY; 3]);
+    assert_eq!(velocities[3..], [MOUNT_ANGULAR_VELOCITY; 3]);
+    // A joint whose <limit> gives no speed (urdf-rs reads it as 0) moves at the default.
+    let unlimited = r#"<robot name="r"><link name="a"/><link name="b"/>
+        <joint name="j" type="continuous"><parent link="a"/><child link="b"/></joint></robot>"#;
+    let robot = lamp_robot::Robot::from_urdf_str(unlimited, None, Mount::Fixed(Default::default()))
+        .expect("loads");
+    assert_eq!(robot.coordinates()[0].velocity, DEFAULT_JOINT_VELOCITY);
+}
+
+#[test]
+fn displacements_take_the_short_way_and_unwrapping_keeps_the_configuration() {
+    let robot = common::load("fetch.urdf", Mount::Planar);
+    let roll = robot.coordinate_index("upperarm_roll_joint").expect("continuous joint");
+    let yaw = robot.coordinate_index("base_yaw").expect("planar yaw");
+    let mut a = robot.neutral_configuration();
+    a[roll] = PI - 0.1;
+    a[yaw] = -PI + 0.05;
+    let mut b = a.clone();
+    b[roll] = -PI + 0.1;
+    b[yaw] = PI - 0.05;
+    let mut moved = vec![0.0; a.len()];
+    robot.displacement(&a, &b, &mut moved);
+    assert_relative_eq!(moved[roll], 0.2, epsilon = TOLERANCE);
+    assert_relative_eq!(moved[yaw], -0.1, epsilon = TOLERANCE);
+    // Unwrapped next to a, b is a + the short way: no 2π jump, the same link poses.
+    let mut unwrapped = b.clone();
+    robot.unwrap_towards(&a, &mut unwrapped);
+    assert_relative_eq!(unwrapped[roll], PI + 0.1, epsilon = TOLERANCE);
+    assert_relative_eq!(unwrapped[yaw], -PI - 0.05, epsilon = TOLERANCE);
+    for link in 0..robot.link_count() {
+        let (wrapped, turned) = (robot.link_pose(&b, link), robot.link_pose(&unwrapped, link));
+        assert!((wrapped.translation.vector - turned.translation.vector).norm() < 1e-12);
+        assert!(wrapped.rotation.angle_to(&turned.rotation) < 1e-12);
+    }
+    // A free-flying rotation's displacement is its geodesic turn, about world axes.
+    let gripper = common::load("magnetic_gripper.urdf", Mount::Floating);
+    let c = [0.0, 0.0, 0.0, 0.0, 0.0, PI - 0.1];
+    let d = [0.0, 0.0, 0.0, 0.0, 0.0, -(PI - 0.1)];
+    let mut turn = [0.0; 6];
+    gripper.displacement(&c, &d, &mut turn);
+    assert_relative_eq!(turn[5], 0.2, epsilon = 1e-9);
+    assert_relative_eq!(Vec3::new(turn[3], turn[4], turn[5]).norm(), 0.2, epsilon = 1e-9);
 }

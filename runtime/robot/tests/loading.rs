@@ -308,6 +308,11 @@ fn structural_errors_are_typed() {
         Robot::from_urdf_str(inverted, None, Mount::Planar),
         Err(RobotError::InvalidJoint { .. })
     ));
+    let negative_speed = r#"<robot name="r"><link name="a"/><link name="b"/>
+        <joint name="j" type="revolute"><parent link="a"/><child link="b"/>
+        <limit lower="-1" upper="1" effort="1" velocity="-2"/></joint></robot>"#;
+    let error = Robot::from_urdf_str(negative_speed, None, Mount::Planar).unwrap_err();
+    assert!(error.to_string().contains("velocity limit -2 is not a speed"), "{error}");
     let negative_box = r#"<robot name="r"><link name="a"><collision><geometry><box size="1 -1 1"/></geometry></collision></link></robot>"#;
     assert!(matches!(
         Robot::from_urdf_str(negative_box, None, Mount::Planar),
