@@ -123,6 +123,19 @@ fn solve_writes_a_validated_trajectory_plan_summary_and_picture() {
     let trajectory =
         lamp_trajectory::Trajectory::from_bytes(&bytes, "trajectory.mcap").expect("it reads back");
     assert!(trajectory.steps.len() > 100);
+    // The file's stamps are the times the robot takes: every coordinate within its velocity
+    // limit, and the summary's execution time is the last stamp.
+    let (spec, world) = lamp_test_support::domain("packing");
+    let problem = spec.problems.iter().find(|p| p.name == "pack4_03").expect("the problem");
+    let scene = world.problem_scene(problem).expect("the scene loads");
+    let robots: Vec<&lamp_robot::Robot> =
+        scene.robots().iter().map(|robot| robot.robot().as_ref()).collect();
+    let worst = lamp_test_support::assert_within_velocity_limits(&trajectory, &robots);
+    assert!(worst > 0.5, "the gripper comes near its speed limit: {worst}");
+    let json: serde_json::Value = serde_json::from_str(&summary).expect("JSON");
+    let last = trajectory.steps.last().expect("steps").time_nanoseconds as f64 / 1e9;
+    assert_eq!(json["execution_seconds"].as_f64(), Some(last), "{summary}");
+    assert!(stdout.contains(&format!("{last:.1} s to execute")), "{stdout}");
     common::assert_viewer_channels(&bytes, "trajectory.mcap");
     // The plan step being executed is on /lamp/step, each step once, in the plan's order, and
     // the first label comes after the initial state.

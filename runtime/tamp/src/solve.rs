@@ -10,8 +10,9 @@ use lamp_learn::{GroundAtom, SamplerArtifact};
 use lamp_participants::ParticipantMap;
 use lamp_pddl::{Domain, Problem, parse_domain, parse_problem};
 use lamp_plugin_api::GroundedAction;
+use lamp_robot::Robot;
 use lamp_trajectory::{Trajectory, TrajectoryHeader};
-use lamp_world::{Recorder, Scene};
+use lamp_world::{Recorder, Scene, WorldError, time_steps};
 
 use crate::error::{Progress, SolveError};
 use crate::ground::{call_text, ground_step, pddl_atom};
@@ -165,6 +166,21 @@ fn solve_with(
                     summary.seconds_refining += started.elapsed().as_secs_f64();
                     progress("validating");
                     let started = Instant::now();
+                    // Timed before the replay, so that the replay checks the positions written:
+                    // timing turns wrapped angles the short way round.
+                    let robots: Vec<&Robot> =
+                        input.scene.robots().iter().map(|robot| robot.robot().as_ref()).collect();
+                    let execution =
+                        time_steps(&mut recorder.steps, &robots).map_err(|error| match error {
+                            WorldError::Timing { step, reason } => SolveError::InvalidSolution {
+                                step,
+                                reason: format!("it cannot be timed: {reason}"),
+                            },
+                            other => {
+                                SolveError::InvalidSolution { step: 0, reason: other.to_string() }
+                            }
+                        })?;
+                    summary.execution_seconds = execution as f64 / 1e9;
                     replay(
                         input.scene,
                         &recorder.steps,

@@ -42,6 +42,10 @@ pub struct Summary {
     pub motion_failures: usize,
     /// Recorded trajectory steps.
     pub trajectory_steps: usize,
+    /// How long a robot takes to execute the trajectory, in seconds: the last step's stamp, every
+    /// motion within the joints' velocity and acceleration limits and every grasp change
+    /// `lamp_world::GRASP_SECONDS` (deterministic, unlike the solver's own times below).
+    pub execution_seconds: f64,
     /// Seconds spent planning, refining (sampling, IK, motion) and validating.
     pub seconds_planning: f64,
     pub seconds_refining: f64,

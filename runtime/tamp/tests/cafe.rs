@@ -43,5 +43,8 @@ fn cans_move_between_tables_and_the_counter_and_the_trajectory_is_collision_free
         assert!(solution.summary.success);
         assert!(solution.summary.relaxed_goal.is_empty(), "{name}: the whole goal");
         check_delivered(name, &solution);
+        // The Fetch's base and arm, continuous joints included, within their limits.
+        let worst = learned::assert_executable(&CAFE, name, &solution);
+        assert!(worst > 0.5, "{name}: some joint comes near its limit ({worst})");
     }
 }

@@ -17,6 +17,7 @@ fn a_block_across_two_is_built_bottom_up_from_a_structure_goal() {
     assert!(solution.summary.relaxed_goal.is_empty(), "{name}: the whole goal");
     let problem = JENGA.spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
     let scene = learned::replay_collision_free(&JENGA, name, &solution);
+    learned::assert_executable(&JENGA, name, &solution);
     let last = solution.trajectory.steps.last().expect("a trajectory");
     assert_eq!(last.robots[0].held, vec![None], "{name}: the gripper ends empty");
     let targets = JENGA.world.structure_targets(problem).expect("the structure is placed");

@@ -37,4 +37,9 @@ pub enum WorldError {
     #[error("robot `{robot}` cannot grab `{object}`: {reason}")]
     #[diagnostic(code(lamp::world::grab))]
     Grab { robot: String, object: String, reason: String },
+    /// A recorded trajectory whose steps cannot be timed: they do not fit the robots, or a
+    /// robot moves by something that is not a number.
+    #[error("the trajectory cannot be timed at step {step}: {reason}")]
+    #[diagnostic(code(lamp::world::timing))]
+    Timing { step: usize, reason: String },
 }

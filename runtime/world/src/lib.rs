@@ -15,6 +15,7 @@ mod recording;
 mod resting;
 mod scene;
 mod straight;
+mod timing;
 mod viewing;
 
 pub use checking::Contact;
@@ -33,4 +34,5 @@ pub use recording::{Recorder, STEP_NANOSECONDS, trajectory_header};
 pub use resting::{MAX_SETTLE_DROP, RESTING_GAP, RestError, SUPPORT_TOLERANCE};
 pub use scene::{Body, Gripper, Held, Scene, SceneRobot};
 pub use straight::{StraightLineError, straight_line};
+pub use timing::{GRASP_SECONDS, time_steps};
 pub use viewing::{WORLD_FRAME, label_plan_steps, standard_channels};

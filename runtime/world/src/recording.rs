@@ -1,13 +1,14 @@
 //! Recording a scene as it changes, as lamp-trajectory steps: one step per visited state, 10 ms
 //! apart, with every body, every robot's full configuration and what each gripper holds. The
-//! demonstrators and the solver's trajectories are both recorded this way.
+//! demonstrators and the solver's trajectories are both recorded this way; a solution's steps are
+//! then stamped with the times a robot would take (`time_steps`).
 
 use lamp_spec::Spec;
 use lamp_trajectory::{BodyDescription, RobotDescription, RobotState, Step, TrajectoryHeader};
 
 use crate::scene::Scene;
 
-/// Time between two recorded steps: 10 ms.
+/// Time between two recorded steps: 10 ms (until `time_steps` stamps them again).
 pub const STEP_NANOSECONDS: u64 = 10_000_000;
 
 /// The steps recorded so far.

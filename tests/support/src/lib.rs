@@ -1,11 +1,14 @@
 //! Test and bench support shared by the crates: the bundled specs under `domains/`, read from
-//! disk, checked, with their worlds loaded; the oracle rule for Python references; and packages
+//! disk, checked, with their worlds loaded; the check that a trajectory keeps its robots'
+//! velocity limits; the oracle rule for Python references; and packages
 //! built as shared libraries with the calling test's cargo and profile. Only
 //! dev-dependencies name this crate.
 
 use std::path::{Path, PathBuf};
 
+use lamp_robot::{CoordinateKind, Robot};
 use lamp_spec::Spec;
+use lamp_trajectory::Trajectory;
 use lamp_world::SpecWorld;
 
 /// Reads spec files and robot files from disk; demonstration globs match nothing (tests pass
@@ -70,6 +73,59 @@ pub fn load(path: &Path) -> (Spec, SpecWorld) {
 /// A bundled domain, checked, with its world loaded.
 pub fn domain(name: &str) -> (Spec, SpecWorld) {
     load(&spec_path(name))
+}
+
+/// Asserts that a robot can follow `trajectory` as it is stamped: between consecutive steps no
+/// coordinate of `robots` (the models of its robots, in order) moves faster than its velocity
+/// limit, no wrapped angle (a continuous joint, a planar yaw) jumps by a turn where it crosses
+/// ±π, and steps with the same stamp have the same positions. Returns the largest ratio of a
+/// recorded velocity to its limit.
+pub fn assert_within_velocity_limits(trajectory: &Trajectory, robots: &[&Robot]) -> f64 {
+    let mut worst: f64 = 0.0;
+    for (index, pair) in trajectory.steps.windows(2).enumerate() {
+        let seconds = (pair[1].time_nanoseconds - pair[0].time_nanoseconds) as f64 * 1e-9;
+        for ((from, to), robot) in pair[0].robots.iter().zip(&pair[1].robots).zip(robots) {
+            let mut moved = vec![0.0; robot.dof()];
+            robot.displacement(&from.positions, &to.positions, &mut moved);
+            for (j, coordinate) in robot.coordinates().iter().enumerate() {
+                let raw = to.positions[j] - from.positions[j];
+                let change = match coordinate.kind {
+                    CoordinateKind::Rotation(_) => moved[j],
+                    CoordinateKind::WrappedAngle => {
+                        assert!(
+                            (raw - moved[j]).abs() < 1e-9,
+                            "step {}: {} jumps by {raw} rad, the short way is {} rad",
+                            index + 1,
+                            coordinate.name,
+                            moved[j]
+                        );
+                        raw
+                    }
+                    CoordinateKind::Linear | CoordinateKind::Angle => raw,
+                };
+                if seconds == 0.0 {
+                    assert!(
+                        change == 0.0,
+                        "step {}: {} moves in no time",
+                        index + 1,
+                        coordinate.name
+                    );
+                    continue;
+                }
+                let ratio = change.abs() / seconds / coordinate.velocity;
+                assert!(
+                    ratio <= 1.0 + 1e-6,
+                    "step {}: {} moves at {} times its limit of {}",
+                    index + 1,
+                    coordinate.name,
+                    ratio,
+                    coordinate.velocity
+                );
+                worst = worst.max(ratio);
+            }
+        }
+    }
+    worst
 }
 
 /// Whether CI demands every external reference (`LAMP_REQUIRE_ORACLES=1`).

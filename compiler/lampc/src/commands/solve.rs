@@ -373,7 +373,10 @@ fn print_summary(summary: &lamp_tamp::Summary, out: &Path) {
         summary.motion_calls,
         summary.motion_failures
     );
-    println!("  trajectory      {} steps, validated by replay", summary.trajectory_steps);
+    println!(
+        "  trajectory      {} steps, {:.1} s to execute, validated by replay",
+        summary.trajectory_steps, summary.execution_seconds
+    );
     println!(
         "  time            planning {:.2} s, refining {:.2} s, validating {:.2} s",
         summary.seconds_planning, summary.seconds_refining, summary.seconds_validating

@@ -93,6 +93,25 @@ pub fn replay_collision_free(learned: &Learned, name: &str, solution: &Solution)
     scene
 }
 
+/// Asserts that a robot can execute `solution` as its file is stamped, reading the trajectory
+/// back from its encoded bytes: within every velocity limit, continuous joints turning the short
+/// way, and the summary's execution time the last stamp. Returns the largest ratio of a recorded
+/// velocity to its limit.
+pub fn assert_executable(learned: &Learned, name: &str, solution: &Solution) -> f64 {
+    let problem =
+        learned.spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
+    let scene = learned.world.problem_scene(problem).expect("the scene loads");
+    let robots: Vec<&lamp_robot::Robot> =
+        scene.robots().iter().map(|robot| robot.robot().as_ref()).collect();
+    let bytes = solution.trajectory.to_bytes().expect("the trajectory encodes");
+    let written = lamp_trajectory::Trajectory::from_bytes(&bytes, format!("{name}.mcap"))
+        .expect("the trajectory reads back");
+    let worst = lamp_test_support::assert_within_velocity_limits(&written, &robots);
+    let last = written.steps.last().expect("a trajectory").time_nanoseconds;
+    assert_eq!(solution.summary.execution_seconds, last as f64 / 1e9, "{name}: execution time");
+    worst
+}
+
 pub fn artifact<'a>(artifacts: &'a Artifacts, path: &str) -> &'a str {
     artifacts
         .files
