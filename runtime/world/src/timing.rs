@@ -10,8 +10,9 @@ use lamp_trajectory::Step;
 
 use crate::error::WorldError;
 
-/// How long a grasp or a release takes, in seconds: lamp models no gripper, so a parallel
-/// gripper's usual closing time (a Fetch or Robotiq gripper closes in about half a second).
+/// How long a grasp or a release takes, in seconds. lamp models no gripper dynamics; a parallel
+/// gripper at full speed (a Robotiq 2F-85: 150 mm/s over its 85 mm stroke) closes in about this,
+/// and a grasp rarely uses the whole stroke.
 pub const GRASP_SECONDS: f64 = 0.5;
 
 const NANOSECONDS_PER_SECOND: f64 = 1e9;
@@ -24,8 +25,8 @@ const NANOSECONDS_PER_SECOND: f64 = 1e9;
 /// value nearest the step before ([`Robot::unwrap_towards`]), so that the positions turn the short
 /// way round, as the motion was planned and checked, instead of jumping by 2π at ±π.
 ///
-/// Stamps are whole nanoseconds; each step's time is rounded up, so that rounding never makes a
-/// recorded velocity exceed its limit.
+/// Stamps are whole nanoseconds; the time from each step to the next is rounded up, so that
+/// rounding never makes a recorded velocity exceed its limit.
 pub fn time_steps(steps: &mut [Step], robots: &[&Robot]) -> Result<u64, WorldError> {
     let fail = |step: usize, reason: String| WorldError::Timing { step, reason };
     for (index, step) in steps.iter().enumerate() {
