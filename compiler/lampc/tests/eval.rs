@@ -85,6 +85,24 @@ fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
+/// The one result row `lampc eval-worker`, started in `directory`, writes for `job`.
+fn worker_row(job: &Value, directory: &Path) -> Value {
+    let mut worker = Command::new(env!("CARGO_BIN_EXE_lampc"))
+        .arg("eval-worker")
+        .current_dir(directory)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the worker starts");
+    let mut input = worker.stdin.take().expect("its input");
+    std::io::Write::write_all(&mut input, job.to_string().as_bytes()).expect("writes the job");
+    drop(input);
+    let output = worker.wait_with_output().expect("the worker ends");
+    assert!(output.status.success(), "{}", stderr(&output));
+    serde_json::from_slice(&output.stdout).expect("one result row")
+}
+
 #[test]
 fn an_evaluation_writes_its_rows_report_and_plots_the_same_for_any_job_count_and_after_a_resume() {
     let scratch = tempfile::tempdir().expect("a scratch directory");
@@ -457,19 +475,7 @@ fn a_worker_solves_the_spec_the_evaluation_started_with_not_the_file_on_disk() {
     let end = start + text[start..].find("\n}\n").expect("its end") + 3;
     std::fs::write(&spec, format!("{}{}", &text[..start], &text[end..])).expect("edits the spec");
 
-    let mut worker = Command::new(env!("CARGO_BIN_EXE_lampc"))
-        .arg("eval-worker")
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the worker starts");
-    let mut input = worker.stdin.take().expect("its input");
-    std::io::Write::write_all(&mut input, job.to_string().as_bytes()).expect("writes the job");
-    drop(input);
-    let output = worker.wait_with_output().expect("the worker ends");
-    assert!(output.status.success(), "{}", stderr(&output));
-    let row: Value = serde_json::from_slice(&output.stdout).expect("one result row");
+    let row = worker_row(&job, scratch.path());
     assert_eq!(row["outcome"], "solved", "{row}");
 }
 
@@ -514,20 +520,7 @@ fn a_worker_refuses_a_robot_model_edited_since_the_evaluation_started() {
     assert_ne!(longer, robot, "the box is in the URDF");
     std::fs::write(&urdf, longer).expect("edits the URDF");
 
-    let mut worker = Command::new(env!("CARGO_BIN_EXE_lampc"))
-        .arg("eval-worker")
-        .current_dir(scratch.path())
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the worker starts");
-    let mut input = worker.stdin.take().expect("its input");
-    std::io::Write::write_all(&mut input, job.to_string().as_bytes()).expect("writes the job");
-    drop(input);
-    let output = worker.wait_with_output().expect("the worker ends");
-    assert!(output.status.success(), "{}", stderr(&output));
-    let row: Value = serde_json::from_slice(&output.stdout).expect("one result row");
+    let row = worker_row(&job, scratch.path());
     assert_eq!(row["outcome"], "error", "{row}");
     let reason = row["reason"].as_str().unwrap_or_default();
     assert!(
