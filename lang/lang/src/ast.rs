@@ -68,6 +68,15 @@ pub struct OptionEntry {
     pub value: Value,
 }
 
+/// `noise D A` in a `simulate` block: the keyword (as a name, for duplicate reports), the
+/// distance and the angle.
+#[derive(Clone, Debug)]
+pub struct NoiseEntry {
+    pub keyword: Name,
+    pub distance: Quantity,
+    pub angle: Quantity,
+}
+
 /// A top-level declaration; `span` covers its keyword.
 // A spec has a few dozen items, built once: boxing the large variants would buy nothing.
 #[allow(clippy::large_enum_variant)]
@@ -124,6 +133,8 @@ pub enum DemoSource {
     Simulate {
         demonstrator: Name,
         options: Vec<OptionEntry>,
+        /// Every `noise D A` of the block (more than one is reported).
+        noise: Vec<NoiseEntry>,
     },
     Files(Text),
     /// `files "PATTERN" as ros2 { … }`: bags of standard messages with a frame mapping.

@@ -109,7 +109,8 @@ fn describe(rule: Rule) -> &'static str {
         Rule::string | Rule::text => "a quoted string",
         Rule::vector | Rule::pose => "a vector like `(0, 0, 0)`",
         Rule::value => "a value",
-        Rule::options => "`{`",
+        Rule::options | Rule::sim_options => "`{`",
+        Rule::noise | Rule::noise_word => "`noise DISTANCE ANGLE`",
         Rule::option => "an option",
         Rule::domain_decl
         | Rule::seed_decl
@@ -299,6 +300,30 @@ impl Lower {
             .collect()
     }
 
+    /// A `simulate` block's options, with its `noise D A` entries apart.
+    fn simulate_options(
+        &self,
+        pair: Option<Pair<'_, Rule>>,
+    ) -> (Vec<OptionEntry>, Vec<NoiseEntry>) {
+        let (mut options, mut noise) = (Vec::new(), Vec::new());
+        let Some(pair) = pair else { return (options, noise) };
+        for entry in pair.into_inner() {
+            let rule = entry.as_rule();
+            let mut inner = entry.into_inner();
+            if rule == Rule::noise {
+                let keyword = self.name(inner.next().expect("noise starts with its keyword"));
+                let distance = self.quantity(inner.next().expect("noise has a distance"));
+                let angle = self.quantity(inner.next().expect("noise has an angle"));
+                noise.push(NoiseEntry { keyword, distance, angle });
+            } else {
+                let key = self.name(inner.next().expect("an option has a key"));
+                let value = self.value(inner.next().expect("an option has a value"));
+                options.push(OptionEntry { key, value });
+            }
+        }
+        (options, noise)
+    }
+
     fn item(&self, pair: Pair<'_, Rule>) -> Item {
         let rule = pair.as_rule();
         let keyword = pair.as_str().split_whitespace().next().unwrap_or("").to_string();
@@ -434,7 +459,8 @@ impl Lower {
         match rule {
             Rule::simulate => {
                 let demonstrator = self.name(inner.next().expect("demonstrator name"));
-                DemoSource::Simulate { demonstrator, options: self.options(inner.next()) }
+                let (options, noise) = self.simulate_options(inner.next());
+                DemoSource::Simulate { demonstrator, options, noise }
             }
             _ => {
                 let pattern = self.text(inner.next().expect("file pattern"));

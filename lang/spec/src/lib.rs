@@ -23,7 +23,7 @@ pub use problem::{
 pub use robot::{JointGroup, NamedConfiguration, Robot, RobotKind, RobotNames, RobotPart};
 pub use world::{
     DemoSource, FrameObject, FrameRobot, GraspJoint, MeshMode, Mobility, ObjectType, Placement,
-    RelationAlias, Ros2Mapping, ShapePart, ShapeSpec, Structure,
+    RelationAlias, Ros2Mapping, ShapePart, ShapeSpec, Structure, TrackingNoise,
 };
 
 use std::collections::BTreeMap;

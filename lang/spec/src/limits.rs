@@ -38,6 +38,17 @@ pub const OPERATORS: Limit = Limit::whole(1, 100_000_000);
 /// the bundled domains' count) is where memory, not learning, would become the limit.
 pub const DEMONSTRATIONS: Limit = Limit::whole(1, 10_000);
 
+/// The tracking noise of a simulated demonstration's object poses, per axis (`simulate … { noise
+/// D A }`, the distance D): motion capture is good to a millimetre or so and a perception
+/// pipeline to a centimetre or two; ten centimetres is a can's width, beyond which the recorded
+/// relations are noise, not a tracker's error.
+pub const NOISE_POSITION: Limit = Limit::closed(0.0, 0.1, "m").noting("10 cm");
+
+/// The tracking noise's largest turn (`simulate … { noise D A }`, the angle A): trackers are
+/// good to a degree or a few; beyond 45° a box's recorded faces swap their roles.
+pub const NOISE_ROTATION: Limit =
+    Limit::closed(0.0, std::f64::consts::FRAC_PI_4, "rad").noting("45°");
+
 /// The most Gaussian components of one region (`learn { components max K }`): model selection
 /// fits a mixture for every count up to it, so fitting time grows with it (a cap of 100,000 made
 /// learning Packing take 71 s instead of 0.4 s), while the bundled domains use 6, the default.

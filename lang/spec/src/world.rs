@@ -109,9 +109,34 @@ pub enum DemoSource {
         /// Number of objects of the manipulated type per demonstration.
         objects: u32,
         seed: u64,
+        /// The tracking noise the recorded object poses carry (`noise D A`); none by default.
+        noise: TrackingNoise,
         /// Demonstrator-specific options, by name.
         options: BTreeMap<String, OptionValue>,
     },
+}
+
+/// The noise of a tracking system (motion capture, a perception pipeline) that a simulated
+/// demonstrator adds to every recorded object pose: at each step, each coordinate of the
+/// position moves by a uniform draw from `[-position, position]`, and the orientation turns by a
+/// uniform angle from `[0, rotation]` about a uniformly random axis.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TrackingNoise {
+    /// The largest offset along each world axis, in metres.
+    pub position: f64,
+    /// The largest turn, in radians.
+    pub rotation: f64,
+}
+
+impl TrackingNoise {
+    /// No noise: poses are recorded as simulated.
+    pub const NONE: TrackingNoise = TrackingNoise { position: 0.0, rotation: 0.0 };
+
+    /// Whether recording with this noise changes nothing.
+    #[must_use]
+    pub fn is_none(&self) -> bool {
+        self.position == 0.0 && self.rotation == 0.0
+    }
 }
 
 /// `relation NAME(T1, T2) = region of S in P containing POSE`: a stable name for a learned

@@ -2,7 +2,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use super::{Checker, Declared};
+use super::{Checker, Declared, Dimension};
 use crate::ast::{DemoSource, Item, LearnItem, Name, Ros2Object, Ros2Robot, Text, TypeItem, Value};
 use crate::diagnostics::{SpecError, at, did_you_mean};
 use crate::source::Span;
@@ -165,8 +165,8 @@ impl Checker<'_> {
                             sources.push(lamp_spec::DemoSource::Files { pattern, ros2 });
                         }
                     }
-                    DemoSource::Simulate { demonstrator, options } => {
-                        if let Some(source) = self.simulated(demonstrator, options) {
+                    DemoSource::Simulate { demonstrator, options, noise } => {
+                        if let Some(source) = self.simulated(demonstrator, options, noise) {
                             sources.push(source);
                         }
                     }
@@ -286,6 +286,7 @@ impl Checker<'_> {
         &mut self,
         demonstrator: &crate::ast::Name,
         options: &[crate::ast::OptionEntry],
+        noise_entries: &[crate::ast::NoiseEntry],
     ) -> Option<lamp_spec::DemoSource> {
         let errors_before = self.diagnostics.len();
         if !DEMONSTRATORS.contains(&demonstrator.text.as_str()) {
@@ -302,6 +303,12 @@ impl Checker<'_> {
         let mut objects = 1;
         let mut seed = None;
         let mut seen: BTreeMap<String, Span> = BTreeMap::new();
+        let mut noise = lamp_spec::TrackingNoise::NONE;
+        for entry in noise_entries {
+            if self.declare(&mut seen, "option", &entry.keyword) {
+                noise = self.tracking_noise(entry).unwrap_or(noise);
+            }
+        }
         let mut extra = BTreeMap::new();
         for option in options {
             if !self.declare(&mut seen, "option", &option.key) {
@@ -326,6 +333,16 @@ impl Checker<'_> {
                 ("seed", Some(q)) => {
                     seed = self.count(q, "the demonstrator seed", 0).map(u64::from)
                 }
+                // `noise` with one value (or a word): the grammar's two-value form did not match.
+                ("noise", number) => self.missing(
+                    option.key.span,
+                    if number.is_some() {
+                        "the tracking noise's angle"
+                    } else {
+                        "the tracking noise's distance"
+                    },
+                    "Write the largest position error per axis and the largest turn, both with their units: `noise 2 mm 1 deg`.",
+                ),
                 ("count" | "cut" | "objects" | "seed", None) => {
                     self.report(at(option.key.span, |at| SpecError::OutOfRange {
                         what: format!("`{}`", option.key.text),
@@ -356,8 +373,34 @@ impl Checker<'_> {
             cut_fraction,
             objects,
             seed: seed.unwrap_or(0),
+            noise,
             options: extra,
         })
+    }
+
+    /// `noise D A`: a length and an angle, each within its limit; both are checked, so that one
+    /// run reports a mistake in each.
+    fn tracking_noise(
+        &mut self,
+        entry: &crate::ast::NoiseEntry,
+    ) -> Option<lamp_spec::TrackingNoise> {
+        let position = self.measure(&entry.distance, Dimension::Length).and_then(|value| {
+            self.limited(
+                value,
+                entry.distance.span,
+                "the tracking noise's distance",
+                &limits::NOISE_POSITION,
+            )
+        });
+        let rotation = self.measure(&entry.angle, Dimension::Angle).and_then(|value| {
+            self.limited(
+                value,
+                entry.angle.span,
+                "the tracking noise's angle",
+                &limits::NOISE_ROTATION,
+            )
+        });
+        Some(lamp_spec::TrackingNoise { position: position?, rotation: rotation? })
     }
 
     pub(crate) fn learning(
@@ -654,7 +697,6 @@ impl Checker<'_> {
 
     /// An option value in SI units.
     pub(crate) fn option_value(&mut self, value: &Value) -> Option<lamp_spec::OptionValue> {
-        use super::Dimension;
         Some(match value {
             Value::Text(text) => lamp_spec::OptionValue::Text(text.text.clone()),
             Value::Word(word) => lamp_spec::OptionValue::Word(word.text.clone()),
