@@ -4,7 +4,8 @@
 //! Pure: a spec's loaded world in, `Trajectory` values or MCAP bytes out; `lampc demos` writes
 //! the files. Demonstration `i` draws every random choice from
 //! `ChaCha8Rng::seed_from_u64(seed)` with `set_stream(i)` ([`demo_rng`]), so demonstrations are
-//! generated in parallel (rayon) and are identical whatever the thread count.
+//! generated in parallel (rayon) and are identical whatever the thread count. Tracking noise,
+//! when the spec asks for it, is drawn from a stream of its own per demonstration ([`noise_rng`]).
 //! `docs/demonstrations.md` describes what each demonstrator does.
 
 mod cafe;
@@ -12,14 +13,15 @@ mod error;
 mod jenga;
 mod keva;
 mod layout;
+mod noise;
 mod packing;
 mod planks;
 mod skills;
 mod tower;
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
-use lamp_spec::{DemoSource, Spec};
+use lamp_spec::{DemoSource, Mobility, Spec, TrackingNoise, limits};
 use lamp_trajectory::{Step, Trajectory, TrajectoryHeader};
 use lamp_world::SpecWorld;
 use rand::{RngExt, SeedableRng};
@@ -28,6 +30,7 @@ use rayon::prelude::*;
 
 pub use error::DemoError;
 pub use lamp_world::STEP_NANOSECONDS;
+pub use noise::noise_rng;
 
 /// Attempts per demonstration before giving up (each with fresh random choices).
 pub const MAX_ATTEMPTS: u32 = 25;
@@ -95,6 +98,8 @@ pub struct Simulation {
     /// planks in the scene, the training structures using up to three).
     pub objects: u32,
     pub seed: u64,
+    /// The tracking noise added to every recorded object pose (none by default).
+    pub noise: TrackingNoise,
 }
 
 impl Simulation {
@@ -104,13 +109,20 @@ impl Simulation {
             .iter()
             .find_map(|source| match source {
                 DemoSource::Simulated {
-                    demonstrator, count, cut_fraction, objects, seed, ..
+                    demonstrator,
+                    count,
+                    cut_fraction,
+                    objects,
+                    seed,
+                    noise,
+                    ..
                 } => Some(Demonstrator::from_name(demonstrator).map(|demonstrator| Simulation {
                     demonstrator,
                     count: *count,
                     cut_fraction: *cut_fraction,
                     objects: *objects,
                     seed: *seed,
+                    noise: *noise,
                 })),
                 DemoSource::Files { .. } => None,
             })
@@ -197,6 +209,16 @@ fn prepare<'a>(world: &'a SpecWorld, simulation: &Simulation) -> Result<Prepared
             reason: format!("cut fraction {} is not within 0..1", simulation.cut_fraction),
         });
     }
+    // The spec checker refuses these already; a caller that builds a `Simulation` by hand gets
+    // the same bounds as a typed error.
+    let position = limits::NOISE_POSITION.check(simulation.noise.position);
+    let rotation = limits::NOISE_ROTATION.check(simulation.noise.rotation);
+    if let Err(error) = position.and(rotation) {
+        return Err(DemoError::Unsupported {
+            demonstrator: simulation.demonstrator.name().to_string(),
+            reason: format!("tracking noise: {error}"),
+        });
+    }
     Ok(match simulation.demonstrator {
         Demonstrator::Packing => Prepared::Packing(packing::Packing::new(world)?),
         Demonstrator::Cafe | Demonstrator::Dinner => {
@@ -216,7 +238,7 @@ pub fn generate(
     index: u32,
 ) -> Result<Demonstration, DemoError> {
     let prepared = prepare(world, simulation)?;
-    generate_prepared(&prepared, simulation, index)
+    generate_prepared(&prepared, &untracked_types(world.spec()), simulation, index)
 }
 
 /// Generates every demonstration of `simulation` on rayon's pool, calling `done` after each
@@ -227,18 +249,30 @@ pub fn generate_all(
     done: impl Fn(&Demonstration) + Sync,
 ) -> Result<Vec<Demonstration>, DemoError> {
     let prepared = prepare(world, simulation)?;
+    let untracked = untracked_types(world.spec());
     (0..simulation.count)
         .into_par_iter()
         .map(|index| {
-            let demonstration = generate_prepared(&prepared, simulation, index)?;
+            let demonstration = generate_prepared(&prepared, &untracked, simulation, index)?;
             done(&demonstration);
             Ok(demonstration)
         })
         .collect()
 }
 
+/// The types no tracking system measures: markers, poses with no body that the demonstrator
+/// records where it put something.
+fn untracked_types(spec: &Spec) -> BTreeSet<String> {
+    spec.object_types
+        .iter()
+        .filter(|ty| ty.mobility == Mobility::Marker)
+        .map(|ty| ty.name.clone())
+        .collect()
+}
+
 fn generate_prepared(
     prepared: &Prepared<'_>,
+    untracked: &BTreeSet<String>,
     simulation: &Simulation,
     index: u32,
 ) -> Result<Demonstration, DemoError> {
@@ -251,7 +285,18 @@ fn generate_prepared(
     for _ in 0..MAX_ATTEMPTS {
         match prepared.attempt(simulation.seed, &mut rng) {
             Ok(recording) => {
-                return Ok(finish(recording, simulation, index, cut.then_some(cut_position)));
+                let mut demonstration =
+                    finish(recording, simulation, index, cut.then_some(cut_position));
+                let trajectory = &mut demonstration.trajectory;
+                let mut noise = noise_rng(simulation.seed, index);
+                noise::perturb(
+                    &mut trajectory.steps,
+                    &trajectory.header,
+                    untracked,
+                    simulation.noise,
+                    &mut noise,
+                );
+                return Ok(demonstration);
             }
             Err(reason) => last = reason,
         }
@@ -282,6 +327,13 @@ fn finish(
     provenance
         .insert("cut_at".to_string(), cut_at.map_or_else(|| "none".to_string(), |k| k.to_string()));
     provenance.insert("retreat_at".to_string(), retreat_at.to_string());
+    // Only with noise, so that a noise-free file is byte for byte what it was before the option.
+    if !simulation.noise.is_none() {
+        provenance.insert(
+            "tracking_noise".to_string(),
+            format!("{} m {} rad", simulation.noise.position, simulation.noise.rotation),
+        );
+    }
     header.provenance = provenance;
     Demonstration { index, cut_at, retreat_at, trajectory: Trajectory { header, steps } }
 }

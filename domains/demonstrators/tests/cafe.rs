@@ -7,14 +7,21 @@ mod support;
 use std::sync::LazyLock;
 
 use lamp_demonstrators::{Demonstration, Demonstrator, Simulation, generate, generate_all};
-use lamp_spec::Spec;
+use lamp_spec::{Spec, TrackingNoise};
 use lamp_trajectory::{Trajectory, TrajectoryReader};
 use lamp_world::SpecWorld;
 
 static CAFE: LazyLock<(Spec, SpecWorld)> = LazyLock::new(|| support::domain("cafe"));
 
 fn simulation(count: u32, cut_fraction: f64) -> Simulation {
-    Simulation { demonstrator: Demonstrator::Cafe, count, cut_fraction, objects: 1, seed: 3 }
+    Simulation {
+        demonstrator: Demonstrator::Cafe,
+        count,
+        cut_fraction,
+        objects: 1,
+        seed: 3,
+        noise: TrackingNoise::NONE,
+    }
 }
 
 /// Three demonstrations of seed 3, generated once for all tests (a Café demonstration is a few
@@ -141,7 +148,8 @@ fn settings_come_from_the_spec() {
             count: 200,
             cut_fraction: 0.5,
             objects: 1,
-            seed: 21
+            seed: 21,
+            noise: TrackingNoise::NONE,
         }
     );
 }

@@ -10,7 +10,7 @@ use lamp_demonstrators::{Demonstration, Demonstrator, Simulation, generate, gene
 use lamp_geometry::{Pose, Rotation, Vec3};
 use lamp_physics::{PhysicsBody, first_unsettled};
 use lamp_robot::{ARM_GROUP, IkConfig};
-use lamp_spec::Spec;
+use lamp_spec::{Spec, TrackingNoise};
 use lamp_world::{LinkGoal, RESTING_GAP, Scene, SpecWorld, reach};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -117,7 +117,14 @@ fn the_fixed_arm_reaches_the_top_of_a_thirty_block_tower_and_every_supply_spot()
 }
 
 fn simulation(count: u32, cut_fraction: f64) -> Simulation {
-    Simulation { demonstrator: Demonstrator::Jenga, count, cut_fraction, objects: 3, seed: 7 }
+    Simulation {
+        demonstrator: Demonstrator::Jenga,
+        count,
+        cut_fraction,
+        objects: 3,
+        seed: 7,
+        noise: TrackingNoise::NONE,
+    }
 }
 
 /// Four demonstrations of seed 7, generated once for all tests.

@@ -11,7 +11,7 @@ use lamp_demonstrators::{Demonstration, Demonstrator, Simulation, generate, gene
 use lamp_geometry::{Pose, Rotation, Vec3};
 use lamp_physics::{PhysicsBody, first_unsettled};
 use lamp_robot::{ARM_GROUP, IkConfig};
-use lamp_spec::Spec;
+use lamp_spec::{Spec, TrackingNoise};
 use lamp_world::{LinkGoal, RESTING_GAP, SpecWorld, reach};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -19,7 +19,14 @@ use rand_chacha::ChaCha8Rng;
 static KEVA: LazyLock<(Spec, SpecWorld)> = LazyLock::new(|| support::domain("keva"));
 
 fn simulation(count: u32, cut_fraction: f64) -> Simulation {
-    Simulation { demonstrator: Demonstrator::Keva, count, cut_fraction, objects: 3, seed: 5 }
+    Simulation {
+        demonstrator: Demonstrator::Keva,
+        count,
+        cut_fraction,
+        objects: 3,
+        seed: 5,
+        noise: TrackingNoise::NONE,
+    }
 }
 
 /// Twelve demonstrations of seed 5, uncut, generated once for all tests: enough to meet pis,

@@ -7,14 +7,21 @@ mod support;
 use std::sync::LazyLock;
 
 use lamp_demonstrators::{Demonstration, Demonstrator, Simulation, generate, generate_all};
-use lamp_spec::Spec;
+use lamp_spec::{Spec, TrackingNoise};
 use lamp_trajectory::TrajectoryReader;
 use lamp_world::SpecWorld;
 
 static PACKING: LazyLock<(Spec, SpecWorld)> = LazyLock::new(|| support::domain("packing"));
 
 fn simulation(count: u32, cut_fraction: f64) -> Simulation {
-    Simulation { demonstrator: Demonstrator::Packing, count, cut_fraction, objects: 1, seed: 5 }
+    Simulation {
+        demonstrator: Demonstrator::Packing,
+        count,
+        cut_fraction,
+        objects: 1,
+        seed: 5,
+        noise: TrackingNoise::NONE,
+    }
 }
 
 /// Four demonstrations of seed 5, generated once for all tests.
@@ -121,7 +128,8 @@ fn settings_come_from_the_spec_and_refuse_what_cannot_be_done() {
             count: 200,
             cut_fraction: 0.5,
             objects: 1,
-            seed: 11
+            seed: 11,
+            noise: TrackingNoise::NONE,
         }
     );
     assert!(matches!(

@@ -18,6 +18,7 @@ use std::process::Command;
 
 use lamp_demonstrators::{Demonstrator, Simulation, generate};
 use lamp_geometry::Pose;
+use lamp_spec::TrackingNoise;
 use lamp_test_support::{domains_dir, oracles_required, python_oracle};
 use lamp_trajectory::{
     DERIVED_FRAME_PERIOD_NANOSECONDS, JOINT_STATE_SCHEMA_NAME, JOINT_STATES_TOPIC,
@@ -416,7 +417,14 @@ fn check_domain(demonstrator: Demonstrator, seed: u64) {
         return;
     }
     let (spec, world) = support::domain(demonstrator.name());
-    let simulation = Simulation { demonstrator, count: 1, cut_fraction: 0.0, objects: 1, seed };
+    let simulation = Simulation {
+        demonstrator,
+        count: 1,
+        cut_fraction: 0.0,
+        objects: 1,
+        seed,
+        noise: TrackingNoise::NONE,
+    };
     let demo = generate(&world, &simulation, 0).unwrap();
     let urdf = domains_dir().join(demonstrator.name()).join(&spec.robots[0].urdf);
     check_demonstration(&world, &urdf, &demo.trajectory);
