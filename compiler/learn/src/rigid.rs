@@ -5,9 +5,11 @@
 //! an object resting near a region's edge in and out of the region with no robot anywhere near it, and the
 //! learner induces actions that change a relation by themselves, which no refinement can produce.
 //!
-//! So before learning, each movable object's track is cut into runs by what holds it, and each run is given the
-//! one pose the physics allows: resting (held by nothing), one pose in the world; held, one pose in the frame of
-//! the gripper that holds it, carried along with the gripper's recorded pose. The pose of a run is the
+//! So before learning, each object's track is cut into runs by what holds it, and each run is given the one pose
+//! the physics allows: resting (held by nothing), one pose in the world; held, one pose in the frame of the
+//! gripper that holds it, carried along with the gripper's recorded pose. A static object is never held, so its
+//! whole track is one run: a tracker jitters a box as much as the can in it, and the relation between the two is
+//! as noisy as the noisier of them. The pose of a run is the
 //! component-wise median of its recorded positions (and of its rotations as quaternions in one hemisphere,
 //! normalised): a few frames of an object still settling after it was let go of, or of a tracking glitch, do not
 //! move it. A noise-free recording, whose resting objects stand still and whose held objects are carried
@@ -17,13 +19,13 @@ use nalgebra::{Quaternion, Translation3, UnitQuaternion, Vector3};
 
 use crate::demo::{Demonstration, Pose, Role};
 
-/// The demonstration with every movable object's pose constant over each run of steps in which one thing (or
-/// nothing) holds it.
+/// The demonstration with every object's pose constant over each run of steps in which one thing (or nothing)
+/// holds it; robot parts, whose poses come from joint encoders, are left as recorded.
 pub(crate) fn steady(demonstration: &Demonstration) -> Demonstration {
     let mut steadied = demonstration.clone();
     let steps = &demonstration.steps;
     for (object, participant) in demonstration.participants.iter().enumerate() {
-        if participant.role != (Role::Object { movable: true }) {
+        if !matches!(participant.role, Role::Object { .. }) {
             continue;
         }
         let holder = |step: usize| {
@@ -97,8 +99,8 @@ mod tests {
         )
     }
 
-    /// A gripper that comes down to a can, carries it 30 cm along x and leaves it; the can's recorded pose
-    /// jitters by `noise` (m and rad) at odd steps.
+    /// A gripper that comes down to a can, carries it 30 cm along x and leaves it; the can's and the table's
+    /// recorded poses jitter by `noise` (m and rad), one way at odd steps and the other at even ones.
     fn carry(noise: f64) -> Demonstration {
         let jitter = |step: usize| if step % 2 == 1 { noise } else { -noise };
         let grasp = at(0.0, 0.0, -0.1, 0.0);
@@ -115,8 +117,9 @@ mod tests {
             let held = (10..20).contains(&step);
             let can = if held { gripper * grasp } else { at(x, 0.0, 0.1, 0.0) };
             let noisy = at(jitter(step), -jitter(step), 0.0, jitter(step)) * can;
+            let table = at(-jitter(step), jitter(step), 0.0, -jitter(step));
             steps.push(Snapshot {
-                poses: vec![gripper, noisy, at(0.0, 0.0, 0.0, 0.0)],
+                poses: vec![gripper, noisy, table],
                 held: if held { vec![(0, 1)] } else { Vec::new() },
             });
         }
@@ -165,9 +168,14 @@ mod tests {
             assert_eq!(can(step), can(20));
         }
         assert!((can(20).translation.vector - Vector3::new(0.3, 0.0, 0.1)).norm() < 0.003);
-        // Robot parts and static objects are left as recorded.
+        // Robot parts are left as recorded; a static object keeps one pose throughout.
         assert_eq!(steadied.steps[5].poses[0], carry(0.002).steps[5].poses[0]);
-        assert_eq!(steadied.steps[5].poses[2], carry(0.002).steps[5].poses[2]);
+        assert_ne!(carry(0.002).steps[5].poses[2], carry(0.002).steps[6].poses[2]);
+        for step in 1..30 {
+            assert_eq!(steadied.steps[step].poses[2], steadied.steps[0].poses[2]);
+        }
+        let table = steadied.steps[0].poses[2];
+        assert!(table.translation.vector.norm() < 0.003 && table.rotation.angle() < 0.003);
     }
 
     #[test]
