@@ -40,8 +40,8 @@ pub const DEMONSTRATIONS: Limit = Limit::whole(1, 10_000);
 
 /// The tracking noise of a simulated demonstration's object poses, per axis (`simulate … { noise
 /// D A }`, the distance D): motion capture is good to a millimetre or so and a perception
-/// pipeline to a centimetre or two; ten centimetres is a can's width, beyond which the recorded
-/// relations are noise, not a tracker's error.
+/// pipeline to a centimetre or two; ten centimetres is more than a can's width, beyond which the
+/// recorded relations are noise, not a tracker's error.
 pub const NOISE_POSITION: Limit = Limit::closed(0.0, 0.1, "m").noting("10 cm");
 
 /// The tracking noise's largest turn (`simulate … { noise D A }`, the angle A): trackers are
