@@ -85,6 +85,31 @@ fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
+/// The job an evaluation hands a worker for `pack2` of `spec` (whose text is `text`), after 40
+/// demonstrations and a build in `scratch`.
+fn pack2_job(scratch: &Path, spec: &Path, text: &str) -> Value {
+    let (demos, build) = (scratch.join("demos"), scratch.join("build"));
+    run([OsStr::new("demos"), spec.as_os_str(), OsStr::new("--count"), OsStr::new("40")]
+        .into_iter()
+        .chain([OsStr::new("--out"), demos.as_os_str()]));
+    run([OsStr::new("build"), spec.as_os_str(), OsStr::new("--demos"), demos.as_os_str()]
+        .into_iter()
+        .chain([OsStr::new("--out"), build.as_os_str()]));
+    let model = |path: &str| std::fs::read_to_string(build.join("model").join(path)).expect("read");
+    let manifest: Value = serde_json::from_str(&model("manifest.json")).expect("the manifest");
+    serde_json::json!({
+        "spec": spec,
+        "spec_text": text,
+        "model_sources": manifest["sources"]["model"],
+        "problem": "pack2",
+        "seed": 1,
+        "timeout": null,
+        "domain": model("domain.pddl"),
+        "problem_pddl": model("problems/pack2.pddl"),
+        "samplers": model("samplers.json"),
+    })
+}
+
 /// The one result row `lampc eval-worker`, started in `directory`, writes for `job`.
 fn worker_row(job: &Value, directory: &Path) -> Value {
     let mut worker = Command::new(env!("CARGO_BIN_EXE_lampc"))
@@ -450,27 +475,8 @@ fn outputs_are_replaced_as_one_set_by_one_evaluation_at_a_time() {
 fn a_worker_solves_the_spec_the_evaluation_started_with_not_the_file_on_disk() {
     let scratch = tempfile::tempdir().expect("a scratch directory");
     let spec = scratch_spec(scratch.path());
-    let (demos, build) = (scratch.path().join("demos"), scratch.path().join("build"));
-    run([OsStr::new("demos"), spec.as_os_str(), OsStr::new("--count"), OsStr::new("40")]
-        .into_iter()
-        .chain([OsStr::new("--out"), demos.as_os_str()]));
-    run([OsStr::new("build"), spec.as_os_str(), OsStr::new("--demos"), demos.as_os_str()]
-        .into_iter()
-        .chain([OsStr::new("--out"), build.as_os_str()]));
-    let model = |path: &str| std::fs::read_to_string(build.join("model").join(path)).expect("read");
     let text = std::fs::read_to_string(&spec).expect("the spec");
-    let manifest: Value = serde_json::from_str(&model("manifest.json")).expect("the manifest");
-    let job = serde_json::json!({
-        "spec": spec,
-        "spec_text": text,
-        "model_sources": manifest["sources"]["model"],
-        "problem": "pack2",
-        "seed": 1,
-        "timeout": null,
-        "domain": model("domain.pddl"),
-        "problem_pddl": model("problems/pack2.pddl"),
-        "samplers": model("samplers.json"),
-    });
+    let job = pack2_job(scratch.path(), &spec, &text);
     let start = text.find("problem pack2 {").expect("pack2");
     let end = start + text[start..].find("\n}\n").expect("its end") + 3;
     std::fs::write(&spec, format!("{}{}", &text[..start], &text[end..])).expect("edits the spec");
@@ -495,26 +501,7 @@ fn a_worker_refuses_a_robot_model_edited_since_the_evaluation_started() {
     let text = text.replace(&format!("\"{}/", repo_robots.display()), "\"robots/");
     assert!(text.contains("\"robots/magnetic_gripper.urdf\""), "the spec names the copy");
     std::fs::write(&spec, &text).expect("writes the spec");
-    let (demos, build) = (scratch.path().join("demos"), scratch.path().join("build"));
-    run([OsStr::new("demos"), spec.as_os_str(), OsStr::new("--count"), OsStr::new("40")]
-        .into_iter()
-        .chain([OsStr::new("--out"), demos.as_os_str()]));
-    run([OsStr::new("build"), spec.as_os_str(), OsStr::new("--demos"), demos.as_os_str()]
-        .into_iter()
-        .chain([OsStr::new("--out"), build.as_os_str()]));
-    let model = |path: &str| std::fs::read_to_string(build.join("model").join(path)).expect("read");
-    let manifest: Value = serde_json::from_str(&model("manifest.json")).expect("the manifest");
-    let job = serde_json::json!({
-        "spec": spec,
-        "spec_text": text,
-        "model_sources": manifest["sources"]["model"],
-        "problem": "pack2",
-        "seed": 1,
-        "timeout": null,
-        "domain": model("domain.pddl"),
-        "problem_pddl": model("problems/pack2.pddl"),
-        "samplers": model("samplers.json"),
-    });
+    let job = pack2_job(scratch.path(), &spec, &text);
     let robot = std::fs::read_to_string(&urdf).expect("the copied URDF");
     let longer = robot.replacen("0.025 0.025 0.11168", "0.025 0.025 0.11368", 1);
     assert_ne!(longer, robot, "the box is in the URDF");

@@ -54,6 +54,10 @@ pub(crate) fn steady(demonstration: &Demonstration) -> Demonstration {
 /// The component-wise median of the positions, and of the rotations as quaternions turned into the first one's
 /// hemisphere, normalised. For an even count, the mean of the two middle values.
 fn median_pose(poses: &[Pose]) -> Pose {
+    // A run whose poses are all equal keeps that pose exactly.
+    if poses.iter().all(|pose| *pose == poses[0]) {
+        return poses[0];
+    }
     let first = poses[0].rotation.coords;
     let mut positions: [Vec<f64>; 3] = Default::default();
     let mut rotations: [Vec<f64>; 4] = Default::default();
@@ -66,10 +70,6 @@ fn median_pose(poses: &[Pose]) -> Pose {
         for (component, values) in rotations.iter_mut().enumerate() {
             values.push(sign * coords[component]);
         }
-    }
-    // A run whose poses are all equal keeps that pose exactly.
-    if poses.iter().all(|pose| *pose == poses[0]) {
-        return poses[0];
     }
     let [x, y, z] = positions.map(median);
     let [i, j, k, w] = rotations.map(median);

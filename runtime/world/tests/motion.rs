@@ -122,6 +122,11 @@ fn assert_path_collision_free(
     }
 }
 
+/// The Fetch arm's gripper link (the group's own) at `target`, from `start`.
+fn fetch_arm<'a>(fetch: usize, target: &'a lamp_geometry::Pose, start: &'a [f64]) -> LinkGoal<'a> {
+    LinkGoal { robot: fetch, group: "arm", link: None, target, start }
+}
+
 /// The café scene with the Fetch parked in front of table1, arm tucked.
 fn fetch_at_table() -> (Scene, usize, Vec<f64>) {
     let (spec, world) = domain("cafe");
@@ -142,13 +147,7 @@ fn collision_free_ik_reaches_over_the_table_within_tolerance() {
     let robot = scene.robots()[fetch].robot().clone();
     let target = pose(1.85, -1.0, 0.95, 0.0, 0.0, 0.0);
     let mut rng = ChaCha8Rng::seed_from_u64(3);
-    let q = reach(
-        &scene,
-        &LinkGoal { robot: fetch, group: "arm", link: None, target: &target, start: &tucked },
-        &IkConfig::new(),
-        &mut rng,
-    )
-    .unwrap();
+    let q = reach(&scene, &fetch_arm(fetch, &target, &tucked), &IkConfig::new(), &mut rng).unwrap();
     assert!(scene.is_valid(fetch, &q));
     let gripper = robot.link_id("gripper_link").unwrap();
     let (position, orientation) =
@@ -157,12 +156,7 @@ fn collision_free_ik_reaches_over_the_table_within_tolerance() {
 
     // Inside the table top there is nothing collision-free to find.
     let inside = pose(2.0, -1.0, 0.68, 0.0, 0.0, 0.0);
-    let error = reach(
-        &scene,
-        &LinkGoal { robot: fetch, group: "arm", link: None, target: &inside, start: &tucked },
-        &IkConfig::new(),
-        &mut rng,
-    );
+    let error = reach(&scene, &fetch_arm(fetch, &inside, &tucked), &IkConfig::new(), &mut rng);
     assert!(error.is_err());
 }
 
@@ -171,13 +165,8 @@ fn fetch_arm_paths_into_a_cluttered_table_are_collision_free() {
     let (scene, fetch, tucked) = fetch_at_table();
     let target = pose(1.85, -0.95, 0.95, 0.0, 0.0, 0.0);
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    let goal = reach(
-        &scene,
-        &LinkGoal { robot: fetch, group: "arm", link: None, target: &target, start: &tucked },
-        &IkConfig::new(),
-        &mut rng,
-    )
-    .unwrap();
+    let goal =
+        reach(&scene, &fetch_arm(fetch, &target, &tucked), &IkConfig::new(), &mut rng).unwrap();
     let config = MotionConfig::default();
     let plan = plan_motion(&scene, fetch, "arm", &tucked, &goal, &config, &mut rng).unwrap();
     assert_eq!(plan.waypoints.first().unwrap(), &tucked);
@@ -185,13 +174,8 @@ fn fetch_arm_paths_into_a_cluttered_table_are_collision_free() {
     assert_path_collision_free(&scene, fetch, &plan.waypoints, &config);
 
     let mut again = ChaCha8Rng::seed_from_u64(5);
-    let goal_again = reach(
-        &scene,
-        &LinkGoal { robot: fetch, group: "arm", link: None, target: &target, start: &tucked },
-        &IkConfig::new(),
-        &mut again,
-    )
-    .unwrap();
+    let goal_again =
+        reach(&scene, &fetch_arm(fetch, &target, &tucked), &IkConfig::new(), &mut again).unwrap();
     let replan =
         plan_motion(&scene, fetch, "arm", &tucked, &goal_again, &config, &mut again).unwrap();
     assert_eq!(plan, replan, "same seed, same path");
@@ -210,25 +194,13 @@ fn a_straight_move_keeps_the_gripper_on_the_line_and_stops_at_the_table() {
     let above = pose(1.85, -1.0, 0.95, 0.0, 0.0, 0.0);
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let ik = IkConfig::new();
-    let start = reach(
-        &scene,
-        &LinkGoal { robot: fetch, group: "arm", link: None, target: &above, start: &tucked },
-        &ik,
-        &mut rng,
-    )
-    .unwrap();
+    let start = reach(&scene, &fetch_arm(fetch, &above, &tucked), &ik, &mut rng).unwrap();
     let config = MotionConfig::default();
 
     // Down 12 cm: every solution is on the vertical line through the start, and so is every
     // state between them, to within the IK tolerance plus the chord of one small step.
     let lower = pose(1.85, -1.0, 0.83, 0.0, 0.0, 0.0);
-    let path = straight_line(
-        &scene,
-        &LinkGoal { robot: fetch, group: "arm", link: None, target: &lower, start: &start },
-        &config,
-        &ik,
-    )
-    .unwrap();
+    let path = straight_line(&scene, &fetch_arm(fetch, &lower, &start), &config, &ik).unwrap();
     assert_eq!(path.first().unwrap(), &start);
     assert!(path.len() >= 24, "a solution every 5 mm: {}", path.len());
     let (position, _) =
@@ -243,12 +215,7 @@ fn a_straight_move_keeps_the_gripper_on_the_line_and_stops_at_the_table() {
 
     // Down into the table top: refused part of the way, with nothing to follow.
     let inside = pose(1.85, -1.0, 0.70, 0.0, 0.0, 0.0);
-    match straight_line(
-        &scene,
-        &LinkGoal { robot: fetch, group: "arm", link: None, target: &inside, start: &start },
-        &config,
-        &ik,
-    ) {
+    match straight_line(&scene, &fetch_arm(fetch, &inside, &start), &config, &ik) {
         Err(StraightLineError::Collision { percent, contact }) => {
             assert!(percent > 50.0 && percent < 100.0, "{percent} %");
             assert!(contact.contains("table1"), "{contact}");
