@@ -474,6 +474,8 @@ fn tf_bag(frames: &[(String, String)]) -> Vec<u8> {
         objects: vec![],
         step_labels: false,
         held_topics: vec![],
+        trajectory_topics: Vec::new(),
+        gripper_topics: Vec::new(),
     };
     let values: Vec<StandardStep> = trajectory
         .steps
@@ -483,6 +485,8 @@ fn tf_bag(frames: &[(String, String)]) -> Vec<u8> {
             joint_positions: vec![],
             label: None,
             held: vec![],
+            trajectories: Vec::new(),
+            gripper_commands: Vec::new(),
         })
         .collect();
     strip(&trajectory.to_bytes_with(&channels, &values).unwrap())

@@ -148,6 +148,57 @@ fn solve_writes_a_validated_trajectory_plan_summary_and_picture() {
     assert_eq!(texts, plan.lines().collect::<Vec<_>>());
     assert!(labels[0].0 > 0, "the initial state carries no label");
     assert!(labels.windows(2).all(|pair| pair[0].0 < pair[1].0), "labels in time order");
+    assert_executable(&trajectory, &recording, robots[0]);
+}
+
+/// A Packing solution's channels for controllers: the magnet is switched on at the last step
+/// before every grasp and off before every release, and every motion between them is one
+/// trajectory of the free gripper's coordinates, one point per step at the step's time, within
+/// the velocity limits.
+fn assert_executable(
+    trajectory: &lamp_trajectory::Trajectory,
+    recording: &lamp_trajectory::StandardRecording,
+    robot: &lamp_robot::Robot,
+) {
+    let steps = &trajectory.steps;
+    let mut expected = Vec::new();
+    let mut segments = Vec::new();
+    let mut start = 0;
+    for index in 1..=steps.len() {
+        let change = steps.get(index).map(|step| &step.robots[0].held[0]);
+        if change == Some(&steps[index - 1].robots[0].held[0]) {
+            continue;
+        }
+        if let Some(held) = change {
+            let position = if held.is_some() { 1.0 } else { 0.0 };
+            expected.push((steps[index - 1].time_nanoseconds, position));
+        }
+        if index - 1 > start {
+            segments.push((start, index - 1));
+        }
+        start = index;
+    }
+    assert_eq!(expected.len(), 8, "four grasps and four releases");
+    let commands = &recording.gripper_commands[lamp_trajectory::GRIPPER_COMMAND_TOPIC];
+    let found: Vec<(u64, f64)> =
+        commands.iter().map(|command| (command.log_time, command.position)).collect();
+    assert_eq!(found, expected);
+    assert!(!recording.joint_trajectories.contains_key(lamp_trajectory::JOINT_TRAJECTORY_TOPIC));
+    let motions = &recording.joint_trajectories[lamp_trajectory::BASE_TRAJECTORY_TOPIC];
+    assert_eq!(motions.len(), segments.len(), "one trajectory per motion");
+    for (message, (first, last)) in motions.iter().zip(segments) {
+        assert_eq!(message.log_time, steps[first].time_nanoseconds);
+        assert_eq!(message.joint_names, robot.coordinate_names());
+        assert_eq!(message.points.len(), last - first + 1);
+        for (point, step) in message.points.iter().zip(&steps[first..=last]) {
+            assert_eq!(point.positions, step.robots[0].positions);
+            let since = step.time_nanoseconds - steps[first].time_nanoseconds;
+            assert_eq!(point.time_from_start_nanoseconds, since);
+            for (velocity, coordinate) in point.velocities.iter().zip(robot.coordinates()) {
+                assert!(velocity.abs() <= coordinate.velocity * (1.0 + 1e-9), "{velocity}");
+            }
+        }
+    }
 }
 
 /// `domains/tools/validate_plan.py`, which checks a solution's plan, segment by segment, with

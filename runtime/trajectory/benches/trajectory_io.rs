@@ -122,6 +122,8 @@ fn channels(scene: &Scene, trajectory: &Trajectory) -> StandardChannels {
         objects: vec![],
         step_labels: false,
         held_topics: vec![],
+        trajectory_topics: Vec::new(),
+        gripper_topics: Vec::new(),
     }
 }
 
@@ -150,6 +152,8 @@ fn values(scene: &Scene, trajectory: &Trajectory) -> Vec<StandardStep> {
                 joint_positions: joints.to_vec(),
                 label: None,
                 held: vec![],
+                trajectories: Vec::new(),
+                gripper_commands: Vec::new(),
             }
         })
         .collect()

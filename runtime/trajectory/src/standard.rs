@@ -13,7 +13,7 @@ use std::fmt::Write as _;
 use nalgebra::Isometry3;
 
 use crate::cdr::CdrWriter;
-use crate::codec::{StepProblem, check_pose, split_time};
+use crate::codec::{MAXIMUM_TIME_NANOSECONDS, StepProblem, check_pose, split_time};
 use crate::schema::{header_dependencies, quaternion_dependency, ros_dependency, xyz_dependency};
 
 /// The topic of the per-step transforms (`tf2_msgs/msg/TFMessage`).
@@ -34,10 +34,27 @@ pub const STEP_LABEL_TOPIC: &str = "/lamp/step";
 /// has `/<robot>/lamp/held`.
 pub const HELD_TOPIC: &str = "/lamp/held";
 
+/// The topic of a file's only robot's joint motions (`trajectory_msgs/msg/JointTrajectory`), one
+/// message at the start of every motion between two grasp changes; with several robots each has
+/// `/<robot>/lamp/joint_trajectory`.
+pub const JOINT_TRAJECTORY_TOPIC: &str = "/lamp/joint_trajectory";
+/// The topic of a file's only robot's mount motions (a mobile base's or a free-flying gripper's
+/// coordinates, as a `trajectory_msgs/msg/JointTrajectory`); with several robots each has
+/// `/<robot>/lamp/base_trajectory`.
+pub const BASE_TRAJECTORY_TOPIC: &str = "/lamp/base_trajectory";
+/// The topic of a file's only robot's gripper commands (`control_msgs/msg/GripperCommand`), one
+/// at every grasp and every release; with several robots each has
+/// `/<robot>/lamp/gripper_command`.
+pub const GRIPPER_COMMAND_TOPIC: &str = "/lamp/gripper_command";
+
 /// The ROS 2 type of `/tf` and `/tf_static`.
 pub const TF_SCHEMA_NAME: &str = "tf2_msgs/msg/TFMessage";
 /// The ROS 2 type of `/joint_states`.
 pub const JOINT_STATE_SCHEMA_NAME: &str = "sensor_msgs/msg/JointState";
+/// The ROS 2 type of the joint and base trajectory topics.
+pub const JOINT_TRAJECTORY_SCHEMA_NAME: &str = "trajectory_msgs/msg/JointTrajectory";
+/// The ROS 2 type of the gripper command topics: the goal of a `control_msgs/action/GripperCommand`.
+pub const GRIPPER_COMMAND_SCHEMA_NAME: &str = "control_msgs/msg/GripperCommand";
 /// The ROS 2 type of `/robot_description` and `/lamp/step`.
 pub const STRING_SCHEMA_NAME: &str = "std_msgs/msg/String";
 /// The Foxglove schema of `/lamp/scene`, which Foxglove recognises by this name.
@@ -69,6 +86,23 @@ pub const JOINT_STATE_SCHEMA: &str = concat!(
     "float64[] effort\n",
     header_dependencies!(),
 );
+
+/// `trajectory_msgs/msg/JointTrajectory` with its dependencies, in the form rosbag2 writes.
+pub const JOINT_TRAJECTORY_SCHEMA: &str = concat!(
+    "std_msgs/Header header\n",
+    "string[] joint_names\n",
+    "JointTrajectoryPoint[] points\n",
+    header_dependencies!(),
+    ros_dependency!(
+        "trajectory_msgs/JointTrajectoryPoint",
+        "float64[] positions\nfloat64[] velocities\nfloat64[] accelerations\nfloat64[] effort\n\
+         builtin_interfaces/Duration time_from_start\n"
+    ),
+    ros_dependency!("builtin_interfaces/Duration", "int32 sec\nuint32 nanosec\n"),
+);
+
+/// `control_msgs/msg/GripperCommand`.
+pub const GRIPPER_COMMAND_SCHEMA: &str = "float64 position\nfloat64 max_effort\n";
 
 /// `std_msgs/msg/String`.
 pub const STRING_SCHEMA: &str = "string data\n";
@@ -157,6 +191,44 @@ pub struct StaticFrame {
     pub pose: Isometry3<f64>,
 }
 
+/// A topic of joint trajectories (`trajectory_msgs/msg/JointTrajectory`): its name and the joints
+/// every message on it moves, in the order of each point's values.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TrajectoryTopic {
+    pub topic: String,
+    pub joints: Vec<String>,
+}
+
+/// One point of a joint trajectory: where the joints are, how fast they move, and when, counted
+/// from the trajectory's start.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrajectoryPoint {
+    /// One value per joint of the topic (metres, radians).
+    pub positions: Vec<f64>,
+    /// One value per joint of the topic (metres or radians per second).
+    pub velocities: Vec<f64>,
+    /// Time from the trajectory's start, written as a `builtin_interfaces/Duration`.
+    pub time_from_start_nanoseconds: u64,
+}
+
+/// A joint trajectory written at a step: the index of its topic in
+/// [`StandardChannels::trajectory_topics`] and its points. Its header's stamp is zero ("start
+/// when received", what a `joint_trajectory_controller` reads it as) and its frame empty.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointTrajectoryMessage {
+    pub topic: usize,
+    pub points: Vec<TrajectoryPoint>,
+}
+
+/// A gripper command written at a step: the index of its topic in
+/// [`StandardChannels::gripper_topics`], the target position and the most effort to use.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GripperCommand {
+    pub topic: usize,
+    pub position: f64,
+    pub max_effort: f64,
+}
+
 /// The standard channels of a file: what is written once, and the layout of each step's values
 /// ([`StandardStep`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -178,6 +250,11 @@ pub struct StandardChannels {
     pub step_labels: bool,
     /// One topic per gripper, on which the frame it holds is written ([`HELD_TOPIC`]).
     pub held_topics: Vec<String>,
+    /// The topics of joint trajectories a controller can execute ([`JOINT_TRAJECTORY_TOPIC`],
+    /// [`BASE_TRAJECTORY_TOPIC`]); none in a demonstration.
+    pub trajectory_topics: Vec<TrajectoryTopic>,
+    /// The topics of gripper commands ([`GRIPPER_COMMAND_TOPIC`]); none in a demonstration.
+    pub gripper_topics: Vec<String>,
 }
 
 /// The standard channels' values at one step.
@@ -193,6 +270,10 @@ pub struct StandardStep {
     /// Per held topic, the frame the gripper holds, empty when none; written at the first step
     /// and whenever it differs from the previous step's.
     pub held: Vec<String>,
+    /// The joint trajectories that start at this step.
+    pub trajectories: Vec<JointTrajectoryMessage>,
+    /// The gripper commands sent at this step.
+    pub gripper_commands: Vec<GripperCommand>,
 }
 
 impl StandardChannels {
@@ -230,9 +311,25 @@ impl StandardChannels {
         }
         let mut topics = BTreeSet::new();
         let held = self.held_topics.iter();
-        for topic in self.robots.iter().map(|robot| &robot.topic).chain(held) {
+        let trajectories = self.trajectory_topics.iter().map(|topic| &topic.topic);
+        let topic_names = self.robots.iter().map(|robot| &robot.topic).chain(held);
+        for topic in topic_names.chain(trajectories).chain(&self.gripper_topics) {
             if !topic.starts_with('/') || !topics.insert(topic.as_str()) {
                 return Err(format!("topic `{topic}` does not start with `/` or is listed twice"));
+            }
+        }
+        for topic in &self.trajectory_topics {
+            let mut joints = BTreeSet::new();
+            if topic.joints.is_empty() {
+                return Err(format!("trajectory topic `{}` has no joints", topic.topic));
+            }
+            for joint in &topic.joints {
+                if joint.is_empty() || !joints.insert(joint.as_str()) {
+                    return Err(format!(
+                        "joint `{joint}` of trajectory topic `{}` is empty or listed twice",
+                        topic.topic
+                    ));
+                }
             }
         }
         for object in &self.objects {
@@ -288,6 +385,24 @@ impl StandardChannels {
                 self.held_topics.len()
             )));
         }
+        for trajectory in &step.trajectories {
+            self.check_trajectory(trajectory)?;
+        }
+        for command in &step.gripper_commands {
+            if command.topic >= self.gripper_topics.len() {
+                return Err(StepProblem::Inconsistent(format!(
+                    "a gripper command is for topic {} but the file has {} gripper topics",
+                    command.topic,
+                    self.gripper_topics.len()
+                )));
+            }
+            if !(command.position.is_finite() && command.max_effort.is_finite()) {
+                return Err(StepProblem::InvalidValue(format!(
+                    "gripper command on `{}` is not finite",
+                    self.gripper_topics[command.topic]
+                )));
+            }
+        }
         if step.label.is_some() && !self.step_labels {
             return Err(StepProblem::Inconsistent(
                 "the step has a plan-step label but the file has no step labels".into(),
@@ -302,6 +417,50 @@ impl StandardChannels {
             step.joint_positions.iter().zip(&self.joints).find(|(value, _)| !value.is_finite())
         {
             return Err(StepProblem::InvalidValue(format!("joint `{joint}` is {value}")));
+        }
+        Ok(())
+    }
+}
+
+impl StandardChannels {
+    /// Checks a joint trajectory: its topic exists, every point has one position and one
+    /// velocity per joint, all finite, and times from the start never decrease and fit a
+    /// `builtin_interfaces/Duration`.
+    fn check_trajectory(&self, trajectory: &JointTrajectoryMessage) -> Result<(), StepProblem> {
+        let Some(topic) = self.trajectory_topics.get(trajectory.topic) else {
+            return Err(StepProblem::Inconsistent(format!(
+                "a joint trajectory is for topic {} but the file has {} trajectory topics",
+                trajectory.topic,
+                self.trajectory_topics.len()
+            )));
+        };
+        let mut previous = 0;
+        for (index, point) in trajectory.points.iter().enumerate() {
+            let joints = topic.joints.len();
+            if point.positions.len() != joints || point.velocities.len() != joints {
+                return Err(StepProblem::Inconsistent(format!(
+                    "point {index} on `{}` has {} positions and {} velocities for {joints} joints",
+                    topic.topic,
+                    point.positions.len(),
+                    point.velocities.len()
+                )));
+            }
+            let values = point.positions.iter().chain(&point.velocities);
+            if values.into_iter().any(|value| !value.is_finite()) {
+                return Err(StepProblem::InvalidValue(format!(
+                    "point {index} on `{}` has a value that is not finite",
+                    topic.topic
+                )));
+            }
+            let time = point.time_from_start_nanoseconds;
+            if time < previous || time > MAXIMUM_TIME_NANOSECONDS {
+                return Err(StepProblem::InvalidValue(format!(
+                    "point {index} on `{}` is {time} ns from the start, before the point before \
+                     or beyond what a Duration holds",
+                    topic.topic
+                )));
+            }
+            previous = time;
         }
         Ok(())
     }
@@ -370,6 +529,44 @@ pub(crate) fn encode_joint_state(
     writer.write_f64s(values.iter().copied());
     writer.write_length(0);
     writer.write_length(0);
+    writer.into_bytes()
+}
+
+/// A CDR `trajectory_msgs/msg/JointTrajectory` with a zero stamp and an empty frame: `joints`
+/// and, per point, positions, velocities (accelerations and effort empty) and the time from the
+/// start.
+pub(crate) fn encode_joint_trajectory(
+    buffer: Vec<u8>,
+    joints: &[String],
+    points: &[TrajectoryPoint],
+) -> Vec<u8> {
+    let mut writer = CdrWriter::reusing(buffer);
+    writer.write_i32(0);
+    writer.write_u32(0);
+    writer.write_string("");
+    writer.write_length(length(joints.len()));
+    for joint in joints {
+        writer.write_string(joint);
+    }
+    writer.write_length(length(points.len()));
+    for point in points {
+        writer.write_length(length(point.positions.len()));
+        writer.write_f64s(point.positions.iter().copied());
+        writer.write_length(length(point.velocities.len()));
+        writer.write_f64s(point.velocities.iter().copied());
+        writer.write_length(0);
+        writer.write_length(0);
+        let (seconds, nanoseconds) = split_time(point.time_from_start_nanoseconds);
+        writer.write_i32(seconds);
+        writer.write_u32(nanoseconds);
+    }
+    writer.into_bytes()
+}
+
+/// A CDR `control_msgs/msg/GripperCommand`.
+pub(crate) fn encode_gripper_command(command: &GripperCommand) -> Vec<u8> {
+    let mut writer = CdrWriter::new(16);
+    writer.write_f64s([command.position, command.max_effort]);
     writer.into_bytes()
 }
 
@@ -553,6 +750,8 @@ mod tests {
             objects: vec![],
             step_labels: false,
             held_topics: vec![],
+            trajectory_topics: vec![],
+            gripper_topics: vec![],
         };
         assert_eq!(channels.check(), Ok(()));
         channels.frames.push(TfFrame { parent: "a".into(), frame: "world".into(), derived: true });
@@ -578,6 +777,8 @@ mod tests {
             joint_positions: vec![0.0],
             label: None,
             held: vec![],
+            trajectories: vec![],
+            gripper_commands: vec![],
         };
         assert!(matches!(channels.check_step(&step), Err(StepProblem::Inconsistent(_))));
         let step = StandardStep {
@@ -585,6 +786,8 @@ mod tests {
             joint_positions: vec![f64::NAN],
             label: None,
             held: vec![],
+            trajectories: vec![],
+            gripper_commands: vec![],
         };
         assert!(matches!(channels.check_step(&step), Err(StepProblem::InvalidValue(_))));
     }

@@ -1,5 +1,6 @@
-//! Reading the standard channels of any ROS 2 bag: `/tf`, `/tf_static`, `/joint_states` and
-//! `std_msgs/msg/String` topics, decoded from CDR into plain values in file order, for learning
+//! Reading the standard channels of any ROS 2 bag: `/tf`, `/tf_static`, `/joint_states`,
+//! `std_msgs/msg/String` topics, and every `trajectory_msgs/msg/JointTrajectory` and
+//! `control_msgs/msg/GripperCommand` topic, decoded from CDR into plain values in file order, for learning
 //! from bags that have no `/lamp/world` (the `ros2` demonstration source).
 //!
 //! It reads records as [`crate::TrajectoryReader`] does (checksums verified, the same size
@@ -16,8 +17,9 @@ use crate::error::TrajectoryError;
 use crate::reader::RecordSource;
 use crate::schema::{MESSAGE_ENCODING, SCHEMA_ENCODING};
 use crate::standard::{
-    JOINT_STATE_SCHEMA_NAME, JOINT_STATES_TOPIC, STRING_SCHEMA_NAME, TF_SCHEMA_NAME,
-    TF_STATIC_TOPIC, TF_TOPIC,
+    GRIPPER_COMMAND_SCHEMA_NAME, JOINT_STATE_SCHEMA_NAME, JOINT_STATES_TOPIC,
+    JOINT_TRAJECTORY_SCHEMA_NAME, STRING_SCHEMA_NAME, TF_SCHEMA_NAME, TF_STATIC_TOPIC, TF_TOPIC,
+    TrajectoryPoint,
 };
 
 /// Bytes of a `geometry_msgs/TransformStamped` without its names: a lower bound for counts.
@@ -51,6 +53,24 @@ pub struct BagJointState {
     pub positions: Vec<f64>,
 }
 
+/// A `trajectory_msgs/msg/JointTrajectory` message (accelerations and effort are not kept).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BagJointTrajectory {
+    pub log_time: u64,
+    /// The header stamp in nanoseconds.
+    pub stamp_nanoseconds: u64,
+    pub joint_names: Vec<String>,
+    pub points: Vec<TrajectoryPoint>,
+}
+
+/// A `control_msgs/msg/GripperCommand` message.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BagGripperCommand {
+    pub log_time: u64,
+    pub position: f64,
+    pub max_effort: f64,
+}
+
 /// The standard channels of a bag, each in file order.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct StandardRecording {
@@ -59,6 +79,10 @@ pub struct StandardRecording {
     pub joint_states: Vec<BagJointState>,
     /// The `std_msgs/msg/String` messages of the topics asked for: topic → (log time, text).
     pub strings: BTreeMap<String, Vec<(u64, String)>>,
+    /// The joint trajectories of every topic of that type: topic → messages.
+    pub joint_trajectories: BTreeMap<String, Vec<BagJointTrajectory>>,
+    /// The gripper commands of every topic of that type: topic → messages.
+    pub gripper_commands: BTreeMap<String, Vec<BagGripperCommand>>,
     /// Every topic the bag declares a channel for, whatever its type.
     pub topics: std::collections::BTreeSet<String>,
 }
@@ -70,6 +94,8 @@ enum Kind {
     TfStatic,
     JointState,
     String,
+    JointTrajectory,
+    GripperCommand,
     Other,
 }
 
@@ -99,17 +125,22 @@ pub fn read_standard_channels<R: Read>(
             }
             Record::Channel(channel) => {
                 let topic = channel.topic.as_str();
-                let kind = match topic {
-                    TF_TOPIC => Kind::Tf,
-                    TF_STATIC_TOPIC => Kind::TfStatic,
-                    JOINT_STATES_TOPIC => Kind::JointState,
+                let schema_name = schemas.get(&channel.schema_id).map(|(name, _)| name.as_str());
+                let kind = match (topic, schema_name) {
+                    (TF_TOPIC, _) => Kind::Tf,
+                    (TF_STATIC_TOPIC, _) => Kind::TfStatic,
+                    (JOINT_STATES_TOPIC, _) => Kind::JointState,
                     _ if string_topics.contains(&topic) => Kind::String,
+                    (_, Some(JOINT_TRAJECTORY_SCHEMA_NAME)) => Kind::JointTrajectory,
+                    (_, Some(GRIPPER_COMMAND_SCHEMA_NAME)) => Kind::GripperCommand,
                     _ => Kind::Other,
                 };
                 let expected = match kind {
                     Kind::Tf | Kind::TfStatic => TF_SCHEMA_NAME,
                     Kind::JointState => JOINT_STATE_SCHEMA_NAME,
                     Kind::String => STRING_SCHEMA_NAME,
+                    Kind::JointTrajectory => JOINT_TRAJECTORY_SCHEMA_NAME,
+                    Kind::GripperCommand => GRIPPER_COMMAND_SCHEMA_NAME,
                     Kind::Other => "",
                 };
                 if kind != Kind::Other {
@@ -126,6 +157,15 @@ pub fn read_standard_channels<R: Read>(
                             ),
                         });
                     }
+                }
+                match kind {
+                    Kind::JointTrajectory => {
+                        recording.joint_trajectories.entry(channel.topic.clone()).or_default();
+                    }
+                    Kind::GripperCommand => {
+                        recording.gripper_commands.entry(channel.topic.clone()).or_default();
+                    }
+                    _ => {}
                 }
                 recording.topics.insert(channel.topic.clone());
                 channels.insert(channel.id, (kind, channel.topic.clone()));
@@ -175,6 +215,26 @@ pub fn read_standard_channels<R: Read>(
                         if let Some(list) = recording.strings.get_mut(topic) {
                             list.push((log_time, text));
                         }
+                    }
+                    Kind::JointTrajectory => {
+                        let (stamp_nanoseconds, joint_names, points) =
+                            decode_joint_trajectory(&data).map_err(|problem| match problem {
+                                Problem::Cdr(error) => corrupt(error),
+                                Problem::Value(reason) => invalid(reason),
+                            })?;
+                        let message =
+                            BagJointTrajectory { log_time, stamp_nanoseconds, joint_names, points };
+                        recording
+                            .joint_trajectories
+                            .entry(topic.clone())
+                            .or_default()
+                            .push(message);
+                    }
+                    Kind::GripperCommand => {
+                        let (position, max_effort) =
+                            decode_gripper_command(&data).map_err(corrupt)?;
+                        let message = BagGripperCommand { log_time, position, max_effort };
+                        recording.gripper_commands.entry(topic.clone()).or_default().push(message);
                     }
                     Kind::Other => {}
                 }
@@ -266,6 +326,53 @@ fn decode_joint_state(bytes: &[u8]) -> Result<(Vec<String>, Vec<f64>), Problem> 
         return Err(Problem::Value(format!("joint `{name}` is {value}")));
     }
     Ok((names, positions))
+}
+
+/// A float64 sequence, its count bounded by the bytes left.
+fn read_f64_sequence(reader: &mut CdrReader<'_>) -> Result<Vec<f64>, CdrError> {
+    let count = reader.read_length(8)?;
+    (0..count).map(|_| reader.read_f64()).collect()
+}
+
+/// The stamp, joint names and points (positions, velocities, time from start) of a
+/// `trajectory_msgs/msg/JointTrajectory`.
+fn decode_joint_trajectory(
+    bytes: &[u8],
+) -> Result<(u64, Vec<String>, Vec<TrajectoryPoint>), Problem> {
+    let mut reader = CdrReader::new(bytes)?;
+    let stamp = read_stamp(&mut reader)?;
+    reader.read_string()?;
+    let count = reader.read_length(5)?;
+    let mut names = Vec::with_capacity(count);
+    for _ in 0..count {
+        names.push(reader.read_string()?.to_string());
+    }
+    // Four empty sequences and a duration: 24 bytes at least.
+    let count = reader.read_length(24)?;
+    let mut points = Vec::with_capacity(count);
+    for index in 0..count {
+        let positions = read_f64_sequence(&mut reader)?;
+        let velocities = read_f64_sequence(&mut reader)?;
+        read_f64_sequence(&mut reader)?;
+        read_f64_sequence(&mut reader)?;
+        let time_from_start_nanoseconds = read_stamp(&mut reader)?;
+        let values = positions.iter().chain(&velocities);
+        if values.into_iter().any(|value| !value.is_finite()) {
+            return Err(Problem::Value(format!("point {index} has a value that is not finite")));
+        }
+        points.push(TrajectoryPoint { positions, velocities, time_from_start_nanoseconds });
+    }
+    reader.finish()?;
+    Ok((stamp, names, points))
+}
+
+/// The position and maximum effort of a `control_msgs/msg/GripperCommand`.
+fn decode_gripper_command(bytes: &[u8]) -> Result<(f64, f64), CdrError> {
+    let mut reader = CdrReader::new(bytes)?;
+    let position = reader.read_f64()?;
+    let max_effort = reader.read_f64()?;
+    reader.finish()?;
+    Ok((position, max_effort))
 }
 
 fn decode_string(bytes: &[u8]) -> Result<String, CdrError> {

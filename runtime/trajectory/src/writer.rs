@@ -21,12 +21,14 @@ use crate::schema::{
     WORLD_STEP_SCHEMA_NAME, WORLD_TOPIC, header_to_metadata,
 };
 use crate::standard::{
-    DERIVED_FRAME_PERIOD_NANOSECONDS, JOINT_STATE_SCHEMA, JOINT_STATE_SCHEMA_NAME,
-    JOINT_STATES_TOPIC, LATCHED_QOS, QOS_METADATA_KEY, SCENE_MESSAGE_ENCODING, SCENE_SCHEMA,
-    SCENE_SCHEMA_ENCODING, SCENE_SCHEMA_NAME, SCENE_TOPIC, STEP_LABEL_TOPIC, STRING_SCHEMA,
-    STRING_SCHEMA_NAME, StandardChannels, StandardStep, TF_REFRESH_NANOSECONDS, TF_SCHEMA,
-    TF_SCHEMA_NAME, TF_STATIC_TOPIC, TF_TOPIC, encode_joint_state, encode_string, encode_tf,
-    encode_tf_into, scene_update_json,
+    DERIVED_FRAME_PERIOD_NANOSECONDS, GRIPPER_COMMAND_SCHEMA, GRIPPER_COMMAND_SCHEMA_NAME,
+    JOINT_STATE_SCHEMA, JOINT_STATE_SCHEMA_NAME, JOINT_STATES_TOPIC, JOINT_TRAJECTORY_SCHEMA,
+    JOINT_TRAJECTORY_SCHEMA_NAME, LATCHED_QOS, QOS_METADATA_KEY, SCENE_MESSAGE_ENCODING,
+    SCENE_SCHEMA, SCENE_SCHEMA_ENCODING, SCENE_SCHEMA_NAME, SCENE_TOPIC, STEP_LABEL_TOPIC,
+    STRING_SCHEMA, STRING_SCHEMA_NAME, StandardChannels, StandardStep, TF_REFRESH_NANOSECONDS,
+    TF_SCHEMA, TF_SCHEMA_NAME, TF_STATIC_TOPIC, TF_TOPIC, encode_gripper_command,
+    encode_joint_state, encode_joint_trajectory, encode_string, encode_tf, encode_tf_into,
+    scene_update_json,
 };
 
 /// The MCAP `library` field; no crate version, so a release does not change every file.
@@ -83,6 +85,9 @@ struct StandardOutput {
     previous_label: Option<String>,
     /// Per held topic: its channel, how many messages it has, and the last frame written.
     held: Vec<(u16, u32, Option<String>)>,
+    /// Per trajectory topic and per gripper topic: its channel and how many messages it has.
+    trajectories: Vec<(u16, u32)>,
+    gripper_commands: Vec<(u16, u32)>,
     /// The encoding buffer, reused for every message.
     buffer: Vec<u8>,
 }
@@ -269,7 +274,8 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
 
     /// Checks a step and its standard channels' values, and appends them: the `/lamp/world`
     /// message, then `/joint_states` when a joint moved, `/lamp/step` when the label changed,
-    /// the held topics when the held frame changed, and `/tf` with the frames that moved, all
+    /// the held topics when the held frame changed, the joint trajectories that start and the
+    /// gripper commands sent at the step, and `/tf` with the frames that moved, all
     /// at the step's time (`/tf` is written when the next step arrives or at
     /// [`TrajectoryWriter::finish`]; see [`TfFrame`](crate::TfFrame) for which frames).
     pub fn write_step_with(
@@ -318,6 +324,18 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
                 *written += 1;
                 *previous = Some(frame.clone());
             }
+        }
+        for trajectory in &values.trajectories {
+            let (channel, written) = &mut standard.trajectories[trajectory.topic];
+            let joints = &standard.channels.trajectory_topics[trajectory.topic].joints;
+            let data = encode_joint_trajectory(Vec::new(), joints, &trajectory.points);
+            messages.push((*channel, *written, data));
+            *written += 1;
+        }
+        for command in &values.gripper_commands {
+            let (channel, written) = &mut standard.gripper_commands[command.topic];
+            messages.push((*channel, *written, encode_gripper_command(command)));
+            *written += 1;
         }
         for (channel_id, sequence, data) in messages {
             let message =
@@ -438,6 +456,27 @@ fn start_standard<W: Write + Seek>(
     for topic in &channels.held_topics {
         held.push((string_channel(mcap, topic, &none)?, 0, None));
     }
+    let (mut trajectory_schema, mut gripper_schema) = (None, None);
+    let mut trajectories = Vec::new();
+    for topic in &channels.trajectory_topics {
+        let schema = schema_once(
+            mcap,
+            &mut trajectory_schema,
+            JOINT_TRAJECTORY_SCHEMA_NAME,
+            JOINT_TRAJECTORY_SCHEMA,
+        )?;
+        trajectories.push((mcap.add_channel(schema, &topic.topic, MESSAGE_ENCODING, &none)?, 0));
+    }
+    let mut gripper_commands = Vec::new();
+    for topic in &channels.gripper_topics {
+        let schema = schema_once(
+            mcap,
+            &mut gripper_schema,
+            GRIPPER_COMMAND_SCHEMA_NAME,
+            GRIPPER_COMMAND_SCHEMA,
+        )?;
+        gripper_commands.push((mcap.add_channel(schema, topic, MESSAGE_ENCODING, &none)?, 0));
+    }
     for (channel_id, data) in once {
         let message = MessageHeader { channel_id, sequence: 0, log_time: 0, publish_time: 0 };
         mcap.write_to_known_channel(&message, &data)?;
@@ -455,6 +494,8 @@ fn start_standard<W: Write + Seek>(
         labels_written: 0,
         previous_label: None,
         held,
+        trajectories,
+        gripper_commands,
         buffer: Vec::new(),
     })
 }

@@ -1,6 +1,7 @@
 //! Cross-checks with the reference MCAP implementation in Python (`mcap` and
 //! `mcap-ros2-support`): it reads our files and decodes every step to the same numbers, and the
-//! conversion example in `docs/formats.md` writes files we read.
+//! conversion example in `docs/formats.md` writes files we read, and its reading example reads
+//! the joint trajectories and gripper commands we write.
 //! Skips when the packages are missing unless `LAMP_REQUIRE_ORACLES=1`.
 
 // The oracle helper reports why it skipped, as the test harness shows.
@@ -11,7 +12,11 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use lamp_trajectory::{Trajectory, TrajectoryHeader};
+use lamp_trajectory::{
+    BASE_TRAJECTORY_TOPIC, GRIPPER_COMMAND_TOPIC, GripperCommand, JOINT_TRAJECTORY_TOPIC,
+    JointTrajectoryMessage, StandardChannels, StandardStep, Trajectory, TrajectoryHeader,
+    TrajectoryPoint, TrajectoryTopic,
+};
 
 /// Python's `math.sin` and Rust's `f64::sin` may differ in the last bit on some platforms.
 const TRIGONOMETRY_TOLERANCE: f64 = 1e-15;
@@ -176,13 +181,104 @@ fn the_python_reader_decodes_our_files_to_the_same_numbers() {
     }
 }
 
-/// The first ```python block of `docs/formats.md`.
-fn conversion_example() -> String {
+/// The `index`th ```python block of `docs/formats.md`.
+fn python_example(index: usize) -> String {
     let docs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs/formats.md");
     let text = std::fs::read_to_string(&docs).expect("docs/formats.md is readable");
-    let start = text.find("```python\n").expect("a python example in docs/formats.md") + 10;
-    let length = text[start..].find("```").expect("the example block is closed");
-    text[start..start + length].to_string()
+    let mut blocks = text.split("```python\n").skip(1);
+    let block = blocks.nth(index).expect("the python example in docs/formats.md");
+    block[..block.find("```").expect("the example block is closed")].to_string()
+}
+
+/// The first ```python block of `docs/formats.md`: writing a trajectory.
+fn conversion_example() -> String {
+    python_example(0)
+}
+
+#[test]
+fn the_documented_reading_example_reads_joint_trajectories_and_gripper_commands() {
+    if !python_packages_available() {
+        return;
+    }
+    let trajectory = common::trajectory(1, 30, 5);
+    let joints = ["torso", "j1", "j2", "j3"].map(String::from).to_vec();
+    let base = ["base_x", "base_y", "base_yaw"].map(String::from).to_vec();
+    let channels = StandardChannels {
+        world_frame: "world".into(),
+        frames: vec![],
+        static_frames: vec![],
+        joints: vec![],
+        robots: vec![],
+        objects: vec![],
+        step_labels: false,
+        held_topics: vec![],
+        trajectory_topics: vec![
+            TrajectoryTopic { topic: JOINT_TRAJECTORY_TOPIC.into(), joints },
+            TrajectoryTopic { topic: BASE_TRAJECTORY_TOPIC.into(), joints: base },
+        ],
+        gripper_topics: vec![GRIPPER_COMMAND_TOPIC.into()],
+    };
+    let steps = &trajectory.steps;
+    let mut values: Vec<StandardStep> = steps
+        .iter()
+        .map(|_| StandardStep {
+            frame_poses: vec![],
+            joint_positions: vec![],
+            label: None,
+            held: vec![],
+            trajectories: vec![],
+            gripper_commands: vec![],
+        })
+        .collect();
+    // A motion of the arm over steps 0..=9 and of the base over 10..=19; a grasp at step 9 and a
+    // release at step 19.
+    let motion = |topic: usize, range: std::ops::RangeInclusive<usize>, coordinates: &[usize]| {
+        let start = steps[*range.start()].time_nanoseconds;
+        let points = steps[range]
+            .iter()
+            .map(|step| TrajectoryPoint {
+                positions: coordinates.iter().map(|c| step.robots[0].positions[*c]).collect(),
+                velocities: vec![0.25; coordinates.len()],
+                time_from_start_nanoseconds: step.time_nanoseconds - start,
+            })
+            .collect();
+        JointTrajectoryMessage { topic, points }
+    };
+    values[0].trajectories.push(motion(0, 0..=9, &[3, 4, 5, 6]));
+    values[10].trajectories.push(motion(1, 10..=19, &[0, 1, 2]));
+    values[9].gripper_commands.push(GripperCommand { topic: 0, position: 0.0, max_effort: 0.0 });
+    values[19].gripper_commands.push(GripperCommand { topic: 0, position: 0.05, max_effort: 0.0 });
+    let directory = tempfile::tempdir().unwrap();
+    let path = directory.path().join("solution.mcap");
+    std::fs::write(&path, trajectory.to_bytes_with(&channels, &values).unwrap()).unwrap();
+    let output = run_python(&python_example(1), &[&path]);
+    let seconds = |from: usize, to: usize| {
+        let nanoseconds = steps[to].time_nanoseconds - steps[from].time_nanoseconds;
+        nanoseconds as f64 / 1e9
+    };
+    let expected = [
+        "robots fetch camera_mast".to_string(),
+        format!(
+            "/lamp/joint_trajectory {} torso j1 j2 j3 10 {} {}",
+            steps[0].time_nanoseconds,
+            steps[9].robots[0].positions[3],
+            seconds(0, 9)
+        ),
+        format!("gripper {} 0.0 0.0", steps[9].time_nanoseconds),
+        format!(
+            "/lamp/base_trajectory {} base_x base_y base_yaw 10 {} {}",
+            steps[10].time_nanoseconds,
+            steps[19].robots[0].positions[0],
+            seconds(10, 19)
+        ),
+        format!("gripper {} 0.05 0.0", steps[19].time_nanoseconds),
+        "steps 30".to_string(),
+    ];
+    let actual: Vec<&str> = output.lines().collect();
+    assert_eq!(actual.len(), expected.len(), "{output}");
+    for (rust, python) in expected.iter().zip(&actual) {
+        assert!(same_line(rust, python), "rust `{rust}`\npython `{python}`");
+    }
 }
 
 #[test]

@@ -46,6 +46,8 @@ fn channels(trajectory: &Trajectory, step_labels: bool) -> StandardChannels {
         }],
         step_labels,
         held_topics: vec!["/lamp/held".into()],
+        trajectory_topics: Vec::new(),
+        gripper_topics: Vec::new(),
     }
 }
 
@@ -65,6 +67,8 @@ fn values(trajectory: &Trajectory) -> Vec<StandardStep> {
                 joint_positions: step.robots[0].positions[3..5].to_vec(),
                 label: Some(format!("(step {})", index / 10)),
                 held: vec![if step.robots[0].held[0].is_some() { "can_0" } else { "" }.into()],
+                trajectories: Vec::new(),
+                gripper_commands: Vec::new(),
             }
         })
         .collect()
@@ -262,6 +266,8 @@ fn resting_and_moving(steps: usize) -> (Trajectory, StandardChannels, Vec<Standa
         objects: vec![],
         step_labels: false,
         held_topics: vec![],
+        trajectory_topics: Vec::new(),
+        gripper_topics: Vec::new(),
     };
     let values = trajectory
         .steps
@@ -276,6 +282,8 @@ fn resting_and_moving(steps: usize) -> (Trajectory, StandardChannels, Vec<Standa
                 joint_positions: vec![joint],
                 label: None,
                 held: vec![],
+                trajectories: Vec::new(),
+                gripper_commands: Vec::new(),
             }
         })
         .collect();

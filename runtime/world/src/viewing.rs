@@ -147,6 +147,8 @@ pub fn standard_channels(
         objects,
         step_labels: false,
         held_topics,
+        trajectory_topics: Vec::new(),
+        gripper_topics: Vec::new(),
     };
 
     let mut values = Vec::with_capacity(trajectory.steps.len());
@@ -174,7 +176,14 @@ pub fn standard_channels(
             frame_poses.extend(moving_links.iter().map(|link| local_pose(model, q, *link)));
             joint_positions.extend(coordinates.iter().map(|index| state.positions[*index]));
         }
-        values.push(StandardStep { frame_poses, joint_positions, label: None, held });
+        values.push(StandardStep {
+            frame_poses,
+            joint_positions,
+            label: None,
+            held,
+            trajectories: Vec::new(),
+            gripper_commands: Vec::new(),
+        });
     }
     Ok((channels, values))
 }
@@ -302,12 +311,16 @@ mod tests {
             objects: Vec::new(),
             step_labels: false,
             held_topics: Vec::new(),
+            trajectory_topics: Vec::new(),
+            gripper_topics: Vec::new(),
         };
         let step = StandardStep {
             frame_poses: Vec::new(),
             joint_positions: Vec::new(),
             label: None,
             held: Vec::new(),
+            trajectories: Vec::new(),
+            gripper_commands: Vec::new(),
         };
         let mut values = vec![step; 6];
         let plan = ["(a1 x)".to_string(), "(a2 x)".to_string()];

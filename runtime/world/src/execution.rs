@@ -1,0 +1,216 @@
+//! What a controller executes of a solution: every motion between two grasp changes as a
+//! `trajectory_msgs/msg/JointTrajectory` of the timed steps, and every grasp and release as a
+//! `control_msgs/msg/GripperCommand`. lamp-trajectory writes them beside the viewers' channels;
+//! `docs/formats.md` ("Channels for controllers") describes them.
+
+use lamp_robot::Robot;
+use lamp_trajectory::{
+    BASE_TRAJECTORY_TOPIC, GRIPPER_COMMAND_TOPIC, GripperCommand, JOINT_TRAJECTORY_TOPIC,
+    JointTrajectoryMessage, StandardChannels, StandardStep, Step, Trajectory, TrajectoryPoint,
+    TrajectoryTopic,
+};
+
+use crate::error::WorldError;
+use crate::from_spec::SpecWorld;
+
+/// The command position of a gripper without finger joints (a magnet, a suction cup) when it
+/// takes hold: on.
+pub const HOLD_ON: f64 = 1.0;
+/// The command position of a gripper without finger joints when it lets go: off.
+pub const HOLD_OFF: f64 = 0.0;
+
+/// The motions of `steps`: the first and last index of every run of two or more steps with no
+/// grasp change between consecutive ones, in order. These are the runs `time_steps` times from
+/// rest to rest, each a collision-checked path between two grasp changes (or the start or end).
+pub fn motion_segments(steps: &[Step]) -> Vec<(usize, usize)> {
+    let mut segments = Vec::new();
+    let mut start = 0;
+    for index in 1..=steps.len() {
+        let grasp_change = index == steps.len()
+            || steps[index - 1]
+                .robots
+                .iter()
+                .zip(&steps[index].robots)
+                .any(|(a, b)| a.held != b.held);
+        if grasp_change {
+            if index - 1 > start {
+                segments.push((start, index - 1));
+            }
+            start = index;
+        }
+    }
+    segments
+}
+
+/// One robot's topics for a controller, as indices into the writer's topic lists.
+struct RobotTopics<'a> {
+    robot: &'a Robot,
+    /// Per trajectory topic of the robot: its index and the coordinates it moves.
+    trajectories: Vec<(usize, Vec<usize>)>,
+    /// The first gripper topic of the robot; its grippers follow in order.
+    first_gripper: usize,
+    /// The robot's finger coordinates (its `gripper` joint group), driven by gripper commands.
+    fingers: Vec<usize>,
+}
+
+/// Adds to `channels` and `values` (one per step of `trajectory`, a solution stamped by
+/// [`crate::time_steps`]) the channels a controller executes:
+///
+/// - per robot, on `/lamp/joint_trajectory` (`/<robot>/lamp/joint_trajectory` when the file has
+///   several robots), its URDF joints' coordinates but the fingers, and on
+///   `/lamp/base_trajectory` its mount's coordinates (a mobile base's `base_x`, `base_y`,
+///   `base_yaw`; a free-flying gripper's position and rotation vector), each topic only when
+///   the robot has such coordinates: one `JointTrajectory` at the first step of every
+///   [`motion_segments`] segment in which they move, one point per step of the segment, the
+///   positions as recorded, the time from the segment's first stamp, and as velocity the mean of
+///   the average velocities (displacement over time) of the pieces before and after the step,
+///   zero at both ends, where the robot is at rest;
+/// - per gripper, on `/lamp/gripper_command` (prefixed like the held topic), one
+///   `GripperCommand` at the last step before each grasp change, when the robot stops and the
+///   gripper starts to close or open: for a gripper with finger joints, the first finger's upper
+///   limit (fully open) at a release and its lower limit (closed) at a grasp; for one without
+///   (a magnet), [`HOLD_ON`] at a grasp and [`HOLD_OFF`] at a release. `max_effort` is 0: lamp
+///   models no grip force.
+pub fn execution_channels(
+    world: &SpecWorld,
+    trajectory: &Trajectory,
+    channels: &mut StandardChannels,
+    values: &mut [StandardStep],
+) -> Result<(), WorldError> {
+    let header = &trajectory.header;
+    let steps = &trajectory.steps;
+    if values.len() != steps.len() {
+        return Err(WorldError::Timing {
+            step: values.len().min(steps.len()),
+            reason: format!("{} steps but {} sets of channel values", steps.len(), values.len()),
+        });
+    }
+    let several = header.robots.len() > 1;
+    let topic = |robot: &str, name: &str| match several {
+        true => format!("/{robot}{name}"),
+        false => name.to_string(),
+    };
+    let mut robots = Vec::new();
+    for description in &header.robots {
+        let unknown = || WorldError::UnknownName { what: "robot", name: description.name.clone() };
+        let robot = world.robots.get(&description.name).ok_or_else(unknown)?;
+        let names = robot.coordinate_names();
+        let mount = robot.mount().coordinate_count();
+        let fingers = robot.group("gripper").map(|group| group.coordinates.clone());
+        let fingers = fingers.unwrap_or_default();
+        let joints: Vec<usize> = (mount..robot.dof()).filter(|c| !fingers.contains(c)).collect();
+        let mut trajectories = Vec::new();
+        let groups =
+            [(JOINT_TRAJECTORY_TOPIC, joints), (BASE_TRAJECTORY_TOPIC, (0..mount).collect())];
+        for (name, coordinates) in groups {
+            if coordinates.is_empty() {
+                continue;
+            }
+            trajectories.push((channels.trajectory_topics.len(), coordinates.clone()));
+            channels.trajectory_topics.push(TrajectoryTopic {
+                topic: topic(&description.name, name),
+                joints: coordinates.iter().map(|c| names[*c].clone()).collect(),
+            });
+        }
+        let first_gripper = channels.gripper_topics.len();
+        for gripper in &description.grippers {
+            channels.gripper_topics.push(match description.grippers.len() > 1 {
+                false => topic(&description.name, GRIPPER_COMMAND_TOPIC),
+                true => format!("/{}{GRIPPER_COMMAND_TOPIC}/{gripper}", description.name),
+            });
+        }
+        robots.push(RobotTopics { robot, trajectories, first_gripper, fingers });
+    }
+
+    for (first, last) in motion_segments(steps) {
+        for (index, topics) in robots.iter().enumerate() {
+            let states = || steps[first..=last].iter().map(|step| &step.robots[index]);
+            let velocities = segment_velocities(topics.robot, steps, index, first, last)?;
+            for (topic, coordinates) in &topics.trajectories {
+                let start = &steps[first].robots[index].positions;
+                let moves = states()
+                    .any(|state| coordinates.iter().any(|c| state.positions[*c] != start[*c]));
+                if !moves {
+                    continue;
+                }
+                let points = states()
+                    .zip(&steps[first..=last])
+                    .zip(&velocities)
+                    .map(|((state, step), velocity)| TrajectoryPoint {
+                        positions: coordinates.iter().map(|c| state.positions[*c]).collect(),
+                        velocities: coordinates.iter().map(|c| velocity[*c]).collect(),
+                        time_from_start_nanoseconds: step
+                            .time_nanoseconds
+                            .saturating_sub(steps[first].time_nanoseconds),
+                    })
+                    .collect();
+                values[first].trajectories.push(JointTrajectoryMessage { topic: *topic, points });
+            }
+        }
+    }
+
+    for index in 1..steps.len() {
+        let (before, after) = (&steps[index - 1], &steps[index]);
+        for (robot, topics) in robots.iter().enumerate() {
+            let held = before.robots[robot].held.iter().zip(&after.robots[robot].held);
+            for (gripper, (was, is)) in held.enumerate() {
+                if was == is {
+                    continue;
+                }
+                let grasp = is.is_some();
+                let position = match topics.fingers.first() {
+                    Some(finger) => {
+                        let coordinate = &topics.robot.coordinates()[*finger];
+                        if grasp { coordinate.lower } else { coordinate.upper }
+                    }
+                    None if grasp => HOLD_ON,
+                    None => HOLD_OFF,
+                };
+                values[index - 1].gripper_commands.push(GripperCommand {
+                    topic: topics.first_gripper + gripper,
+                    position,
+                    max_effort: 0.0,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Per step of the segment `first..=last`, every coordinate's velocity: the mean of the pieces'
+/// average velocities before and after the step (a piece of zero time counts as at rest), zero
+/// at both ends. Each piece's average keeps the velocity limits (`time_steps`), so the mean does.
+fn segment_velocities(
+    robot: &Robot,
+    steps: &[Step],
+    index: usize,
+    first: usize,
+    last: usize,
+) -> Result<Vec<Vec<f64>>, WorldError> {
+    let dof = robot.dof();
+    let mut pieces = Vec::with_capacity(last - first);
+    for k in first..last {
+        let (from, to) = (&steps[k], &steps[k + 1]);
+        let mut piece = vec![0.0; dof];
+        let (a, b) = (&from.robots[index].positions, &to.robots[index].positions);
+        if a.len() != dof || b.len() != dof {
+            return Err(WorldError::Configuration {
+                robot: robot.name().to_string(),
+                reason: format!("step {k} has {} coordinates, the robot {dof}", a.len()),
+            });
+        }
+        robot.displacement(a, b, &mut piece);
+        let seconds = to.time_nanoseconds.saturating_sub(from.time_nanoseconds) as f64 * 1e-9;
+        for value in &mut piece {
+            *value = if seconds > 0.0 { *value / seconds } else { 0.0 };
+        }
+        pieces.push(piece);
+    }
+    let mut velocities = vec![vec![0.0; dof]; last - first + 1];
+    for k in 1..last - first {
+        for c in 0..dof {
+            velocities[k][c] = 0.5 * (pieces[k - 1][c] + pieces[k][c]);
+        }
+    }
+    Ok(velocities)
+}

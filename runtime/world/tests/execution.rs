@@ -1,0 +1,143 @@
+//! The channels a controller executes: a synthetic Café trajectory (the Fetch drives, reaches,
+//! grasps, carries and releases), timed as a solution is, written and read back.
+
+use lamp_trajectory::{
+    BASE_TRAJECTORY_TOPIC, BagGripperCommand, BagJointTrajectory, GRIPPER_COMMAND_TOPIC,
+    JOINT_TRAJECTORY_TOPIC, RobotState, Step, Trajectory, read_standard_channels,
+};
+use lamp_world::{execution_channels, motion_segments, standard_channels, time_steps};
+
+/// The Fetch's start configuration moved by `fraction` of a fixed displacement of the base, the
+/// torso and three arm joints.
+fn configuration(start: &[f64], names: &[String], fraction: f64) -> Vec<f64> {
+    let mut q = start.to_vec();
+    let moves = [
+        ("base_x", 0.3),
+        ("base_yaw", 0.4),
+        ("torso_lift_joint", 0.05),
+        ("shoulder_pan_joint", -0.5),
+        ("elbow_flex_joint", 0.3),
+        ("wrist_roll_joint", 1.0),
+    ];
+    for (name, change) in moves {
+        let index = names.iter().position(|n| n == name).expect("a Fetch coordinate");
+        q[index] += fraction * change;
+    }
+    q
+}
+
+struct Fixture {
+    trajectory: Trajectory,
+    bytes: Vec<u8>,
+    robot: std::sync::Arc<lamp_robot::Robot>,
+}
+
+/// Drive and reach in 20 steps, grasp, carry back in 15, release, move on in 10.
+fn fixture() -> Fixture {
+    let (spec, world) = lamp_test_support::domain("cafe");
+    let scene = world.problem_scene(&spec.problems[0]).expect("the scene loads");
+    let header = lamp_world::trajectory_header(&spec, &scene, 1);
+    let state = &scene.robots()[0];
+    let robot = state.robot().clone();
+    let names = robot.coordinate_names().to_vec();
+    let start = state.configuration().to_vec();
+    let can = scene.bodies().iter().position(|body| body.movable).expect("a movable object");
+    let poses: Vec<_> = (0..scene.bodies().len()).map(|body| scene.body_pose(body)).collect();
+    let step = |fraction: f64, held: Option<usize>| Step {
+        time_nanoseconds: 0,
+        body_poses: poses.clone(),
+        robots: vec![RobotState {
+            positions: configuration(&start, &names, fraction),
+            held: vec![held],
+        }],
+    };
+    let mut steps: Vec<Step> = (0..=20).map(|k| step(k as f64 / 20.0, None)).collect();
+    steps.extend((0..=15).map(|k| step(1.0 - k as f64 / 30.0, Some(can))));
+    steps.extend((0..=10).map(|k| step(0.5 - k as f64 / 20.0, None)));
+    time_steps(&mut steps, &[robot.as_ref()]).expect("the steps are timed");
+    let trajectory = Trajectory { header, steps };
+    let (mut channels, mut values) = standard_channels(&world, &trajectory).expect("channels");
+    execution_channels(&world, &trajectory, &mut channels, &mut values).expect("channels");
+    let bytes = trajectory.to_bytes_with(&channels, &values).expect("the file is written");
+    Fixture { trajectory, bytes, robot }
+}
+
+/// Checks that `messages` hold one trajectory per segment in which `coordinates` move, at the
+/// segment's first stamp, one point per step with the recorded positions, times from the start
+/// that increase and end when the segment ends, and velocities within the limits, zero at the
+/// ends.
+fn check_trajectories(
+    fixture: &Fixture,
+    messages: &[BagJointTrajectory],
+    coordinates: &[&str],
+) -> usize {
+    let steps = &fixture.trajectory.steps;
+    let robot = &fixture.robot;
+    let indices: Vec<usize> =
+        coordinates.iter().map(|name| robot.coordinate_index(name).expect("known")).collect();
+    let segments = motion_segments(steps);
+    assert_eq!(segments, [(0, 20), (21, 36), (37, 47)]);
+    assert_eq!(messages.len(), segments.len(), "one trajectory per motion");
+    for ((first, last), message) in segments.iter().zip(messages) {
+        assert_eq!(message.log_time, steps[*first].time_nanoseconds);
+        assert_eq!(message.stamp_nanoseconds, 0, "start when received");
+        assert_eq!(message.joint_names, coordinates);
+        assert_eq!(message.points.len(), last - first + 1);
+        for (point, step) in message.points.iter().zip(&steps[*first..=*last]) {
+            let positions: Vec<f64> =
+                indices.iter().map(|c| step.robots[0].positions[*c]).collect();
+            assert_eq!(point.positions, positions);
+            let since = step.time_nanoseconds - steps[*first].time_nanoseconds;
+            assert_eq!(point.time_from_start_nanoseconds, since);
+            for (velocity, c) in point.velocities.iter().zip(&indices) {
+                let limit = robot.coordinates()[*c].velocity;
+                assert!(velocity.abs() <= limit * (1.0 + 1e-9), "{velocity} over {limit}");
+            }
+        }
+        let times: Vec<u64> =
+            message.points.iter().map(|point| point.time_from_start_nanoseconds).collect();
+        assert!(times.windows(2).all(|pair| pair[0] < pair[1]), "{times:?}");
+        for end in [&message.points[0], message.points.last().expect("points")] {
+            assert!(end.velocities.iter().all(|v| *v == 0.0), "at rest at both ends");
+        }
+        let moving = message.points.iter().flat_map(|point| &point.velocities);
+        assert!(moving.into_iter().any(|v| v.abs() > 0.01), "the joints move");
+    }
+    messages.len()
+}
+
+#[test]
+fn every_motion_is_a_joint_trajectory_and_every_grasp_change_a_gripper_command() {
+    let fixture = fixture();
+    let recording =
+        read_standard_channels(fixture.bytes.as_slice(), "execution.mcap", &[]).expect("reads");
+    let arm = [
+        "torso_lift_joint",
+        "shoulder_pan_joint",
+        "shoulder_lift_joint",
+        "upperarm_roll_joint",
+        "elbow_flex_joint",
+        "forearm_roll_joint",
+        "wrist_flex_joint",
+        "wrist_roll_joint",
+    ];
+    check_trajectories(&fixture, &recording.joint_trajectories[JOINT_TRAJECTORY_TOPIC], &arm);
+    let base = ["base_x", "base_y", "base_yaw"];
+    check_trajectories(&fixture, &recording.joint_trajectories[BASE_TRAJECTORY_TOPIC], &base);
+
+    // A grasp at the stamp of the step before the object is held, fingers closed; a release at
+    // the step before it is let go, fingers open (the Fetch's fingers: 0 to 0.05 m).
+    let steps = &fixture.trajectory.steps;
+    let commands = &recording.gripper_commands[GRIPPER_COMMAND_TOPIC];
+    let expected = [
+        BagGripperCommand { log_time: steps[20].time_nanoseconds, position: 0.0, max_effort: 0.0 },
+        BagGripperCommand { log_time: steps[36].time_nanoseconds, position: 0.05, max_effort: 0.0 },
+    ];
+    assert_eq!(commands.as_slice(), expected);
+    assert_eq!(steps[21].time_nanoseconds - steps[20].time_nanoseconds, 500_000_000);
+}
+
+#[test]
+fn the_same_trajectory_gives_the_same_bytes() {
+    assert_eq!(fixture().bytes, fixture().bytes);
+}
