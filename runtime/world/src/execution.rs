@@ -3,12 +3,14 @@
 //! `control_msgs/msg/GripperCommand`. lamp-trajectory writes them beside the viewers' channels;
 //! `docs/formats.md` ("Channels for controllers") describes them.
 
-use lamp_robot::Robot;
+use lamp_geometry::{CollisionShape, Pose};
+use lamp_robot::{CoordinateKind, LinkId, Robot};
 use lamp_trajectory::{
     BASE_TRAJECTORY_TOPIC, GRIPPER_COMMAND_TOPIC, GripperCommand, JOINT_TRAJECTORY_TOPIC,
     JointTrajectoryMessage, StandardChannels, StandardStep, Step, Trajectory, TrajectoryPoint,
     TrajectoryTopic,
 };
+use nalgebra::{Translation3, UnitQuaternion, Vector3};
 
 use crate::error::WorldError;
 use crate::from_spec::SpecWorld;
@@ -68,8 +70,9 @@ struct RobotTopics<'a> {
 /// - per gripper, on `/lamp/gripper_command` (prefixed like the held topic), one
 ///   `GripperCommand` at the last step before each grasp change, when the robot stops and the
 ///   gripper starts to close or open: for a gripper with finger joints, the first finger's upper
-///   limit (fully open) at a release and its lower limit (closed) at a grasp; for one without
-///   (a magnet), [`HOLD_ON`] at a grasp and [`HOLD_OFF`] at a release. `max_effort` is 0: lamp
+///   limit (fully open) at a release, and at a grasp the position at which it touches the object
+///   ([`grasp_position`]; its lower limit, closed, when that is not known); for one without (a
+///   magnet), [`HOLD_ON`] at a grasp and [`HOLD_OFF`] at a release. `max_effort` is 0: lamp
 ///   models no grip force.
 pub fn execution_channels(
     world: &SpecWorld,
@@ -157,14 +160,22 @@ pub fn execution_channels(
                 if was == is {
                     continue;
                 }
-                let grasp = is.is_some();
-                let position = match topics.fingers.first() {
-                    Some(finger) => {
-                        let coordinate = &topics.robot.coordinates()[*finger];
-                        if grasp { coordinate.lower } else { coordinate.upper }
+                let position = match (topics.fingers.first(), is) {
+                    (Some(finger), Some(body)) => {
+                        let q = &before.robots[robot].positions;
+                        let object = header.bodies.get(*body).and_then(|body| {
+                            let parts = world.type_parts.get(&body.type_name)?;
+                            CollisionShape::compound(parts).ok()
+                        });
+                        let pose = after.body_poses.get(*body);
+                        let touching = object.zip(pose).and_then(|(object, pose)| {
+                            grasp_position(topics.robot, *finger, q, &object, pose)
+                        });
+                        touching.unwrap_or(topics.robot.coordinates()[*finger].lower)
                     }
-                    None if grasp => HOLD_ON,
-                    None => HOLD_OFF,
+                    (Some(finger), None) => topics.robot.coordinates()[*finger].upper,
+                    (None, Some(_)) => HOLD_ON,
+                    (None, None) => HOLD_OFF,
                 };
                 values[index - 1].gripper_commands.push(GripperCommand {
                     topic: topics.first_gripper + gripper,
@@ -175,6 +186,60 @@ pub fn execution_channels(
         }
     }
     Ok(())
+}
+
+/// The position of the prismatic finger joint `finger` at which the finger, closing from its
+/// open limit with the rest of the robot at `q`, first touches `object` at `pose` (world frame):
+/// where the finger's inner face (its collision geometry's nearest point along the direction
+/// the finger opens) meets the object's farthest point along that direction. Both are measured
+/// by bounding boxes in a frame whose x axis is that direction, exact along it. Clamped to the
+/// joint's limits. `None` when the finger is not a prismatic joint with collision geometry.
+pub fn grasp_position(
+    robot: &Robot,
+    finger: usize,
+    q: &[f64],
+    object: &CollisionShape,
+    pose: &Pose,
+) -> Option<f64> {
+    let coordinate = robot.coordinates().get(finger)?;
+    if coordinate.kind != CoordinateKind::Linear || q.len() != robot.dof() {
+        return None;
+    }
+    let link: LinkId = (1..robot.link_count())
+        .find(|link| robot.parent_joint_name(*link) == Some(coordinate.name.as_str()))?;
+    let parts: Vec<(Pose, lamp_geometry::Shape)> = robot
+        .collision_geometry()
+        .iter()
+        .filter(|geometry| geometry.link == link)
+        .map(|geometry| (geometry.origin, geometry.shape.clone()))
+        .collect();
+    if parts.is_empty() {
+        return None;
+    }
+    let shape = CollisionShape::compound(&parts).ok()?;
+    let (lower, upper) = (coordinate.lower, coordinate.upper);
+    let at = |value: f64| {
+        let mut moved = q.to_vec();
+        moved[finger] = value;
+        robot.link_pose(&moved, link)
+    };
+    // The direction the finger opens in, and how far it goes per unit of the joint.
+    let step = (upper - lower).min(1.0);
+    if step.is_nan() || step <= 0.0 {
+        return None;
+    }
+    let (closed, opened) = (at(lower), at(lower + step));
+    let travel: Vector3<f64> = opened.translation.vector - closed.translation.vector;
+    let rate = travel.norm() / step;
+    let direction = travel.try_normalize(1e-12)?;
+    let turn = UnitQuaternion::rotation_between(&Vector3::x(), &direction).unwrap_or_else(|| {
+        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), std::f64::consts::PI)
+    });
+    let frame = Pose::from_parts(Translation3::identity(), turn).inverse();
+    let face = shape.aabb(&(frame * closed)).mins.x;
+    let reach = object.aabb(&(frame * pose)).maxs.x;
+    let value = lower + (reach - face) / rate;
+    value.is_finite().then(|| value.clamp(lower, upper))
 }
 
 /// Per step of the segment `first..=last`, every coordinate's velocity: the mean of the pieces'

@@ -21,7 +21,7 @@ mod viewing;
 
 pub use checking::Contact;
 pub use error::WorldError;
-pub use execution::{HOLD_OFF, HOLD_ON, execution_channels, motion_segments};
+pub use execution::{HOLD_OFF, HOLD_ON, execution_channels, grasp_position, motion_segments};
 pub use from_spec::{
     STRUCTURE_ANGLE_TOLERANCE, STRUCTURE_POSITION_TOLERANCE, SpecWorld, load_robot, mount_of,
     robot_names, type_parts_of,

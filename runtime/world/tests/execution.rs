@@ -30,6 +30,8 @@ struct Fixture {
     trajectory: Trajectory,
     bytes: Vec<u8>,
     robot: std::sync::Arc<lamp_robot::Robot>,
+    can: usize,
+    world: lamp_world::SpecWorld,
 }
 
 /// Drive and reach in 20 steps, grasp, carry back in 15, release, move on in 10.
@@ -41,8 +43,13 @@ fn fixture() -> Fixture {
     let robot = state.robot().clone();
     let names = robot.coordinate_names().to_vec();
     let start = state.configuration().to_vec();
-    let can = scene.bodies().iter().position(|body| body.movable).expect("a movable object");
-    let poses: Vec<_> = (0..scene.bodies().len()).map(|body| scene.body_pose(body)).collect();
+    let can = scene.bodies().iter().position(|body| body.type_name == "can").expect("a can");
+    let mut poses: Vec<_> = (0..scene.bodies().len()).map(|body| scene.body_pose(body)).collect();
+    // The can (0.2 m tall, its frame at its bottom) stands centred between the open fingers
+    // where the reach ends, upright in the gripper's frame.
+    let gripper = robot.end_effector().expect("a gripper link");
+    let reached = robot.link_pose(&configuration(&start, &names, 1.0), gripper);
+    poses[can] = reached * nalgebra::Translation3::new(0.0, 0.0, -0.1);
     let step = |fraction: f64, held: Option<usize>| Step {
         time_nanoseconds: 0,
         body_poses: poses.clone(),
@@ -59,7 +66,7 @@ fn fixture() -> Fixture {
     let (mut channels, mut values) = standard_channels(&world, &trajectory).expect("channels");
     execution_channels(&world, &trajectory, &mut channels, &mut values).expect("channels");
     let bytes = trajectory.to_bytes_with(&channels, &values).expect("the file is written");
-    Fixture { trajectory, bytes, robot }
+    Fixture { trajectory, bytes, robot, can, world }
 }
 
 /// Checks that `messages` hold one trajectory per segment in which `coordinates` move, at the
@@ -125,15 +132,50 @@ fn every_motion_is_a_joint_trajectory_and_every_grasp_change_a_gripper_command()
     let base = ["base_x", "base_y", "base_yaw"];
     check_trajectories(&fixture, &recording.joint_trajectories[BASE_TRAJECTORY_TOPIC], &base);
 
-    // A grasp at the stamp of the step before the object is held, fingers closed; a release at
-    // the step before it is let go, fingers open (the Fetch's fingers: 0 to 0.05 m).
+    // A grasp at the stamp of the step before the object is held, the fingers closed onto the
+    // can; a release at the step before it is let go, fingers open (the Fetch's fingers: 0 to
+    // 0.05 m).
     let steps = &fixture.trajectory.steps;
     let commands = &recording.gripper_commands[GRIPPER_COMMAND_TOPIC];
+    assert_eq!(commands.len(), 2, "{commands:?}");
+    let grasp = commands[0].position;
     let expected = [
-        BagGripperCommand { log_time: steps[20].time_nanoseconds, position: 0.0, max_effort: 0.0 },
+        BagGripperCommand {
+            log_time: steps[20].time_nanoseconds,
+            position: grasp,
+            max_effort: 0.0,
+        },
         BagGripperCommand { log_time: steps[36].time_nanoseconds, position: 0.05, max_effort: 0.0 },
     ];
     assert_eq!(commands.as_slice(), expected);
+    // There the left finger touches the can: its gap to the can is nothing, 1 mm wider it is
+    // 1 mm, and 1 mm further in the finger would cut into the can.
+    let robot = &fixture.robot;
+    let finger = robot.link_id("l_gripper_finger_link").expect("the left finger");
+    let joint = robot.coordinate_index("l_gripper_finger_joint").expect("its joint");
+    let parts: Vec<_> = robot
+        .collision_geometry()
+        .iter()
+        .filter(|geometry| geometry.link == finger)
+        .map(|geometry| (geometry.origin, geometry.shape.clone()))
+        .collect();
+    let finger_shape = lamp_geometry::CollisionShape::compound(&parts).expect("a shape");
+    let can_shape =
+        lamp_geometry::CollisionShape::compound(&fixture.world.type_parts["can"]).expect("a shape");
+    let can_pose = steps[21].body_poses[fixture.can];
+    let finger_at = |position: f64| {
+        let mut q = steps[20].robots[0].positions.clone();
+        q[joint] = position;
+        robot.link_pose(&q, finger)
+    };
+    let gap = lamp_geometry::distance(&finger_shape, &finger_at(grasp), &can_shape, &can_pose);
+    assert!(gap.abs() < 1e-6, "the finger at {grasp} m is {gap} m from the can");
+    let wider = finger_at(grasp + 0.001);
+    let gap = lamp_geometry::distance(&finger_shape, &wider, &can_shape, &can_pose);
+    assert!((gap - 0.001).abs() < 1e-6, "1 mm wider, the finger is {gap} m from the can");
+    let deeper = finger_at(grasp - 0.001);
+    assert!(lamp_geometry::intersects(&finger_shape, &deeper, &can_shape, &can_pose));
+    assert!(grasp > 0.03 && grasp < 0.05, "a 9 cm can between 11 cm fingers: {grasp}");
     assert_eq!(steps[21].time_nanoseconds - steps[20].time_nanoseconds, 500_000_000);
 }
 
