@@ -88,6 +88,19 @@ pub fn execution_channels(
             reason: format!("{} steps but {} sets of channel values", steps.len(), values.len()),
         });
     }
+    let counts = |step: &Step| {
+        step.robots.len() == header.robots.len()
+            && step.robots.iter().zip(&header.robots).all(|(state, robot)| {
+                state.held.len() == robot.grippers.len()
+                    && state.held.iter().flatten().all(|body| *body < step.body_poses.len())
+            })
+    };
+    if let Some(step) = steps.iter().position(|step| !counts(step)) {
+        return Err(WorldError::Timing {
+            step,
+            reason: "its robots, grippers or held bodies differ from the header's".to_string(),
+        });
+    }
     let several = header.robots.len() > 1;
     let topic = |robot: &str, name: &str| match several {
         true => format!("/{robot}{name}"),

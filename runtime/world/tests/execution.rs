@@ -183,3 +183,18 @@ fn every_motion_is_a_joint_trajectory_and_every_grasp_change_a_gripper_command()
 fn the_same_trajectory_gives_the_same_bytes() {
     assert_eq!(fixture().bytes, fixture().bytes);
 }
+
+#[test]
+fn steps_that_do_not_match_the_header_are_refused_not_a_panic() {
+    let fixture = fixture();
+    let world = &fixture.world;
+    let mut trajectory = fixture.trajectory.clone();
+    let (mut channels, mut values) = standard_channels(world, &trajectory).expect("channels");
+    trajectory.steps[30].robots.clear();
+    let error = execution_channels(world, &trajectory, &mut channels, &mut values).unwrap_err();
+    assert!(error.to_string().contains("step 30"), "{error}");
+    trajectory.steps[30] = fixture.trajectory.steps[30].clone();
+    trajectory.steps[30].robots[0].positions.pop();
+    let error = execution_channels(world, &trajectory, &mut channels, &mut values).unwrap_err();
+    assert!(error.to_string().contains("coordinates"), "{error}");
+}
