@@ -338,7 +338,7 @@ impl<'a> Cafe<'a> {
             .map_err(|e| format!("leave: {e}"))?;
 
         let header = header(self.world.spec(), &scene, seed);
-        Ok(Recording { header, steps: recorder.steps, retreat_at })
+        Ok(Recording { header, steps: recorder.steps, retreat_at, scene })
     }
 
     /// A random spot (surface-frame x, y) on `top` where the object stands clear of the edges.

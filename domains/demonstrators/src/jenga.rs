@@ -231,7 +231,7 @@ impl<'a> Jenga<'a> {
 
         placed.push(moved);
         let header = header(self.world.spec(), &scene, seed);
-        let mut recording = Recording { header, steps: recorder.steps, retreat_at };
+        let mut recording = Recording { header, steps: recorder.steps, retreat_at, scene };
         mark_placed(&mut recording, &placed, &self.marker_type, rng);
         Ok(recording)
     }

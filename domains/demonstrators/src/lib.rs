@@ -16,6 +16,7 @@ mod layout;
 mod noise;
 mod packing;
 mod planks;
+mod rate;
 mod skills;
 mod tower;
 
@@ -100,6 +101,9 @@ pub struct Simulation {
     pub seed: u64,
     /// The tracking noise added to every recorded object pose (none by default).
     pub noise: TrackingNoise,
+    /// The recording rate in hertz: the timed motion sampled every 1/rate seconds. `None`: one
+    /// step per state of each planned path, [`STEP_NANOSECONDS`] apart.
+    pub rate: Option<f64>,
 }
 
 impl Simulation {
@@ -115,6 +119,7 @@ impl Simulation {
                     objects,
                     seed,
                     noise,
+                    rate,
                     ..
                 } => Some(Demonstrator::from_name(demonstrator).map(|demonstrator| Simulation {
                     demonstrator,
@@ -123,6 +128,7 @@ impl Simulation {
                     objects: *objects,
                     seed: *seed,
                     noise: *noise,
+                    rate: *rate,
                 })),
                 DemoSource::Files { .. } => None,
             })
@@ -166,6 +172,9 @@ pub(crate) struct Recording {
     pub(crate) steps: Vec<Step>,
     /// Steps up to and including the release.
     pub(crate) retreat_at: usize,
+    /// The scene as the script left it: its robots time the motion and carry what they hold
+    /// when the recording is resampled at a fixed rate.
+    pub(crate) scene: lamp_world::Scene,
 }
 
 /// A demonstrator checked against its spec, ready to generate.
@@ -217,6 +226,14 @@ fn prepare<'a>(world: &'a SpecWorld, simulation: &Simulation) -> Result<Prepared
         return Err(DemoError::Unsupported {
             demonstrator: simulation.demonstrator.name().to_string(),
             reason: format!("tracking noise: {error}"),
+        });
+    }
+    if let Some(rate) = simulation.rate
+        && let Err(error) = limits::RECORDING_RATE.check(rate)
+    {
+        return Err(DemoError::Unsupported {
+            demonstrator: simulation.demonstrator.name().to_string(),
+            reason: format!("recording rate: {error}"),
         });
     }
     Ok(match simulation.demonstrator {
@@ -285,6 +302,16 @@ fn generate_prepared(
     for _ in 0..MAX_ATTEMPTS {
         match prepared.attempt(simulation.seed, &mut rng) {
             Ok(recording) => {
+                let recording = match simulation.rate {
+                    None => recording,
+                    Some(rate) => match at_rate(recording, rate) {
+                        Ok(recording) => recording,
+                        Err(reason) => {
+                            last = reason;
+                            continue;
+                        }
+                    },
+                };
                 let mut demonstration =
                     finish(recording, simulation, index, cut.then_some(cut_position));
                 let trajectory = &mut demonstration.trajectory;
@@ -304,6 +331,14 @@ fn generate_prepared(
     Err(DemoError::AttemptsExhausted { index, attempts: MAX_ATTEMPTS, last })
 }
 
+/// The recording resampled at `rate` hertz (`rate.rs`).
+fn at_rate(recording: Recording, rate: f64) -> Result<Recording, String> {
+    let Recording { header, steps, retreat_at, scene } = recording;
+    let (steps, retreat_at) = rate::resample(&steps, &scene, rate, retreat_at.saturating_sub(1))
+        .map_err(|error| format!("timing the recording: {error}"))?;
+    Ok(Recording { header, steps, retreat_at, scene })
+}
+
 /// Applies the cut (keeping `1 + ⌊u·retreat_at⌋` steps, so never the retreat) and the provenance.
 fn finish(
     recording: Recording,
@@ -311,7 +346,7 @@ fn finish(
     index: u32,
     cut: Option<f64>,
 ) -> Demonstration {
-    let Recording { mut header, mut steps, retreat_at } = recording;
+    let Recording { mut header, mut steps, retreat_at, .. } = recording;
     let cut_at = cut.map(|u| {
         // Truncation is the point: a uniform step index among the first `retreat_at`.
         let kept = 1 + (u * retreat_at as f64).floor() as usize;
@@ -333,6 +368,10 @@ fn finish(
             "tracking_noise".to_string(),
             format!("{} m {} rad", simulation.noise.position, simulation.noise.rotation),
         );
+    }
+    // Only at a fixed rate, so that a file recorded as before is byte for byte what it was.
+    if let Some(rate) = simulation.rate {
+        provenance.insert("recording_rate".to_string(), format!("{rate} Hz"));
     }
     header.provenance = provenance;
     Demonstration { index, cut_at, retreat_at, trajectory: Trajectory { header, steps } }

@@ -157,7 +157,7 @@ impl<'a> Packing<'a> {
         move_to(&mut scene, &mut recorder, robot, "all", &goal, rng)?;
 
         let header = header(world.spec(), &scene, seed);
-        Ok(Recording { header, steps: recorder.steps, retreat_at })
+        Ok(Recording { header, steps: recorder.steps, retreat_at, scene })
     }
 
     /// A random gripper pose above the table, pointing down.

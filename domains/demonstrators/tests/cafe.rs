@@ -21,6 +21,7 @@ fn simulation(count: u32, cut_fraction: f64) -> Simulation {
         objects: 1,
         seed: 3,
         noise: TrackingNoise::NONE,
+        rate: None,
     }
 }
 
@@ -150,6 +151,7 @@ fn settings_come_from_the_spec() {
             objects: 1,
             seed: 21,
             noise: TrackingNoise::NONE,
+            rate: None,
         }
     );
 }

@@ -124,6 +124,7 @@ fn simulation(count: u32, cut_fraction: f64) -> Simulation {
         objects: 3,
         seed: 7,
         noise: TrackingNoise::NONE,
+        rate: None,
     }
 }
 

@@ -26,6 +26,7 @@ fn simulation(count: u32, cut_fraction: f64) -> Simulation {
         objects: 3,
         seed: 5,
         noise: TrackingNoise::NONE,
+        rate: None,
     }
 }
 

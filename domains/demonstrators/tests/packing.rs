@@ -21,6 +21,7 @@ fn simulation(count: u32, cut_fraction: f64) -> Simulation {
         objects: 1,
         seed: 5,
         noise: TrackingNoise::NONE,
+        rate: None,
     }
 }
 
@@ -130,6 +131,7 @@ fn settings_come_from_the_spec_and_refuse_what_cannot_be_done() {
             objects: 1,
             seed: 11,
             noise: TrackingNoise::NONE,
+            rate: None,
         }
     );
     assert!(matches!(

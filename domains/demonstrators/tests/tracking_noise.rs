@@ -30,6 +30,7 @@ fn packing(cut_fraction: f64, noise: TrackingNoise) -> Simulation {
         objects: 1,
         seed: 5,
         noise,
+        rate: None,
     }
 }
 
@@ -155,6 +156,7 @@ fn markers_are_not_tracked() {
         objects: 3,
         seed: 5,
         noise,
+        rate: None,
     };
     let clean = generate(world, &keva(TrackingNoise::NONE), 0).unwrap();
     let noisy = generate(world, &keva(NOISE), 0).unwrap();

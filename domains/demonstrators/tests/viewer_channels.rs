@@ -424,6 +424,7 @@ fn check_domain(demonstrator: Demonstrator, seed: u64) {
         objects: 1,
         seed,
         noise: TrackingNoise::NONE,
+        rate: None,
     };
     let demo = generate(&world, &simulation, 0).unwrap();
     let urdf = domains_dir().join(demonstrator.name()).join(&spec.robots[0].urdf);

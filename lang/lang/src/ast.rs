@@ -26,6 +26,7 @@ pub enum Unit {
     Radian,
     Second,
     Millisecond,
+    Hertz,
 }
 
 /// A number with an optional unit.

@@ -225,6 +225,7 @@ impl Lower {
             "deg" => Unit::Degree,
             "rad" => Unit::Radian,
             "s" => Unit::Second,
+            "Hz" => Unit::Hertz,
             _ => Unit::Millisecond,
         };
         (unit, self.span(&pair))

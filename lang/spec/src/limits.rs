@@ -49,6 +49,12 @@ pub const NOISE_POSITION: Limit = Limit::closed(0.0, 0.1, "m").noting("10 cm");
 pub const NOISE_ROTATION: Limit =
     Limit::closed(0.0, std::f64::consts::FRAC_PI_4, "rad").noting("45°");
 
+/// The rate of a simulated demonstration's recording (`simulate … { rate R Hz }`): robot loggers
+/// write joint states and tracked poses at 50 to 1000 Hz; below 1 Hz a grasp (half a second) may
+/// fall between two steps, and above 1 kHz a demonstration holds more steps than its motion has
+/// anything to show (a 10 s demonstration is already 10 000 steps).
+pub const RECORDING_RATE: Limit = Limit::closed(1.0, 1000.0, "Hz");
+
 /// The most Gaussian components of one region (`learn { components max K }`): model selection
 /// fits a mixture for every count up to it, so fitting time grows with it (a cap of 100,000 made
 /// learning Packing take 71 s instead of 0.4 s), while the bundled domains use 6, the default.

@@ -111,6 +111,9 @@ pub enum DemoSource {
         seed: u64,
         /// The tracking noise the recorded object poses carry (`noise D A`); none by default.
         noise: TrackingNoise,
+        /// The rate at which steps are recorded, in hertz (`rate R Hz`): the timed motion
+        /// sampled every 1/R seconds. None: one step per state of each planned path, 10 ms apart.
+        rate: Option<f64>,
         /// Demonstrator-specific options, by name.
         options: BTreeMap<String, OptionValue>,
     },

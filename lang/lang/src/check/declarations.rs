@@ -302,6 +302,7 @@ impl Checker<'_> {
         let mut cut_fraction = 0.5;
         let mut objects = 1;
         let mut seed = None;
+        let mut rate = None;
         let mut seen: BTreeMap<String, Span> = BTreeMap::new();
         let mut noise = lamp_spec::TrackingNoise::NONE;
         for entry in noise_entries {
@@ -333,6 +334,11 @@ impl Checker<'_> {
                 ("seed", Some(q)) => {
                     seed = self.count(q, "the demonstrator seed", 0).map(u64::from)
                 }
+                ("rate", Some(q)) => {
+                    rate = self.measure(q, Dimension::Frequency).and_then(|value| {
+                        self.limited(value, q.span, "the recording rate", &limits::RECORDING_RATE)
+                    })
+                }
                 // `noise` with one value (or a word): the grammar's two-value form did not match.
                 ("noise", number) => self.missing(
                     option.key.span,
@@ -343,7 +349,7 @@ impl Checker<'_> {
                     },
                     "Write the largest position error per axis and the largest turn, both with their units: `noise 2 mm 1 deg`.",
                 ),
-                ("count" | "cut" | "objects" | "seed", None) => {
+                ("count" | "cut" | "objects" | "seed" | "rate", None) => {
                     self.report(at(option.key.span, |at| SpecError::OutOfRange {
                         what: format!("`{}`", option.key.text),
                         expected: "a number".to_string(),
@@ -374,6 +380,7 @@ impl Checker<'_> {
             objects,
             seed: seed.unwrap_or(0),
             noise,
+            rate,
             options: extra,
         })
     }
@@ -713,6 +720,10 @@ impl Checker<'_> {
                     }
                     Some(Dimension::Duration) => lamp_spec::OptionValue::Duration(
                         self.measure(quantity, Dimension::Duration)?,
+                    ),
+                    // Hertz are SI already.
+                    Some(Dimension::Frequency) => lamp_spec::OptionValue::Number(
+                        self.measure(quantity, Dimension::Frequency)?,
                     ),
                 }
             }

@@ -14,6 +14,7 @@ pub(crate) enum Dimension {
     Length,
     Angle,
     Duration,
+    Frequency,
 }
 
 impl Dimension {
@@ -22,6 +23,7 @@ impl Dimension {
             Dimension::Length => "a length",
             Dimension::Angle => "an angle",
             Dimension::Duration => "a duration",
+            Dimension::Frequency => "a frequency",
         }
     }
 
@@ -30,6 +32,7 @@ impl Dimension {
             Dimension::Length => "0.15 m",
             Dimension::Angle => "90 deg",
             Dimension::Duration => "30 s",
+            Dimension::Frequency => "50 Hz",
         }
     }
 
@@ -38,6 +41,7 @@ impl Dimension {
             Dimension::Length => "m, cm, mm",
             Dimension::Angle => "deg, rad",
             Dimension::Duration => "s, ms",
+            Dimension::Frequency => "Hz",
         }
     }
 }
@@ -52,6 +56,7 @@ pub(crate) fn unit_info(unit: Unit) -> (Dimension, f64) {
         Unit::Radian => (Dimension::Angle, 1.0),
         Unit::Second => (Dimension::Duration, 1.0),
         Unit::Millisecond => (Dimension::Duration, 0.001),
+        Unit::Hertz => (Dimension::Frequency, 1.0),
     }
 }
 
@@ -64,6 +69,7 @@ pub(crate) fn unit_text(unit: Unit) -> &'static str {
         Unit::Radian => "rad",
         Unit::Second => "s",
         Unit::Millisecond => "ms",
+        Unit::Hertz => "Hz",
     }
 }
 
