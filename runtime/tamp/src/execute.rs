@@ -1,9 +1,12 @@
 //! Carrying out one candidate in a scene: let go, move along a planned path, take hold; every
 //! visited state recorded at the checking resolution, every motion checked state by state.
 
-use lamp_plugin_api::{Candidate, MotionOutcome, MotionPlanner, MotionRequest};
+use lamp_plugin_api::{
+    Candidate, HostServices, MotionOutcome, MotionPlanner, MotionRequest, NoPathReason,
+};
 use lamp_robot::{IkConfig, Robot};
 use lamp_world::{LinkGoal, MotionConfig, Recorder, RobotSpace, Scene, densify, straight_line};
+use nalgebra::Translation3;
 
 use crate::error::SolveError;
 use crate::host::GroupHost;
@@ -112,11 +115,20 @@ pub fn execute(
             Ok(MotionOutcome::Path(waypoints)) => waypoints,
             Ok(MotionOutcome::NoPath { reason, message }) => {
                 counts.failures += 1;
-                return Err(Rejection::Candidate(format!(
-                    "no {group} path for `{}` ({reason:?}{}{message})",
-                    target.robot,
-                    if message.is_empty() { "" } else { ": " }
-                )));
+                let lifted = if reason == NoPathReason::BudgetExhausted {
+                    let ends = Lifted { scene, robot, group, start: &start, goal };
+                    ends.plan(motion, &request, &host, &settings.motion.config, counts)?
+                } else {
+                    None
+                };
+                let Some(waypoints) = lifted else {
+                    return Err(Rejection::Candidate(format!(
+                        "no {group} path for `{}` ({reason:?}{}{message})",
+                        target.robot,
+                        if message.is_empty() { "" } else { ": " }
+                    )));
+                };
+                waypoints
             }
             Err(error) => return Err(Rejection::Fatal(SolveError::from_plugin("motion", error))),
         };
@@ -230,6 +242,99 @@ fn straight_first(
     )
     .ok()
 }
+
+/// How far straight up the gripper is lifted at each end of an arm motion the motion planner
+/// did not find (metres): [`Lifted`].
+pub const LIFT_HEIGHT: f64 = 0.1;
+
+/// An arm motion planned again from above its ends: the gripper goes straight up
+/// [`LIFT_HEIGHT`] from the start, the motion planner plans from there to the same height above
+/// the goal, and the gripper comes straight down onto the goal.
+///
+/// An arm whose gripper is down among objects on a table (just let go of one, about to take
+/// one, or holding one above its place) starts or ends in a narrow pocket: the fingers, the
+/// wrist and the held object have room upwards and little else, and a sampling planner, whose
+/// every extension is a step in a random direction, rarely finds the way out. Most of a sampled
+/// motion's difficulty is there; above the objects the arm moves freely. An end that cannot be
+/// lifted (out of reach, or something above it) is used as it is.
+struct Lifted<'s> {
+    scene: &'s Scene,
+    robot: usize,
+    group: &'s str,
+    start: &'s [f64],
+    goal: &'s [f64],
+}
+
+impl Lifted<'_> {
+    /// The whole path from the start to the goal through the lifted ends, or `None` when
+    /// neither end can be lifted, the mount moves, or the motion planner finds no path between
+    /// the lifted ends either.
+    fn plan(
+        &self,
+        motion: &mut dyn MotionPlanner,
+        request: &MotionRequest,
+        host: &dyn HostServices,
+        config: &MotionConfig,
+        counts: &mut MotionCounts,
+    ) -> Result<Option<Vec<Vec<f64>>>, Rejection> {
+        let up = self.lift(self.start, config);
+        let down = self.lift(self.goal, config);
+        if up.is_none() && down.is_none() {
+            return Ok(None);
+        }
+        let up = up.unwrap_or_else(|| vec![self.start.to_vec()]);
+        let mut down = down.unwrap_or_else(|| vec![self.goal.to_vec()]);
+        down.reverse();
+        let (Some(from), Some(to)) = (up.last(), down.first()) else { return Ok(None) };
+        let lifted = MotionRequest {
+            start: from.clone(),
+            goal: to.clone(),
+            seed: request.seed ^ LIFTED_SEED,
+            ..request.clone()
+        };
+        counts.calls += 1;
+        let middle = match motion.plan_path(&lifted, host) {
+            Ok(MotionOutcome::Path(middle)) => middle,
+            Ok(MotionOutcome::NoPath { .. }) => {
+                counts.failures += 1;
+                return Ok(None);
+            }
+            Err(error) => return Err(Rejection::Fatal(SolveError::from_plugin("motion", error))),
+        };
+        // The middle path begins and ends at copies of the lifted ends (up to the plugin's
+        // rounding): the lines' own ends are kept, and the middle's dropped.
+        let inner = middle.len().saturating_sub(1);
+        let mut path = up;
+        path.extend(middle.into_iter().take(inner).skip(1));
+        path.extend(down);
+        Ok(Some(path))
+    }
+
+    /// The straight line of the gripper from `from` up [`LIFT_HEIGHT`], with the mount still;
+    /// `None` when it cannot be made.
+    fn lift(&self, from: &[f64], config: &MotionConfig) -> Option<Vec<Vec<f64>>> {
+        let state = &self.scene.robots()[self.robot];
+        let model = state.robot();
+        let mount = model.mount().coordinate_count();
+        if (0..mount).any(|index| (self.start[index] - self.goal[index]).abs() > SAME_CONFIGURATION)
+        {
+            return None;
+        }
+        let link = state.gripper()?.link;
+        let target = Translation3::new(0.0, 0.0, LIFT_HEIGHT) * model.link_pose(from, link);
+        let goal = LinkGoal {
+            robot: self.robot,
+            group: self.group,
+            link: Some(link),
+            target: &target,
+            start: from,
+        };
+        straight_line(self.scene, &goal, config, &IkConfig::new()).ok()
+    }
+}
+
+/// Mixed into a motion's seed for its lifted attempt, so that it samples anew.
+const LIFTED_SEED: u64 = 0x11F7_5EED;
 
 /// The smallest joint group that holds every coordinate that changes from `start` to `goal`.
 fn motion_group<'r>(robot: &'r Robot, start: &[f64], goal: &[f64]) -> &'r str {
