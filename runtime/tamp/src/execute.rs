@@ -97,7 +97,7 @@ pub fn execute(
             let states = densify(&model, &path, &settings.motion.config)
                 .map_err(|error| Rejection::Candidate(error.to_string()))?;
             recorder.follow(scene, robot, &states);
-            scene.set_configuration(robot, path.last().unwrap_or(&start));
+            scene.set_configuration(robot, states.last().unwrap_or(&start));
             continue;
         }
         let space = RobotSpace::new(scene, robot, group, &start, goal, &settings.motion.config)
@@ -138,10 +138,10 @@ pub fn execute(
         let states = densify(&model, &waypoints, &settings.motion.config)
             .map_err(|error| Rejection::Candidate(error.to_string()))?;
         let joins = |a: &[f64], b: &[f64]| model.distance(a, b) < PATH_END_TOLERANCE;
-        let (Some(first), Some(last)) = (states.first(), states.last()) else {
+        let (Some(first), Some(last)) = (states.first(), states.last().cloned()) else {
             return Err(bad_path("it is empty"));
         };
-        if !joins(first, &start) || !joins(last, goal) {
+        if !joins(first, &start) || !joins(&last, goal) {
             return Err(bad_path("it does not run from the start to the goal"));
         }
         for (index, q) in states.iter().enumerate() {
@@ -154,7 +154,9 @@ pub fn execute(
             }
         }
         recorder.follow(scene, robot, &states);
-        scene.set_configuration(robot, goal);
+        // Where the recording ends (within PATH_END_TOLERANCE of the goal), so that what
+        // happens next, an object let go of and settled, happens as the replay will see it.
+        scene.set_configuration(robot, &last);
     }
     for change in &candidate.grabs {
         let robot = robot_index(scene, &change.robot)?;

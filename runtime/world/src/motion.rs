@@ -287,11 +287,15 @@ pub fn densify(
             config.linear_resolution,
             config.angular_resolution,
         )?;
-        for i in 1..=steps {
+        for i in 1..steps {
             let mut q = pair[0].clone();
             robot.interpolate(&pair[0], &pair[1], i as f64 / steps as f64, &mut q);
             states.push(q);
         }
+        // The waypoint itself, not `a + 1 · (b − a)`, which may differ from it in the last
+        // bit: the state recorded last is the one the scene is left in, and an object let go
+        // of there must settle where the replay settles it.
+        states.push(pair[1].clone());
     }
     Ok(states)
 }

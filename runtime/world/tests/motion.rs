@@ -283,3 +283,19 @@ fn a_move_too_long_to_record_is_refused_not_allocated() {
     let states = densify(&robot, &[q, near], &config).expect("an ordinary move");
     assert!(states.len() > 10 && states.len() < 1_000, "{}", states.len());
 }
+
+/// A densified path ends on each waypoint exactly, not on an interpolation that may differ from
+/// it in the last bit: the scene is left where the recording ends, and an object let go of
+/// there must settle where the replay settles it.
+#[test]
+fn densified_paths_end_exactly_on_their_waypoints() {
+    let (scene, fetch, tucked) = fetch_at_table();
+    let robot = scene.robots()[fetch].robot().clone();
+    let mut goal = tucked.clone();
+    // 1.6 + 1 · (0.123456789 − 1.6) is 0.12345678900000001.
+    goal[3] = 0.123_456_789;
+    let mut from = tucked.clone();
+    from[3] = 1.6;
+    let states = densify(&robot, &[from, goal.clone()], &MotionConfig::default()).unwrap();
+    assert_eq!(states.last().unwrap(), &goal);
+}
