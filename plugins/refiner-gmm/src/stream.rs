@@ -50,6 +50,25 @@ const SNUG_STEPS: usize = 6;
 /// per axis for two cans.
 const SNUG_CLEARANCE: f64 = 0.004;
 
+/// How much farther than `displacement` the last draw of a stream may move a link to leave a
+/// region: [`widened_displacement`].
+const DISPLACEMENT_WIDENING: f64 = 4.0;
+
+/// The longest random displacement of draw `draw` (1-based) of a stream: `displacement` for
+/// the first quarter of its draws, then growing in proportion to the draws made, to
+/// [`DISPLACEMENT_WIDENING`] times `displacement` at the last.
+///
+/// A link deep inside a region cannot leave it by a short move: a base standing half a metre
+/// inside its learned region before a marker (0.45 m deep in Dinner) is never out of it after
+/// a move of at most 0.25 m, and the stream that should drive it away runs dry. Chronological
+/// backtracking then retries the steps in between (the arm's tuck, the release), which cannot
+/// move the base, until the plan's budget is spent. A stream whose first draws succeed is
+/// unchanged.
+fn widened_displacement(options: &RefinerOptions, draw: usize) -> f64 {
+    let share = draw as f64 / options.draws.max(1) as f64;
+    options.displacement * (DISPLACEMENT_WIDENING * share).max(1.0)
+}
+
 /// An action's ground effects, in the learner's atoms.
 pub(crate) struct Effects {
     adds: BTreeSet<GroundAtom>,
@@ -255,7 +274,8 @@ impl GmmStream {
                     break v / norm;
                 }
             };
-            let distance = self.rng.random_range(0.0..=self.options.displacement);
+            let reach = widened_displacement(&self.options, self.draws);
+            let distance = self.rng.random_range(0.0..=reach);
             return Ok((Translation3::from(direction * distance) * here, 0.0, Pose::identity()));
         };
         let model = &self.artifact.pairs[pair].regions[region].model;
@@ -339,5 +359,21 @@ impl GmmStream {
             releases: self.realisation.releases.clone(),
             grabs: self.realisation.grabs.clone(),
         }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The first quarter of a stream's draws move a link at most `displacement`; later ones
+    /// farther, up to four times as far at the last draw.
+    #[test]
+    fn random_displacements_widen_as_a_stream_draws_on() {
+        let options = RefinerOptions { samples: 4, draws: 300, displacement: 0.25 };
+        assert_eq!(widened_displacement(&options, 1), 0.25);
+        assert_eq!(widened_displacement(&options, 75), 0.25);
+        assert!((widened_displacement(&options, 150) - 0.5).abs() < 1e-12);
+        assert!((widened_displacement(&options, 300) - 1.0).abs() < 1e-12);
     }
 }
