@@ -37,6 +37,11 @@ pub enum WorldError {
     #[error("robot `{robot}` cannot grab `{object}`: {reason}")]
     #[diagnostic(code(lamp::world::grab))]
     Grab { robot: String, object: String, reason: String },
+    /// Fingers that cannot close onto the held object or open from it: they would touch
+    /// something else, or the robot holds nothing.
+    #[error("robot `{robot}` cannot {action} its fingers: {reason}")]
+    #[diagnostic(code(lamp::world::fingers))]
+    Fingers { robot: String, action: &'static str, reason: String },
     /// A recorded trajectory whose steps cannot be timed: they do not fit the robots, or a
     /// robot moves by something that is not a number.
     #[error("the trajectory cannot be timed at step {step}: {reason}")]

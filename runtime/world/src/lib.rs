@@ -9,6 +9,7 @@
 mod checking;
 mod error;
 mod execution;
+mod fingers;
 mod from_spec;
 mod ik;
 mod motion;
@@ -22,6 +23,7 @@ mod viewing;
 pub use checking::Contact;
 pub use error::WorldError;
 pub use execution::{HOLD_OFF, HOLD_ON, execution_channels, grasp_position, motion_segments};
+pub use fingers::{FingerMove, finger_path};
 pub use from_spec::{
     STRUCTURE_ANGLE_TOLERANCE, STRUCTURE_POSITION_TOLERANCE, SpecWorld, load_robot, mount_of,
     robot_names, type_parts_of,

@@ -64,6 +64,10 @@ pub struct SceneRobot {
     pub(crate) self_pairs: Vec<(usize, usize)>,
     /// Per entry of `links`: whether a held object may touch it (the gripper and its fingers).
     pub(crate) touches_held: Vec<bool>,
+    /// The finger coordinates (the robot's `gripper` joint group) and their values in the
+    /// configuration the robot was added with (a problem's: the spec's named configuration,
+    /// open), to which the fingers return when they let go. Empty for a gripper without fingers.
+    pub(crate) open_fingers: Vec<(usize, f64)>,
 }
 
 impl SceneRobot {
@@ -80,6 +84,13 @@ impl SceneRobot {
     /// The gripper, if the robot has one.
     pub fn gripper(&self) -> Option<&Gripper> {
         self.gripper.as_ref()
+    }
+
+    /// The finger coordinates of the gripper and their open values (see [`crate::finger_path`]);
+    /// empty for a gripper without finger joints (a magnet, a suction cup) or a robot without
+    /// a gripper.
+    pub fn open_fingers(&self) -> &[(usize, f64)] {
+        &self.open_fingers
     }
 }
 
@@ -187,6 +198,12 @@ impl Scene {
                     .is_some_and(|(_, gripper_link)| in_subtree(&robot, *link, *gripper_link))
             })
             .collect();
+        let open_fingers = match &gripper {
+            Some(_) => robot.group("gripper").map_or_else(Vec::new, |group| {
+                group.coordinates.iter().map(|&c| (c, q[c])).collect()
+            }),
+            None => Vec::new(),
+        };
         let gripper = gripper.map(|(part_type, link)| Gripper { part_type, link, held: None });
         self.robots.push(SceneRobot {
             name: name.to_string(),
@@ -196,6 +213,7 @@ impl Scene {
             links,
             self_pairs,
             touches_held,
+            open_fingers,
         });
         Ok(self.robots.len() - 1)
     }
