@@ -3,7 +3,7 @@
 //! `control_msgs/msg/GripperCommand`. lamp-trajectory writes them beside the viewers' channels;
 //! `docs/formats.md` ("Channels for controllers") describes them.
 
-use lamp_geometry::{CollisionShape, Pose};
+use lamp_geometry::{CollisionShape, Pose, intersects};
 use lamp_robot::{CoordinateKind, LinkId, Robot};
 use lamp_trajectory::{
     BASE_TRAJECTORY_TOPIC, GRIPPER_COMMAND_TOPIC, GripperCommand, JOINT_TRAJECTORY_TOPIC,
@@ -68,12 +68,16 @@ struct RobotTopics<'a> {
 ///   the average velocities (displacement over time) of the pieces before and after the step,
 ///   zero at both ends, where the robot is at rest;
 /// - per gripper, on `/lamp/gripper_command` (prefixed like the held topic), one
-///   `GripperCommand` at the last step before each grasp change, when the robot stops and the
-///   gripper starts to close or open: for a gripper with finger joints, the first finger's upper
-///   limit (fully open) at a release, and at a grasp the position at which it touches the object
-///   ([`grasp_position`]; its lower limit, closed, when that is not known); for one without (a
-///   magnet), [`HOLD_ON`] at a grasp and [`HOLD_OFF`] at a release. `max_effort` is 0: lamp
-///   models no grip force.
+///   `GripperCommand` where the gripper starts to close or open: at a grasp, the last step
+///   before the change (the fingers close after it, onto the held object), with the position at
+///   which the first finger touches the object ([`grasp_position`]; its lower limit, closed,
+///   when that is not known); at a release, the first step of the run just before the change in
+///   which only the fingers move (they open while the object is still held; the step before the
+///   change when they do not move), with the position the first finger has when it lets go, the
+///   open value it returned to; for a gripper without finger joints (a magnet), [`HOLD_ON`] at a
+///   grasp and [`HOLD_OFF`] at a release, at the step before the change. `max_effort` is 0: lamp
+///   models no grip force. A motion ([`motion_segments`]) may begin with the fingers closing or
+///   end with them opening; the arm's trajectory holds its joints still meanwhile.
 pub fn execution_channels(
     world: &SpecWorld,
     trajectory: &Trajectory,
@@ -186,11 +190,19 @@ pub fn execution_channels(
                         });
                         touching.unwrap_or(topics.robot.coordinates()[*finger].lower)
                     }
-                    (Some(finger), None) => topics.robot.coordinates()[*finger].upper,
+                    (Some(finger), None) => after.robots[robot].positions[*finger],
                     (None, Some(_)) => HOLD_ON,
                     (None, None) => HOLD_OFF,
                 };
-                values[index - 1].gripper_commands.push(GripperCommand {
+                // A release's fingers open before it (the solver records the opening while
+                // the object is still held): the command goes where they start to.
+                let mut at = index - 1;
+                if is.is_none() && !topics.fingers.is_empty() {
+                    while at > 0 && only_fingers_move(&steps[at - 1], &steps[at], robot, topics) {
+                        at -= 1;
+                    }
+                }
+                values[at].gripper_commands.push(GripperCommand {
                     topic: topics.first_gripper + gripper,
                     position,
                     max_effort: 0.0,
@@ -201,12 +213,27 @@ pub fn execution_channels(
     Ok(())
 }
 
+/// Whether from `before` to `after` robot `robot` moves its finger coordinates and nothing else,
+/// no other robot moves and no grasp changes.
+fn only_fingers_move(before: &Step, after: &Step, robot: usize, topics: &RobotTopics<'_>) -> bool {
+    let same_elsewhere = before.robots.iter().zip(&after.robots).enumerate().all(|(k, (a, b))| {
+        a.held == b.held
+            && (k == robot
+                || a.positions.iter().zip(&b.positions).all(|(x, y)| x.to_bits() == y.to_bits()))
+    });
+    let (a, b) = (&before.robots[robot].positions, &after.robots[robot].positions);
+    let moved: Vec<usize> = (0..a.len().min(b.len())).filter(|&c| a[c] != b[c]).collect();
+    same_elsewhere && !moved.is_empty() && moved.iter().all(|c| topics.fingers.contains(c))
+}
+
 /// The position of the prismatic finger joint `finger` at which the finger, closing from its
 /// open limit with the rest of the robot at `q`, first touches `object` at `pose` (world frame):
 /// where the finger's inner face (its collision geometry's nearest point along the direction
 /// the finger opens) meets the object's farthest point along that direction. Both are measured
-/// by bounding boxes in a frame whose x axis is that direction, exact along it. Clamped to the
-/// joint's limits. `None` when the finger is not a prismatic joint with collision geometry.
+/// by bounding boxes in a frame whose x axis is that direction, exact along it; where the object
+/// is turned so that its farthest point lies beside the face, the finger closes on, by
+/// bisection with the exact collision test, until it touches (within 1 nm), or to its lower
+/// limit when it closes past the object. Clamped to the joint's limits. `None` when the finger is not a prismatic joint with collision geometry.
 pub fn grasp_position(
     robot: &Robot,
     finger: usize,
@@ -252,8 +279,40 @@ pub fn grasp_position(
     let face = shape.aabb(&(frame * closed)).mins.x;
     let reach = object.aabb(&(frame * pose)).maxs.x;
     let value = lower + (reach - face) / rate;
-    value.is_finite().then(|| value.clamp(lower, upper))
+    if !value.is_finite() {
+        return None;
+    }
+    // The boxes are exact along the direction, not across it: where the object is turned in the
+    // gripper, its farthest point may lie beside the finger's face, which then stops short of it.
+    // The contact is then found by bisection between there (free) and the closed limit.
+    let value = value.clamp(lower, upper);
+    let touches = |value: f64| intersects(&shape, &at(value), object, pose);
+    if touches(value) {
+        return Some(value);
+    }
+    if !touches(lower) {
+        // The finger closes all the way past the object.
+        return Some(lower);
+    }
+    let (mut free, mut touching) = (value, lower);
+    for _ in 0..TOUCH_ITERATIONS {
+        if (free - touching) * rate <= TOUCH_GAP {
+            break;
+        }
+        let middle = 0.5 * (free + touching);
+        if touches(middle) {
+            touching = middle;
+        } else {
+            free = middle;
+        }
+    }
+    Some(free)
 }
+
+/// How close (metres) [`grasp_position`] brings a finger to the object it closes onto, and at
+/// most how many halvings it takes to get there.
+const TOUCH_GAP: f64 = 1e-9;
+const TOUCH_ITERATIONS: usize = 64;
 
 /// Per step of the segment `first..=last`, every coordinate's velocity: the mean of the pieces'
 /// average velocities before and after the step (a piece of zero time counts as at rest), zero

@@ -36,6 +36,13 @@ struct Fixture {
 
 /// Drive and reach in 20 steps, grasp, carry back in 15, release, move on in 10.
 fn fixture() -> Fixture {
+    fixture_with(0)
+}
+
+/// [`fixture`], with `fingers` steps after the grasp in which the fingers close onto the can
+/// (to 4 cm) and as many before the release in which they open again, as the solver records
+/// them.
+fn fixture_with(fingers: usize) -> Fixture {
     let (spec, world) = lamp_test_support::domain("cafe");
     let scene = world.problem_scene(&spec.problems[0]).expect("the scene loads");
     let header = lamp_world::trajectory_header(&spec, &scene, 1);
@@ -50,16 +57,28 @@ fn fixture() -> Fixture {
     let gripper = robot.end_effector().expect("a gripper link");
     let reached = robot.link_pose(&configuration(&start, &names, 1.0), gripper);
     poses[can] = reached * nalgebra::Translation3::new(0.0, 0.0, -0.1);
-    let step = |fraction: f64, held: Option<usize>| Step {
-        time_nanoseconds: 0,
-        body_poses: poses.clone(),
-        robots: vec![RobotState {
-            positions: configuration(&start, &names, fraction),
-            held: vec![held],
-        }],
+    let finger_joints = ["l_gripper_finger_joint", "r_gripper_finger_joint"]
+        .map(|name| names.iter().position(|n| n == name).expect("a finger"));
+    let step_with = |fraction: f64, held: Option<usize>, finger: f64| {
+        let mut positions = configuration(&start, &names, fraction);
+        for joint in finger_joints {
+            positions[joint] = finger;
+        }
+        Step {
+            time_nanoseconds: 0,
+            body_poses: poses.clone(),
+            robots: vec![RobotState { positions, held: vec![held] }],
+        }
     };
+    let (open, closed) = (start[finger_joints[0]], 0.04);
+    let gripped = if fingers > 0 { closed } else { open };
+    let step = |fraction: f64, held: Option<usize>| step_with(fraction, held, open);
+    let finger = |k: usize| (k as f64 / fingers as f64) * (closed - open);
     let mut steps: Vec<Step> = (0..=20).map(|k| step(k as f64 / 20.0, None)).collect();
-    steps.extend((0..=15).map(|k| step(1.0 - k as f64 / 30.0, Some(can))));
+    steps.push(step(1.0, Some(can)));
+    steps.extend((1..=fingers).map(|k| step_with(1.0, Some(can), open + finger(k))));
+    steps.extend((1..=15).map(|k| step_with(1.0 - k as f64 / 30.0, Some(can), gripped)));
+    steps.extend((1..=fingers).map(|k| step_with(0.5, Some(can), closed - finger(k))));
     steps.extend((0..=10).map(|k| step(0.5 - k as f64 / 20.0, None)));
     time_steps(&mut steps, &[robot.as_ref()]).expect("the steps are timed");
     let trajectory = Trajectory { header, steps };
@@ -77,13 +96,14 @@ fn check_trajectories(
     fixture: &Fixture,
     messages: &[BagJointTrajectory],
     coordinates: &[&str],
+    expected: &[(usize, usize)],
 ) -> usize {
     let steps = &fixture.trajectory.steps;
     let robot = &fixture.robot;
     let indices: Vec<usize> =
         coordinates.iter().map(|name| robot.coordinate_index(name).expect("known")).collect();
     let segments = motion_segments(steps);
-    assert_eq!(segments, [(0, 20), (21, 36), (37, 47)]);
+    assert_eq!(segments, expected);
     assert_eq!(messages.len(), segments.len(), "one trajectory per motion");
     for ((first, last), message) in segments.iter().zip(messages) {
         assert_eq!(message.log_time, steps[*first].time_nanoseconds);
@@ -113,24 +133,28 @@ fn check_trajectories(
     messages.len()
 }
 
+/// The Fetch's URDF joints but the fingers.
+const ARM: [&str; 8] = [
+    "torso_lift_joint",
+    "shoulder_pan_joint",
+    "shoulder_lift_joint",
+    "upperarm_roll_joint",
+    "elbow_flex_joint",
+    "forearm_roll_joint",
+    "wrist_flex_joint",
+    "wrist_roll_joint",
+];
+
 #[test]
 fn every_motion_is_a_joint_trajectory_and_every_grasp_change_a_gripper_command() {
     let fixture = fixture();
     let recording =
         read_standard_channels(fixture.bytes.as_slice(), "execution.mcap", &[]).expect("reads");
-    let arm = [
-        "torso_lift_joint",
-        "shoulder_pan_joint",
-        "shoulder_lift_joint",
-        "upperarm_roll_joint",
-        "elbow_flex_joint",
-        "forearm_roll_joint",
-        "wrist_flex_joint",
-        "wrist_roll_joint",
-    ];
-    check_trajectories(&fixture, &recording.joint_trajectories[JOINT_TRAJECTORY_TOPIC], &arm);
+    let segments = [(0, 20), (21, 36), (37, 47)];
+    let trajectories = &recording.joint_trajectories;
+    check_trajectories(&fixture, &trajectories[JOINT_TRAJECTORY_TOPIC], &ARM, &segments);
     let base = ["base_x", "base_y", "base_yaw"];
-    check_trajectories(&fixture, &recording.joint_trajectories[BASE_TRAJECTORY_TOPIC], &base);
+    check_trajectories(&fixture, &trajectories[BASE_TRAJECTORY_TOPIC], &base, &segments);
 
     // A grasp at the stamp of the step before the object is held, the fingers closed onto the
     // can; a release at the step before it is let go, fingers open (the Fetch's fingers: 0 to
@@ -177,6 +201,34 @@ fn every_motion_is_a_joint_trajectory_and_every_grasp_change_a_gripper_command()
     assert!(lamp_geometry::intersects(&finger_shape, &deeper, &can_shape, &can_pose));
     assert!(grasp > 0.03 && grasp < 0.05, "a 9 cm can between 11 cm fingers: {grasp}");
     assert_eq!(steps[21].time_nanoseconds - steps[20].time_nanoseconds, 500_000_000);
+}
+
+/// The fingers close after the grasp and open before the release, within the motions around
+/// them: the arm's trajectory holds still meanwhile, the grasp's command comes where the closing
+/// starts (the step before the grasp) and the release's where the opening starts, with the
+/// position the fingers open to.
+#[test]
+fn fingers_that_close_and_open_stay_within_the_motions_and_their_commands() {
+    let fixture = fixture_with(10);
+    let recording =
+        read_standard_channels(fixture.bytes.as_slice(), "execution.mcap", &[]).expect("reads");
+    let segments = [(0, 20), (21, 56), (57, 67)];
+    let trajectories = &recording.joint_trajectories;
+    check_trajectories(&fixture, &trajectories[JOINT_TRAJECTORY_TOPIC], &ARM, &segments);
+    let base = ["base_x", "base_y", "base_yaw"];
+    check_trajectories(&fixture, &trajectories[BASE_TRAJECTORY_TOPIC], &base, &segments);
+    let steps = &fixture.trajectory.steps;
+    let fingers = fixture.robot.coordinate_index("l_gripper_finger_joint").expect("a finger");
+    assert_eq!(steps[31].robots[0].positions[fingers], 0.04, "closed onto the can");
+    assert_eq!(steps[46].robots[0].positions[fingers], 0.04, "closed until the opening");
+    assert_eq!(steps[56].robots[0].positions[fingers], 0.05, "open before the release");
+    let commands = &recording.gripper_commands[GRIPPER_COMMAND_TOPIC];
+    let times: Vec<u64> = commands.iter().map(|command| command.log_time).collect();
+    assert_eq!(times, [steps[20].time_nanoseconds, steps[46].time_nanoseconds]);
+    assert_eq!(commands[1].position, 0.05);
+    assert!(commands[0].position > 0.03 && commands[0].position < 0.05);
+    // The fingers (0.05 m/s) take their time: 1 cm closes in more than 0.2 s.
+    assert!(steps[31].time_nanoseconds - steps[21].time_nanoseconds > 200_000_000);
 }
 
 #[test]
