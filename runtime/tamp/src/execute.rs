@@ -1,11 +1,15 @@
-//! Carrying out one candidate in a scene: let go, move along a planned path, take hold; every
-//! visited state recorded at the checking resolution, every motion checked state by state.
+//! Carrying out one candidate in a scene: open the fingers and let go, move along a planned path,
+//! take hold and close the fingers; every visited state recorded at the checking resolution,
+//! every motion checked state by state.
 
 use lamp_plugin_api::{
     Candidate, HostServices, MotionOutcome, MotionPlanner, MotionRequest, NoPathReason,
 };
 use lamp_robot::{IkConfig, Robot};
-use lamp_world::{LinkGoal, MotionConfig, Recorder, RobotSpace, Scene, densify, straight_line};
+use lamp_world::{
+    FingerMove, LinkGoal, MotionConfig, Recorder, RobotSpace, Scene, densify, finger_path,
+    straight_line,
+};
 use nalgebra::Translation3;
 
 use crate::error::SolveError;
@@ -73,6 +77,13 @@ pub fn execute(
                 change.robot, change.object
             )));
         }
+        // The fingers open while they still hold the object (they may touch it, nothing else),
+        // then it is let go.
+        let opening = finger_path(scene, robot, FingerMove::Open, &settings.motion.config)
+            .map_err(|error| Rejection::Candidate(error.to_string()))?;
+        if opening.len() > 1 {
+            recorder.follow(scene, robot, &opening);
+        }
         scene.release_at_rest(robot).map_err(|error| Rejection::Candidate(error.to_string()))?;
         recorder.record(scene);
     }
@@ -80,13 +91,23 @@ pub fn execute(
         let robot = robot_index(scene, &target.robot)?;
         let model = scene.robots()[robot].robot().clone();
         let start = scene.robots()[robot].configuration().to_vec();
-        let goal = &target.configuration;
-        if goal.len() != start.len() {
+        if target.configuration.len() != start.len() {
             return Err(Rejection::Fatal(SolveError::PluginAnswer {
                 kind: "refiner",
-                reason: format!("a target of `{}` has {} coordinates", target.robot, goal.len()),
+                reason: format!(
+                    "a target of `{}` has {} coordinates",
+                    target.robot,
+                    target.configuration.len()
+                ),
             }));
         }
+        // The fingers move only at grasp changes: a target keeps them where they are (closed on
+        // a held object, open otherwise), whatever finger values the refiner gave.
+        let mut goal = target.configuration.clone();
+        for &(finger, _) in scene.robots()[robot].open_fingers() {
+            goal[finger] = start[finger];
+        }
+        let goal = &goal;
         if model.distance(&start, goal) < SAME_CONFIGURATION {
             continue;
         }
@@ -178,6 +199,12 @@ pub fn execute(
         }
         scene.grab(robot, body).map_err(|error| Rejection::Candidate(error.to_string()))?;
         recorder.record(scene);
+        // Held first, so that the fingers may touch the object as they close onto it.
+        let closing = finger_path(scene, robot, FingerMove::Close, &settings.motion.config)
+            .map_err(|error| Rejection::Candidate(error.to_string()))?;
+        if closing.len() > 1 {
+            recorder.follow(scene, robot, &closing);
+        }
     }
     Ok(())
 }

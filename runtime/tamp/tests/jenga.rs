@@ -1,7 +1,8 @@
 //! End to end on Jenga: real demonstrations of at most three blocks made in memory, learned
 //! with lamp-build, and a tower built from a structure goal with the first-party plugins linked
 //! in. The trajectory is checked independently of the solver's own replay: nothing collides,
-//! the gripper ends empty, and every block ends within 5 mm and 3° of its pose in the structure.
+//! the gripper ends empty, the fingers close onto every block it holds and open before it lets
+//! go, and every block ends within 5 mm and 3° of its pose in the structure.
 //! No order is written anywhere: the learned actions order the tower.
 
 #[path = "support/learned.rs"]
@@ -18,6 +19,7 @@ fn a_block_across_two_is_built_bottom_up_from_a_structure_goal() {
     let problem = JENGA.spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
     let scene = learned::replay_collision_free(&JENGA, name, &solution);
     learned::assert_executable(&JENGA, name, &solution);
+    assert_eq!(learned::assert_fingers_grip(&JENGA, name, &solution), (3, 0), "{name}: grasps");
     let last = solution.trajectory.steps.last().expect("a trajectory");
     assert_eq!(last.robots[0].held, vec![None], "{name}: the gripper ends empty");
     let targets = JENGA.world.structure_targets(problem).expect("the structure is placed");

@@ -191,3 +191,103 @@ fn solve_texts(
     let mut plugins = Plugins { planner, refiner: &mut refiner, motion: &mut motion };
     solve(&input, &mut plugins, &settings, &|_| {})
 }
+
+/// Asserts that in `solution` the fingers of robot 0 close onto every object it takes hold of
+/// and open before it lets go: after each grab they come to rest (the end of the run in which
+/// only they move) at each finger's `grasp_position`, within 1e-6 m, touching the object (a
+/// collision distance under 1e-6 m) and nothing else, or, where a finger closes past the
+/// object without meeting it, at its lower limit; at each release they are back at their open
+/// values, the problem's. Returns how many grasps were checked and at how many a finger closed
+/// past the object.
+pub fn assert_fingers_grip(learned: &Learned, name: &str, solution: &Solution) -> (usize, usize) {
+    let problem =
+        learned.spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
+    let initial = learned.world.problem_scene(problem).expect("the scene loads");
+    let robot = initial.robots()[0].robot().clone();
+    let open = initial.robots()[0].open_fingers().to_vec();
+    assert!(!open.is_empty(), "{name}: the gripper has fingers");
+    let steps = &solution.trajectory.steps;
+    let held = |index: usize| steps[index].robots[0].held.first().copied().flatten();
+    let positions = |index: usize| &steps[index].robots[0].positions;
+    let fingers_move = |index: usize| {
+        held(index) == held(index + 1)
+            && open
+                .iter()
+                .any(|(finger, _)| positions(index)[*finger] != positions(index + 1)[*finger])
+    };
+    let (mut grasps, mut past) = (0, 0);
+    for index in 1..steps.len() {
+        if held(index - 1) == held(index) {
+            continue;
+        }
+        let Some(body) = held(index) else {
+            for &(finger, value) in &open {
+                assert_eq!(positions(index - 1)[finger], value, "{name}: open at step {index}");
+            }
+            continue;
+        };
+        for &(finger, value) in &open {
+            assert_eq!(positions(index)[finger], value, "{name}: open at the grab, step {index}");
+        }
+        let mut closed = index;
+        while closed + 1 < steps.len() && fingers_move(closed) {
+            closed += 1;
+        }
+        assert!(closed > index, "{name}: the fingers close after the grab at step {index}");
+        let q = positions(closed);
+        let type_name = &initial.bodies()[body].type_name;
+        let object = lamp_geometry::CollisionShape::compound(&learned.world.type_parts[type_name])
+            .expect("a shape");
+        let pose = steps[closed].body_poses[body];
+        // Held, its pose is the gripper link's times the grasp: the same up to rounding.
+        let moved = steps[index].body_poses[body].inv_mul(&pose);
+        assert!(
+            moved.translation.vector.norm() < 1e-12 && moved.rotation.angle() < 1e-12,
+            "{name}: the object does not move as the fingers close: {moved:?}"
+        );
+        for &(finger, value) in &open {
+            let target =
+                lamp_world::grasp_position(&robot, finger, positions(index), &object, &pose)
+                    .expect("a prismatic finger");
+            assert!(
+                (q[finger] - target).abs() < 1e-6,
+                "{name}: step {closed}: {} not {target}",
+                q[finger]
+            );
+            assert!(target < value, "{name}: the finger closes from {value} to {target}");
+            let joint = &robot.coordinates()[finger].name;
+            let link = (1..robot.link_count())
+                .find(|link| robot.parent_joint_name(*link) == Some(joint.as_str()))
+                .expect("the finger's link");
+            let parts: Vec<_> = robot
+                .collision_geometry()
+                .iter()
+                .filter(|geometry| geometry.link == link)
+                .map(|geometry| (geometry.origin, geometry.shape.clone()))
+                .collect();
+            let shape = lamp_geometry::CollisionShape::compound(&parts).expect("a shape");
+            let gap = lamp_geometry::distance(&shape, &robot.link_pose(q, link), &object, &pose);
+            if target == robot.coordinates()[finger].lower && gap > 1e-6 {
+                past += 1;
+                continue;
+            }
+            assert!(
+                gap.abs() < 1e-6,
+                "{name}: step {closed}: `{joint}` at {target} (open {value}) is {gap} m from it"
+            );
+        }
+        let mut scene = initial.clone();
+        for (other, pose) in steps[closed].body_poses.iter().enumerate() {
+            scene.set_body_pose(other, *pose);
+        }
+        scene.set_configuration(0, positions(index));
+        scene.grab(0, body).expect("a legal grab");
+        assert_eq!(
+            scene.first_contact(0, q),
+            None,
+            "{name}: step {closed} touches only the object"
+        );
+        grasps += 1;
+    }
+    (grasps, past)
+}
