@@ -233,7 +233,8 @@ fn only_fingers_move(before: &Step, after: &Step, robot: usize, topics: &RobotTo
 /// by bounding boxes in a frame whose x axis is that direction, exact along it; where the object
 /// is turned so that its farthest point lies beside the face, the finger closes on, by
 /// bisection with the exact collision test, until it touches (within 1 nm), or to its lower
-/// limit when it closes past the object. Clamped to the joint's limits. `None` when the finger is not a prismatic joint with collision geometry.
+/// limit when it closes past the object. Clamped to the joint's limits. `None` when the finger
+/// is not a prismatic joint with collision geometry.
 pub fn grasp_position(
     robot: &Robot,
     finger: usize,
