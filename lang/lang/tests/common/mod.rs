@@ -116,3 +116,42 @@ problem p1 {
   }
 }
 "#;
+
+/// The `simulate` line of [`VALID`], where a test writes an option.
+pub const SIMULATE: &str = "simulate packing { count 20  cut 0.5  objects 1  seed 3 }";
+
+/// [`VALID`] with `extra` written inside the `simulate` block, after the other options.
+pub fn with_simulate_option(extra: &str) -> String {
+    assert!(VALID.contains(SIMULATE), "the valid spec simulates packing");
+    let simulate = SIMULATE.replace(" }", &format!("  {extra} }}"));
+    VALID.replacen(SIMULATE, &simulate, 1)
+}
+
+/// The codes and the text each diagnostic points at.
+pub fn found(source: &str, outcome: &CheckOutcome) -> Vec<(String, String)> {
+    outcome.diagnostics.iter().map(|d| (d.code(), source[d.range()].to_string())).collect()
+}
+
+/// The one simulated source of `source`, checked (which must accept it).
+pub fn simulated_source(source: &str) -> lamp_spec::DemoSource {
+    let outcome = check(source);
+    let rendered = render(&outcome);
+    let spec = outcome.spec.unwrap_or_else(|| panic!("accepted:\n{rendered}"));
+    match <[_; 1]>::try_from(spec.demonstrations) {
+        Ok([source @ lamp_spec::DemoSource::Simulated { .. }]) => source,
+        Ok(other) => panic!("one simulated source, not {other:?}"),
+        Err(other) => panic!("one simulated source, not {other:?}"),
+    }
+}
+
+/// [`VALID`] with `extra` in its `simulate` block, checked: asserts one diagnostic per
+/// `(code, text)` and no spec; returns the rendering.
+pub fn refused_simulate_option(extra: &str, expected: &[(&str, &str)]) -> String {
+    let source = with_simulate_option(extra);
+    let outcome = check(&source);
+    let expected: Vec<(String, String)> =
+        expected.iter().map(|(code, text)| (code.to_string(), text.to_string())).collect();
+    assert_eq!(found(&source, &outcome), expected, "{extra}:\n{}", render(&outcome));
+    assert!(outcome.spec.is_none(), "{extra}: a spec with errors has no Spec");
+    render(&outcome)
+}
