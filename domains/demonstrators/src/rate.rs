@@ -61,8 +61,7 @@ pub(crate) fn resample(
 fn between(steps: &[Step], scene: &Scene, i: usize, s: f64) -> Step {
     let (from, to) = (&steps[i], &steps[i + 1]);
     let mut step = from.clone();
-    let grasp_changes = from.robots.iter().zip(&to.robots).any(|(a, b)| a.held != b.held);
-    if s <= 0.0 || grasp_changes {
+    if s <= 0.0 || from.grasp_changes_to(to) {
         // A grasp or a release: the robot waits at rest for the gripper.
         return step;
     }

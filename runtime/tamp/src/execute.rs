@@ -252,8 +252,7 @@ fn straight_first(
 ) -> Option<Vec<Vec<f64>>> {
     let state = &scene.robots()[robot];
     let model = state.robot();
-    let mount = model.mount().coordinate_count();
-    if (0..mount).any(|index| (start[index] - goal[index]).abs() > SAME_CONFIGURATION) {
+    if mount_moves(model, start, goal) {
         return None;
     }
     let link = state.gripper()?.link;
@@ -306,6 +305,10 @@ impl Lifted<'_> {
         config: &MotionConfig,
         counts: &mut MotionCounts,
     ) -> Result<Option<Vec<Vec<f64>>>, Rejection> {
+        let model = self.scene.robots()[self.robot].robot();
+        if mount_moves(model, self.start, self.goal) {
+            return Ok(None);
+        }
         let up = self.lift(self.start, config);
         let down = self.lift(self.goal, config);
         if up.is_none() && down.is_none() {
@@ -344,11 +347,6 @@ impl Lifted<'_> {
     fn lift(&self, from: &[f64], config: &MotionConfig) -> Option<Vec<Vec<f64>>> {
         let state = &self.scene.robots()[self.robot];
         let model = state.robot();
-        let mount = model.mount().coordinate_count();
-        if (0..mount).any(|index| (self.start[index] - self.goal[index]).abs() > SAME_CONFIGURATION)
-        {
-            return None;
-        }
         let link = state.gripper()?.link;
         let target = Translation3::new(0.0, 0.0, LIFT_HEIGHT) * model.link_pose(from, link);
         let goal = LinkGoal {
@@ -360,6 +358,13 @@ impl Lifted<'_> {
         };
         straight_line(self.scene, &goal, config, &IkConfig::new()).ok()
     }
+}
+
+/// Whether any of the mount's coordinates (a mobile base, a free-flying gripper) differs between
+/// `start` and `goal`: then the move is no arm motion, and no straight line or lift applies.
+fn mount_moves(model: &Robot, start: &[f64], goal: &[f64]) -> bool {
+    let mount = model.mount().coordinate_count();
+    (0..mount).any(|index| (start[index] - goal[index]).abs() > SAME_CONFIGURATION)
 }
 
 /// Mixed into a motion's seed for its lifted attempt, so that it samples anew.

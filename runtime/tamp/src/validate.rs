@@ -93,11 +93,11 @@ pub fn replay(
         }
         for (body, pose) in step.body_poses.iter().enumerate() {
             let here = scene.body_pose(body);
-            let tolerance =
-                if settled.contains(&body) { SETTLED_TOLERANCE } else { UNMOVED_TOLERANCE };
+            let just_settled = settled.contains(&body);
+            let tolerance = if just_settled { SETTLED_TOLERANCE } else { UNMOVED_TOLERANCE };
             let moved = (here.translation.vector - pose.translation.vector).norm() > tolerance
                 || here.rotation.angle_to(&pose.rotation) > tolerance;
-            if settled.contains(&body) && !moved {
+            if just_settled && !moved {
                 scene.set_body_pose(body, *pose);
             }
             if moved {

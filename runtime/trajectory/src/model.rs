@@ -72,6 +72,12 @@ impl Step {
         let seconds = self.time_nanoseconds as f64 * 1e-9;
         seconds
     }
+
+    /// Whether some gripper holds something else in `next` than in this step: a grasp or a
+    /// release between the two, which ends one motion and begins the next.
+    pub fn grasp_changes_to(&self, next: &Step) -> bool {
+        self.robots.iter().zip(&next.robots).any(|(a, b)| a.held != b.held)
+    }
 }
 
 /// A whole file in memory: its header and all its steps.

@@ -4,7 +4,7 @@
 //! `docs/formats.md` ("Channels for controllers") describes them.
 
 use lamp_geometry::{CollisionShape, Pose, intersects};
-use lamp_robot::{CoordinateKind, LinkId, Robot};
+use lamp_robot::{CoordinateKind, GRIPPER_GROUP, LinkId, Robot};
 use lamp_trajectory::{
     BASE_TRAJECTORY_TOPIC, GRIPPER_COMMAND_TOPIC, GripperCommand, JOINT_TRAJECTORY_TOPIC,
     JointTrajectoryMessage, StandardChannels, StandardStep, Step, Trajectory, TrajectoryPoint,
@@ -28,12 +28,7 @@ pub fn motion_segments(steps: &[Step]) -> Vec<(usize, usize)> {
     let mut segments = Vec::new();
     let mut start = 0;
     for index in 1..=steps.len() {
-        let grasp_change = index == steps.len()
-            || steps[index - 1]
-                .robots
-                .iter()
-                .zip(&steps[index].robots)
-                .any(|(a, b)| a.held != b.held);
+        let grasp_change = index == steps.len() || steps[index - 1].grasp_changes_to(&steps[index]);
         if grasp_change {
             if index - 1 > start {
                 segments.push((start, index - 1));
@@ -116,7 +111,7 @@ pub fn execution_channels(
         let robot = world.robots.get(&description.name).ok_or_else(unknown)?;
         let names = robot.coordinate_names();
         let mount = robot.mount().coordinate_count();
-        let fingers = robot.group("gripper").map(|group| group.coordinates.clone());
+        let fingers = robot.group(GRIPPER_GROUP).map(|group| group.coordinates.clone());
         let fingers = fingers.unwrap_or_default();
         let joints: Vec<usize> = (mount..robot.dof()).filter(|c| !fingers.contains(c)).collect();
         let mut trajectories = Vec::new();

@@ -199,7 +199,7 @@ impl Scene {
             })
             .collect();
         let open_fingers = match &gripper {
-            Some(_) => robot.group("gripper").map_or_else(Vec::new, |group| {
+            Some(_) => robot.group(lamp_robot::GRIPPER_GROUP).map_or_else(Vec::new, |group| {
                 group.coordinates.iter().map(|&c| (c, q[c])).collect()
             }),
             None => Vec::new(),

@@ -78,10 +78,8 @@ pub fn time_steps(steps: &mut [Step], robots: &[&Robot]) -> Result<u64, WorldErr
             piece
         })
         .collect();
-    let grasps: Vec<bool> = steps
-        .windows(2)
-        .map(|pair| pair[0].robots.iter().zip(&pair[1].robots).any(|(a, b)| a.held != b.held))
-        .collect();
+    let grasps: Vec<bool> =
+        steps.windows(2).map(|pair| pair[0].grasp_changes_to(&pair[1])).collect();
     let time = |start: usize, pieces: &[Vec<f64>]| {
         time_path(pieces, &limits).map_err(|error| fail(start + 1, error.to_string()))
     };
