@@ -107,14 +107,22 @@ pub(crate) fn induce<C: RegionClassifier>(
     let roles = demo::validate(demonstrations)?;
     let steadied: Vec<Demonstration> = demonstrations.iter().map(rigid::steady).collect();
     let demonstrations = steadied.as_slice();
+    let pauses: Vec<Vec<bool>> = demonstrations.iter().map(scene_pauses).collect();
     let mut learned = Vec::new();
     let mut empty_pairs = Vec::new();
     for pair in pairs::type_pairs(&roles, config) {
         let primary_moves = roles.get(&pair.primary).is_some_and(|role| role.is_robot_part());
         let movable = |name: &str| matches!(roles.get(name), Some(Role::Object { movable: true }));
         let both_movable = movable(&pair.primary) && movable(&pair.secondary);
-        let pair_regions =
-            find_regions(demonstrations, config, shapes, &pair, primary_moves, both_movable);
+        let pair_regions = find_regions(
+            demonstrations,
+            &pauses,
+            config,
+            shapes,
+            &pair,
+            primary_moves,
+            both_movable,
+        );
         if pair_regions.demonstrations == 0 {
             continue;
         }
@@ -163,6 +171,7 @@ pub(crate) fn induce<C: RegionClassifier>(
 /// Occupancy, critical cells and regions with provenance of one type pair.
 fn find_regions(
     demonstrations: &[Demonstration],
+    pauses: &[Vec<bool>],
     config: &LearnConfig,
     shapes: &dyn ShapeOracle,
     pair: &TypePair,
@@ -172,7 +181,7 @@ fn find_regions(
     let type_pairs = [pair.clone()];
     let pinned = config.pinned(pair);
     // One pass over the recordings: the selection and the occupancy both read these tracks.
-    let tracks = tracks(demonstrations, &type_pairs);
+    let tracks = tracks(demonstrations, pauses, &type_pairs);
     // Two movable objects relate only where they touch (`selection::Contact`); that needs both shapes.
     let release_tolerance = config.release_tolerance;
     let touching = |pose: &Pose| {
@@ -271,10 +280,22 @@ fn demonstrated_boxes(selection: &Selection, grid: &Grid, cells: &RegionCells) -
         .collect()
 }
 
-/// Every participant pair's relative motion through every demonstration, with held flags and contact changes.
-fn tracks(demonstrations: &[Demonstration], type_pairs: &[TypePair]) -> Vec<Track> {
+/// The steps of a demonstration into which nothing moved ([`selection::keyframes::scene_pauses`]).
+fn scene_pauses(demonstration: &Demonstration) -> Vec<bool> {
+    let world: Vec<&[Pose]> =
+        demonstration.steps.iter().map(|snapshot| snapshot.poses.as_slice()).collect();
+    selection::keyframes::scene_pauses(&world)
+}
+
+/// Every participant pair's relative motion through every demonstration, with held flags, contact changes and
+/// the scene's pauses (one list per demonstration).
+fn tracks(
+    demonstrations: &[Demonstration],
+    pauses: &[Vec<bool>],
+    type_pairs: &[TypePair],
+) -> Vec<Track> {
     let mut tracks = Vec::new();
-    for (index, demonstration) in demonstrations.iter().enumerate() {
+    for ((index, demonstration), paused) in demonstrations.iter().enumerate().zip(pauses) {
         let held: Vec<BTreeSet<usize>> = demonstration
             .steps
             .iter()
@@ -293,6 +314,7 @@ fn tracks(demonstrations: &[Demonstration], type_pairs: &[TypePair]) -> Vec<Trac
                     g: pairs::held_flag(snapshot, instance),
                     pose: pairs::relative_pose(snapshot, instance),
                     contact: changed(step, instance.primary) || changed(step, instance.secondary),
+                    paused: paused[step],
                 })
                 .collect();
             tracks.push(Track {

@@ -60,6 +60,7 @@ mod tests {
                     g: 0,
                     pose: Pose::translation(p[0], p[1], p[2]),
                     contact: false,
+                    paused: false,
                 })
                 .collect(),
         }

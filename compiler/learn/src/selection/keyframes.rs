@@ -6,9 +6,15 @@
 //! - **rest**: the first and the last step of a run of at least [`REST_FRAMES`] steps over which the pair's
 //!   relative pose stays still, where motion comes before (an arrival) or after (a departure).
 //!
-//! "Still" allows for tracking noise: a step is still when it moves less than [`NOISE_MULTIPLE`] times the
-//! tenth-percentile step of the pair (a recording is still far more than a tenth of the time), and never less
-//! than a floor that noise-free recordings fall under.
+//! "Still" allows for noise: a step is still when it moves less than [`NOISE_MULTIPLE`] times the pair's
+//! tenth-percentile change of step ([`noise_tolerance`]), and never less than a floor that noise-free recordings
+//! fall under.
+//!
+//! A rest counts only where the scene goes on moving: the steps of a run in which nothing recorded moves at all
+//! ([`scene_pauses`]: the robot waiting out a grasp, or a logger recording on at a fixed rate while everything
+//! stands) are not rest of any pair. A gripper that stops over a can for the half second its fingers take rests
+//! relative to the table too, at every spot a can was ever picked from; a base standing at a table while the
+//! arm works, or an arm tucked while the base drives, rests while the rest of the scene moves.
 //!
 //! Of the keyframes at one step, each participant keeps only its nearest partner of the other type, both ways:
 //! a can let go of in the box also comes to rest relative to every other fixed surface in the room, and those
@@ -21,9 +27,9 @@ use crate::demo::Pose;
 
 /// The fewest steps of unchanged relative pose that count as rest.
 pub const REST_FRAMES: usize = 3;
-/// A still step moves less than this many times the pair's tenth-percentile step: with Gaussian tracking
-/// noise, about three times the median still step, which noise alone almost never exceeds.
-pub const NOISE_MULTIPLE: f64 = 5.0;
+/// A still step moves less than this many times the tenth-percentile change of step: with Gaussian noise of
+/// σ per axis, 7.5 σ, where 99.9 % of the steps of a body at rest stay under 5.7 σ.
+pub const NOISE_MULTIPLE: f64 = 4.0;
 /// Steps below this much translation (m) are still even in a noise-free recording.
 pub const STILL_POSITION_FLOOR: f64 = 1e-6;
 /// Steps below this much rotation (rad) are still even in a noise-free recording.
@@ -51,6 +57,8 @@ pub struct TrackFrame {
     pub pose: Pose,
     /// Whether one of the two was grasped or let go of at this step.
     pub contact: bool,
+    /// Whether nothing in the scene moved into this step ([`scene_pauses`]).
+    pub paused: bool,
 }
 
 /// A frame of a track where something happens.
@@ -81,20 +89,70 @@ pub struct Stillness {
     pub rotation: f64,
 }
 
-/// The rest tolerances of a pair, from the size of its steps.
+/// The rest tolerances of a pair, from the noise in its tracks ([`noise_tolerance`]).
 pub fn stillness(tracks: &[Track]) -> Stillness {
+    noise_tolerance(tracks.iter().map(|track| track.frames.iter().map(|frame| frame.pose)))
+}
+
+/// How far a pose may move in one step and still be at rest, from the noise in `sequences` of successive poses:
+/// [`NOISE_MULTIPLE`] times the tenth percentile of the change of step (the second difference), never less than
+/// [`STILL_POSITION_FLOOR`] and [`STILL_ROTATION_FLOOR`].
+///
+/// Noise is told from motion by how a step changes, not by how large it is. A body moving smoothly changes its
+/// step only by its acceleration times the sampling period squared (at 50 Hz, 0.4 mm for a gripper slowing at
+/// 1 m/s²), while noise changes every step by about its own size, in motion and at rest alike. The step itself
+/// measures noise only in a recording that rests more than a tenth of the time: at a fixed rate, a motion's
+/// slow first and last samples are a tenth of the steps, and a gripper easing into a grasp would count as
+/// resting over a metre of approach.
+pub fn noise_tolerance<S, P>(sequences: S) -> Stillness
+where
+    S: IntoIterator<Item = P>,
+    P: IntoIterator<Item = Pose>,
+{
     let mut moves = Vec::new();
     let mut turns = Vec::new();
-    for track in tracks {
-        for pair in track.frames.windows(2) {
-            moves.push((pair[1].pose.translation.vector - pair[0].pose.translation.vector).norm());
-            turns.push(pair[1].pose.rotation.angle_to(&pair[0].pose.rotation));
+    for sequence in sequences {
+        let poses: Vec<Pose> = sequence.into_iter().collect();
+        for window in poses.windows(3) {
+            let [before, now, after] = [&window[0], &window[1], &window[2]];
+            let step = now.translation.vector - before.translation.vector;
+            let next = after.translation.vector - now.translation.vector;
+            moves.push((next - step).norm());
+            let turn = now.rotation * before.rotation.inverse();
+            let next_turn = after.rotation * now.rotation.inverse();
+            turns.push(next_turn.angle_to(&turn));
         }
     }
     Stillness {
         position: (NOISE_MULTIPLE * tenth_percentile(&mut moves)).max(STILL_POSITION_FLOOR),
         rotation: (NOISE_MULTIPLE * tenth_percentile(&mut turns)).max(STILL_ROTATION_FLOOR),
     }
+}
+
+impl Stillness {
+    /// Whether the move from `before` to `now` is within these tolerances.
+    pub fn holds(&self, before: &Pose, now: &Pose) -> bool {
+        (now.translation.vector - before.translation.vector).norm() <= self.position
+            && now.rotation.angle_to(&before.rotation) <= self.rotation
+    }
+}
+
+/// Per step of a recording given as world poses per step (every participant's, in one order), whether nothing
+/// moved into it: each participant moved no more than its own [`noise_tolerance`] over the recording. The first
+/// step has nothing before it and is not a pause.
+pub fn scene_pauses(steps: &[&[Pose]]) -> Vec<bool> {
+    let participants = steps.first().map_or(0, |poses| poses.len());
+    let tolerances: Vec<Stillness> = (0..participants)
+        .map(|participant| noise_tolerance([steps.iter().map(|poses| poses[participant])]))
+        .collect();
+    (0..steps.len())
+        .map(|step| {
+            step > 0
+                && tolerances.iter().enumerate().all(|(participant, still)| {
+                    still.holds(&steps[step - 1][participant], &steps[step][participant])
+                })
+        })
+        .collect()
 }
 
 fn tenth_percentile(values: &mut [f64]) -> f64 {
@@ -155,21 +213,23 @@ fn events(tracks: &[Track], still: Stillness) -> Vec<Keyframe> {
     found
 }
 
-/// Runs of at least [`REST_FRAMES`] frames, each still relative to the one before: `(first, last)` indices.
+/// Runs of frames, each still relative to the one before, with at least [`REST_FRAMES`] − 1 of those steps
+/// taken while the scene moved (not [`TrackFrame::paused`]): `(first, last)` indices.
 fn rests(frames: &[TrackFrame], still: Stillness) -> Vec<(usize, usize)> {
     let mut runs = Vec::new();
     let mut start = 0;
+    let mut moving_steps = 0;
     for step in 1..=frames.len() {
-        let continues = step < frames.len() && {
-            let (before, now) = (&frames[step - 1].pose, &frames[step].pose);
-            (now.translation.vector - before.translation.vector).norm() <= still.position
-                && now.rotation.angle_to(&before.rotation) <= still.rotation
-        };
-        if !continues {
-            if step - start >= REST_FRAMES {
+        let continues =
+            step < frames.len() && still.holds(&frames[step - 1].pose, &frames[step].pose);
+        if continues {
+            moving_steps += usize::from(!frames[step].paused);
+        } else {
+            if moving_steps + 1 >= REST_FRAMES {
                 runs.push((start, step - 1));
             }
             start = step;
+            moving_steps = 0;
         }
     }
     runs
@@ -235,7 +295,7 @@ mod tests {
     use super::*;
 
     fn frame(x: f64, contact: bool) -> TrackFrame {
-        TrackFrame { g: 0, pose: Pose::translation(x, 0.0, 0.0), contact }
+        TrackFrame { g: 0, pose: Pose::translation(x, 0.0, 0.0), contact, paused: false }
     }
 
     fn track(xs: &[f64]) -> Track {
@@ -270,17 +330,78 @@ mod tests {
 
     #[test]
     fn noise_below_the_step_size_still_counts_as_rest() {
-        // A millimetre of jitter while at rest, 5 cm steps while moving.
-        let jitter = [0.0, 0.001, -0.0008, 0.0005, 0.0];
-        let mut path: Vec<f64> = jitter.to_vec();
-        path.extend([0.05, 0.1, 0.15]);
-        path.extend(jitter.iter().map(|j| 0.2 + j));
-        path.extend(jitter.iter().map(|j| 0.2 + j));
+        // A millimetre of jitter on every step, at rest and while moving in 5 cm steps, as a tracker adds it.
+        let jitter = [0.0, 0.001, -0.0008, 0.0005, -0.0002, 0.0009, -0.0007, 0.0003];
+        let clean: Vec<f64> =
+            [0.0; 5].into_iter().chain([0.05, 0.1, 0.15]).chain([0.2; 10]).collect();
+        let path: Vec<f64> =
+            clean.iter().enumerate().map(|(i, x)| x + jitter[i % jitter.len()]).collect();
         let tracks = [track(&path)];
         let still = stillness(&tracks);
         assert!(still.position > 0.002 && still.position < 0.05, "{still:?}");
         let steps: Vec<usize> = keyframes(&tracks, still).iter().map(|k| k.step).collect();
         assert_eq!(steps, [4, 8]);
+    }
+
+    /// Positions of a move from 0 to 0.3 m sampled at 50 Hz: accelerating at 1 m/s² to 0.2 m/s, cruising,
+    /// slowing at 1 m/s² to rest, then resting for a tenth of a second: rest is less than a tenth of its steps.
+    fn eased_move() -> Vec<f64> {
+        let (acceleration, speed, period) = (1.0, 0.2, 0.02);
+        let ramp = speed / acceleration;
+        let ramp_length = 0.5 * acceleration * ramp * ramp;
+        let cruise = (0.3 - 2.0 * ramp_length) / speed;
+        let total = 2.0 * ramp + cruise;
+        let at = |t: f64| -> f64 {
+            if t <= ramp {
+                0.5 * acceleration * t * t
+            } else if t <= ramp + cruise {
+                ramp_length + speed * (t - ramp)
+            } else if t <= total {
+                let left = total - t;
+                0.3 - 0.5 * acceleration * left * left
+            } else {
+                0.3
+            }
+        };
+        (0..=((total + 0.1) / period).round() as usize).map(|k| at(k as f64 * period)).collect()
+    }
+
+    #[test]
+    fn a_smooth_move_at_a_fixed_rate_is_no_noise_and_its_slow_samples_are_not_rest() {
+        let path = eased_move();
+        let tracks = [track(&path)];
+        let still = stillness(&tracks);
+        assert_eq!(still.position, STILL_POSITION_FLOOR, "{still:?}");
+        // The slowest samples of the ease-in, 0.2 mm a step, move: the only keyframe is the arrival, after the
+        // last sample in motion.
+        let arrival = path.iter().position(|x| *x == 0.3).expect("the move ends at 0.3");
+        let steps: Vec<usize> = keyframes(&tracks, still).iter().map(|k| k.step).collect();
+        assert_eq!(steps, [arrival]);
+    }
+
+    #[test]
+    fn a_rest_while_nothing_in_the_scene_moves_is_no_rest() {
+        // Moves, waits out a grasp while the whole scene stands, moves on.
+        let path = [0.0, 0.1, 0.2, 0.2, 0.2, 0.2, 0.2, 0.3, 0.4];
+        let still = Stillness { position: STILL_POSITION_FLOOR, rotation: STILL_ROTATION_FLOOR };
+        let mut waiting = track(&path);
+        for frame in &mut waiting.frames[3..=6] {
+            frame.paused = true;
+        }
+        assert!(keyframes(&[waiting], still).is_empty());
+        // The same rest while something else moves (a base standing while the arm works) is one.
+        let steps: Vec<usize> = keyframes(&[track(&path)], still).iter().map(|k| k.step).collect();
+        assert_eq!(steps, [2]);
+    }
+
+    #[test]
+    fn the_scene_pauses_where_no_participant_moves() {
+        let at = |x: f64| Pose::translation(x, 0.0, 0.0);
+        // A table that never moves and a gripper that moves, stops for two steps and moves on.
+        let gripper = [0.0, 0.1, 0.2, 0.2, 0.2, 0.3];
+        let steps: Vec<[Pose; 2]> = gripper.iter().map(|x| [at(1.0), at(*x)]).collect();
+        let world: Vec<&[Pose]> = steps.iter().map(|poses| poses.as_slice()).collect();
+        assert_eq!(scene_pauses(&world), [false, false, false, true, true, false]);
     }
 
     #[test]

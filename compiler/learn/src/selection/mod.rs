@@ -517,12 +517,14 @@ mod tests {
                         g: 0,
                         pose: Pose::translation(x, side, height),
                         contact: false,
+                        paused: false,
                     })
                     .collect();
                 frames.extend((1..=10).map(|step| TrackFrame {
                     g: 0,
                     pose: Pose::translation(0.9, side + 0.1 * step as f64, height),
                     contact: false,
+                    paused: false,
                 }));
                 Track { demonstration, primary: 0, secondary: 1, frames }
             })
@@ -557,6 +559,7 @@ mod tests {
                         g: 0,
                         pose: Pose::translation(x + above, above, z + above),
                         contact: false,
+                        paused: false,
                     })
                     .collect();
                 Track { demonstration, primary: 0, secondary: 1, frames }
@@ -598,6 +601,7 @@ mod tests {
                         g: 0,
                         pose: Pose::translation(x, 0.0, height.max(z)),
                         contact: false,
+                        paused: false,
                     })
                     .collect();
                 Track { demonstration, primary: 0, secondary: 1, frames }
