@@ -138,7 +138,7 @@ fn a_frame_that_jumps_is_refused_with_its_time() {
 #[test]
 fn time_going_backwards_is_refused() {
     let (trajectory, bag) = one_bag(|_| {});
-    // The tenth /tf message is logged at time zero, after the ninth at 80 ms.
+    // The tenth /tf message is logged at time zero, after the ninth at 160 ms (50 Hz).
     let mut tf_seen = 0;
     let bag = filter_bag(&bag, "bag", |topic, time| {
         tf_seen += usize::from(topic == "/tf");
@@ -148,7 +148,7 @@ fn time_going_backwards_is_refused() {
     let error = read(&bag, &mapping(&trajectory)).unwrap_err();
     assert!(matches!(&error, Ros2Error::Timing { .. }), "{error}");
     assert!(
-        error.to_string().contains("a `/tf` message at 0 ns follows one at 80000000 ns"),
+        error.to_string().contains("a `/tf` message at 0 ns follows one at 160000000 ns"),
         "{error}"
     );
 }

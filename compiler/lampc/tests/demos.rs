@@ -107,7 +107,7 @@ fn a_spec_without_a_simulator_is_a_diagnostic() {
     let scratch = tempfile::tempdir().expect("a scratch folder");
     let text = std::fs::read_to_string(domains().join("packing/packing.lamp")).expect("readable");
     let text = text.replace(
-        "simulate packing { count 200  cut 0.5  objects 1  seed 11 }",
+        "simulate packing { count 200  cut 0.5  objects 1  seed 11  rate 50 Hz }",
         "files \"recorded.mcap\"",
     );
     assert!(text.contains("files \"recorded.mcap\""));

@@ -21,7 +21,10 @@ fn spec_with(scratch: &Path, name: &str, source: &str) -> PathBuf {
     let text = std::fs::read_to_string(packing_spec())
         .expect("the bundled spec")
         .replace("\"../robots/", &format!("\"{}/", robots.display()))
-        .replace("  simulate packing { count 200  cut 0.5  objects 1  seed 11 }", source);
+        .replace(
+            "  simulate packing { count 200  cut 0.5  objects 1  seed 11  rate 50 Hz }",
+            source,
+        );
     assert!(text.contains(source), "the spec's demonstrations block changed");
     let path = scratch.join(name);
     std::fs::write(&path, text).expect("writes the spec");

@@ -131,7 +131,7 @@ fn settings_come_from_the_spec_and_refuse_what_cannot_be_done() {
             objects: 1,
             seed: 11,
             noise: TrackingNoise::NONE,
-            rate: None,
+            rate: Some(50.0),
         }
     );
     assert!(matches!(
