@@ -151,7 +151,7 @@ fn settings_come_from_the_spec() {
             objects: 1,
             seed: 21,
             noise: TrackingNoise::NONE,
-            rate: None,
+            rate: Some(50.0),
         }
     );
 }
