@@ -5,7 +5,7 @@
 use lamp_plugin_api::{
     Candidate, HostServices, MotionOutcome, MotionPlanner, MotionRequest, NoPathReason,
 };
-use lamp_robot::{IkConfig, Robot};
+use lamp_robot::{IkConfig, Mount, Robot};
 use lamp_world::{
     FingerMove, LinkGoal, MotionConfig, Recorder, RobotSpace, Scene, densify, finger_path,
     straight_line,
@@ -295,8 +295,8 @@ struct Lifted<'s> {
 
 impl Lifted<'_> {
     /// The whole path from the start to the goal through the lifted ends, or `None` when
-    /// neither end can be lifted, the mount moves, or the motion planner finds no path between
-    /// the lifted ends either.
+    /// neither end can be lifted, a mount other than a free-flying one moves (a mobile base), or
+    /// the motion planner finds no path between the lifted ends either.
     fn plan(
         &self,
         motion: &mut dyn MotionPlanner,
@@ -306,7 +306,9 @@ impl Lifted<'_> {
         counts: &mut MotionCounts,
     ) -> Result<Option<Vec<Vec<f64>>>, Rejection> {
         let model = self.scene.robots()[self.robot].robot();
-        if mount_moves(model, self.start, self.goal) {
+        // A free-flying mount is the gripper's own motion, and lifts it like an arm.
+        let free_flying = matches!(model.mount(), Mount::Floating);
+        if mount_moves(model, self.start, self.goal) && !free_flying {
             return Ok(None);
         }
         let up = self.lift(self.start, config);
@@ -361,7 +363,8 @@ impl Lifted<'_> {
 }
 
 /// Whether any of the mount's coordinates (a mobile base, a free-flying gripper) differs between
-/// `start` and `goal`: then the move is no arm motion, and no straight line or lift applies.
+/// `start` and `goal`: then the move is no arm motion, and no straight line applies, nor a lift
+/// unless the mount is free-flying (its motion is the gripper's own).
 fn mount_moves(model: &Robot, start: &[f64], goal: &[f64]) -> bool {
     let mount = model.mount().coordinate_count();
     (0..mount).any(|index| (start[index] - goal[index]).abs() > SAME_CONFIGURATION)
