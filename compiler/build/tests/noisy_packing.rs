@@ -1,7 +1,8 @@
-//! Packing learned from demonstrations recorded with a tracker's noise (`noise 2 mm 1 deg`, the
-//! noise of a motion-capture system) learns the actions it learns from noise-free ones: the same
-//! add and delete effects, action for action, since the learner steadies the objects between
-//! grasps (`docs/learning.md`, "Objects move only when held").
+//! Packing learned from demonstrations recorded as a robot's logger and a motion-capture system
+//! write them, at the bundled spec's fixed rate (50 Hz) and with a tracker's noise (`noise 2 mm
+//! 1 deg`), with default settings, learns the actions it learns from noise-free ones: the same add
+//! and delete effects, action for action, since the learner steadies the objects between grasps
+//! (`docs/learning.md`, "Objects move only when held").
 
 mod support;
 
@@ -39,7 +40,8 @@ fn regions(model: &Model) -> Vec<String> {
 fn noise_of_a_motion_capture_system_learns_the_noise_free_actions() {
     let (mut spec, world) = packing();
     for source in &mut spec.demonstrations {
-        if let DemoSource::Simulated { noise, .. } = source {
+        if let DemoSource::Simulated { noise, rate, .. } = source {
+            assert!(rate.is_some(), "the bundled spec records at a fixed rate");
             *noise = TrackingNoise { position: 0.002, rotation: 1f64.to_radians() };
         }
     }
