@@ -111,18 +111,54 @@ impl RegionModel {
     /// rotation, redrawn (up to [`EXTENT_DRAWS`] times) while its position is outside the
     /// region's extent; with a free turn, its angle drawn uniformly.
     pub fn sample(&self, rng: &mut ChaCha8Rng) -> Pose {
-        let mut pose = self.feature_pose(&self.mixture.sample(rng));
+        self.sample_with(rng, |mixture, rng| mixture.sample(rng))
+    }
+
+    /// Draws a relative pose as [`RegionModel::sample`] does, from the mixture's components
+    /// `among` alone (by their weights); none in range draws the whole mixture.
+    pub fn sample_among(&self, among: &[usize], rng: &mut ChaCha8Rng) -> Pose {
+        self.sample_with(rng, |mixture, rng| mixture.sample_among(among, rng))
+    }
+
+    fn sample_with(
+        &self,
+        rng: &mut ChaCha8Rng,
+        draw: impl Fn(&GaussianMixture, &mut ChaCha8Rng) -> Vec<f64>,
+    ) -> Pose {
+        let mut pose = self.feature_pose(&draw(&self.mixture, rng));
         for _ in 1..EXTENT_DRAWS {
             if self.outside(&pose) == 0.0 {
                 break;
             }
-            pose = self.feature_pose(&self.mixture.sample(rng));
+            pose = self.feature_pose(&draw(&self.mixture, rng));
         }
         if let Some(turn) = &self.free_turn {
             let angle = rng.random_range(-std::f64::consts::PI..std::f64::consts::PI);
             pose.rotation = turn.turned(&pose.rotation, angle);
         }
         pose
+    }
+
+    /// Per mixture component, the angle (radians, in `[0, π]`) of the rotation that turns
+    /// `relative`'s orientation into that of the component's mean; with a free turn, of their
+    /// orientations with the turn taken out, since every angle of it is in the region.
+    pub fn component_turns(&self, relative: &Pose) -> Vec<f64> {
+        let here = match &self.free_turn {
+            Some(turn) => turn.untwisted(&relative.rotation),
+            None => relative.rotation,
+        };
+        self.mixture
+            .means()
+            .iter()
+            .map(|mean| {
+                let there = self.feature_pose(mean).rotation;
+                let there = match &self.free_turn {
+                    Some(turn) => turn.untwisted(&there),
+                    None => there,
+                };
+                here.angle_to(&there)
+            })
+            .collect()
     }
 
     /// How far (summed over axes, metres) a pose's position is outside the region's extent.

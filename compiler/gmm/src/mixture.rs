@@ -215,6 +215,33 @@ impl GaussianMixture {
             }
             remaining -= weight;
         }
+        self.sample_component(chosen, rng)
+    }
+
+    /// One draw from the components `among` alone: one of them chosen with probability proportional to
+    /// its weight, then `μ + L·z`. Indices out of range are ignored; with none left (or all of zero
+    /// weight), the whole mixture is drawn ([`GaussianMixture::sample`]).
+    pub fn sample_among(&self, among: &[usize], rng: &mut ChaCha8Rng) -> Vec<f64> {
+        let members: Vec<usize> =
+            among.iter().copied().filter(|&component| component < self.component_count()).collect();
+        let total: f64 = members.iter().map(|&component| self.weights[component]).sum();
+        let Some(&last) = members.last().filter(|_| total > 0.0) else { return self.sample(rng) };
+        let uniform: f64 = rng.random();
+        let mut remaining = uniform * total;
+        let mut chosen = last;
+        for &component in &members {
+            if remaining < self.weights[component] {
+                chosen = component;
+                break;
+            }
+            remaining -= self.weights[component];
+        }
+        self.sample_component(chosen, rng)
+    }
+
+    /// One draw of component `chosen` (an index below [`GaussianMixture::component_count`]): `μ + L·z`
+    /// with `z` standard normal.
+    fn sample_component(&self, chosen: usize, rng: &mut ChaCha8Rng) -> Vec<f64> {
         let standard: Vec<f64> =
             (0..self.dimension).map(|_| StandardNormal.sample(&mut *rng)).collect();
         let factor = &self.factors[chosen];

@@ -177,6 +177,30 @@ fn samples_have_the_mixture_mean_and_covariance() {
 }
 
 #[test]
+fn draws_among_some_components_come_from_those_alone() {
+    // Three unit-variance components far apart on one axis.
+    let identity = vec![1.0, 0.0, 0.0, 1.0];
+    let mixture = GaussianMixture::new(
+        vec![0.5, 0.3, 0.2],
+        vec![vec![-100.0, 0.0], vec![0.0, 0.0], vec![100.0, 0.0]],
+        vec![identity.clone(), identity.clone(), identity],
+    )
+    .expect("valid mixture");
+    let nearest = |draw: &[f64]| ((draw[0] + 150.0) / 100.0).floor() as usize;
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let mut counts = [0usize; 3];
+    for _ in 0..4000 {
+        counts[nearest(&mixture.sample_among(&[1, 2], &mut rng))] += 1;
+    }
+    assert_eq!(counts[0], 0, "no draw from a component left out: {counts:?}");
+    // In proportion to the weights of those drawn from: 0.3 : 0.2, 2400 : 1600 ± 3 %.
+    assert!((counts[1] as f64 - 2400.0).abs() < 120.0, "{counts:?}");
+    // An empty or out-of-range choice draws the whole mixture, exactly as `sample` does.
+    let (mut first, mut second) = (ChaCha8Rng::seed_from_u64(9), ChaCha8Rng::seed_from_u64(9));
+    assert_eq!(mixture.sample_among(&[7], &mut first), mixture.sample(&mut second));
+}
+
+#[test]
 fn serialisation_round_trips_and_validates() {
     let mixture = correlated_3d();
     let json = serde_json::to_string(&mixture).expect("serialisable");

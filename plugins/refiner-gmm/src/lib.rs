@@ -99,6 +99,8 @@ impl Refiner for GmmRefiner {
             draws: 0,
             pool: std::collections::VecDeque::new(),
             centre: None,
+            ways: None,
+            sampled: 0,
         }))
     }
 }

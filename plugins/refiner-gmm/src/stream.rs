@@ -33,6 +33,11 @@ pub(crate) struct GmmStream {
     pub(crate) pool: std::collections::VecDeque<(Candidate, Pose)>,
     /// The mean position of the sampled region's mixture (one region per stream), once known.
     pub(crate) centre: Option<Vector3<f64>>,
+    /// The components of the sampled region's mixture drawn first ([`near_components`]) and the
+    /// others, once known; `None` inside for the whole mixture.
+    pub(crate) ways: Option<Option<[Vec<usize>; 2]>>,
+    /// Candidates yielded from region draws (a placement pool counts as one).
+    pub(crate) sampled: usize,
 }
 
 /// Valid placements gathered before the best is yielded, when an object is put into a region
@@ -103,6 +108,51 @@ fn level(pose: &Pose) -> Pose {
     Pose::from_parts(pose.translation, turn * pose.rotation)
 }
 
+/// How much more a group of a region's components must be turned from the moving frame than the
+/// group nearer to it for the two to be separate ways into the region (a quarter turn):
+/// [`near_components`].
+const SEPARATE_TURNS: f64 = std::f64::consts::FRAC_PI_2;
+
+/// The components of a region's mixture to draw first, given `turns`, the angle from the moving
+/// frame's current orientation (relative to the region's primary) to each component's mean
+/// ([`lamp_abstraction::RegionModel::component_turns`]): with the components in order of their
+/// turn, those before the first step of more than [`SEPARATE_TURNS`] from one to the next; `None`
+/// when there is no such step (the whole mixture is drawn, as always).
+///
+/// A region learned from demonstrations that reach it in two ways a half turn apart (an object
+/// grasped from either side, the same body by its symmetry) is one region of two components. Of
+/// a draw from the far one, the link's target is half a turn of the wrist away, and the arm
+/// either cannot unwind it on the way on (a grasp taken with the wrist wound to its limit) or
+/// cannot turn around what it holds or has just let go of; the near one asks for neither.
+/// Components spread over every orientation (an object put down at any yaw) or differing in
+/// position alone (a wide region tiled by several) leave no such step: they are one way in, and
+/// the mixture's weights alone choose among them.
+fn near_components(turns: &[f64]) -> Option<Vec<usize>> {
+    let mut order: Vec<usize> = (0..turns.len()).collect();
+    order.sort_by(|&a, &b| turns[a].total_cmp(&turns[b]).then(a.cmp(&b)));
+    let step =
+        order.windows(2).position(|pair| turns[pair[1]] - turns[pair[0]] > SEPARATE_TURNS)?;
+    let mut near = order[..=step].to_vec();
+    near.sort_unstable();
+    Some(near)
+}
+
+/// Which way into a region draw `draw` (1-based) of a stream comes from, with `sampled`
+/// candidates drawn so far, for a region of `ways` (the near components and the others,
+/// [`near_components`]): the near way for the first candidate and each second one after it, the
+/// far way for the others, so that a near way that leads nowhere later in the plan (a grasp
+/// from which the plank cannot be put where it goes) is followed by the far one when the solver
+/// backtracks; `None` (the whole mixture) after the first quarter of the stream's draws, so
+/// that a way no draw reaches does not hold the stream.
+fn way<'a>(
+    options: &RefinerOptions,
+    draw: usize,
+    sampled: usize,
+    ways: &'a [Vec<usize>; 2],
+) -> Option<&'a [usize]> {
+    (4 * draw <= options.draws.max(1)).then(|| ways[sampled % 2].as_slice())
+}
+
 /// An action's ground effects, in the learner's atoms.
 pub(crate) struct Effects {
     adds: BTreeSet<GroundAtom>,
@@ -155,6 +205,7 @@ impl CandidateStream for GmmStream {
             .is_some_and(|(pair, region)| !self.artifact.pairs[pair].regions[region].clear);
         if placing && self.pool.is_empty() {
             self.fill_pool(&mover, shared, host)?;
+            self.sampled += 1;
         }
         if placing {
             let Some((candidate, relative)) = self.pool.pop_front() else { return Ok(None) };
@@ -168,6 +219,7 @@ impl CandidateStream for GmmStream {
         while self.draws < self.options.draws {
             if let Some((candidate, _, _)) = self.draw(&mover, host)? {
                 self.yielded += 1;
+                self.sampled += 1;
                 return Ok(Some(candidate));
             }
         }
@@ -312,8 +364,22 @@ impl GmmStream {
             let distance = self.rng.random_range(0.0..=reach);
             return Ok((Translation3::from(direction * distance) * here, 0.0, Pose::identity()));
         };
+        if self.ways.is_none() {
+            let turns = self.artifact.pairs[pair].regions[region]
+                .model
+                .component_turns(&self.current_relative(mover, host)?);
+            self.ways = Some(near_components(&turns).map(|near| {
+                let far = (0..turns.len()).filter(|component| !near.contains(component)).collect();
+                [near, far]
+            }));
+        }
         let model = &self.artifact.pairs[pair].regions[region].model;
-        let relative = model.sample(&mut self.rng);
+        let ways = self.ways.as_ref().and_then(Option::as_ref);
+        let relative =
+            match ways.and_then(|ways| way(&self.options, self.draws, self.sampled, ways)) {
+                Some(among) => model.sample_among(among, &mut self.rng),
+                None => model.sample(&mut self.rng),
+            };
         let centre = *self.centre.get_or_insert_with(|| {
             let mixture = model.mixture();
             mixture
@@ -346,6 +412,31 @@ impl GmmStream {
             }
         };
         Ok((target, spread, relative))
+    }
+
+    /// Where the sampled pair's secondary is now in its primary's frame, one of them the moving
+    /// link or the object it holds.
+    fn current_relative(
+        &self,
+        mover: &Mover,
+        host: &dyn HostServices,
+    ) -> Result<Pose, PluginError> {
+        let current = &self.view.current;
+        let link = link_pose(current, &mover.robot, &mover.link, host)?;
+        Ok(match &mover.anchor {
+            Anchor::PrimaryLink { secondary } => {
+                link.inv_mul(&self.view.pose_in(current, secondary, host)?)
+            }
+            Anchor::HeldSecondary { primary, grasp } => {
+                self.view.pose_in(current, primary, host)?.inv_mul(&(link * grasp))
+            }
+            Anchor::SecondaryLink { primary } => {
+                self.view.pose_in(current, primary, host)?.inv_mul(&link)
+            }
+            Anchor::HeldPrimary { secondary, grasp } => {
+                (link * grasp).inv_mul(&self.view.pose_in(current, secondary, host)?)
+            }
+        })
     }
 
     /// The candidate reaching `configurations`, if the action's effects hold in the state it
@@ -404,7 +495,155 @@ impl GmmStream {
 
 #[cfg(test)]
 mod tests {
+    use lamp_plugin_api::{
+        HostError, IDENTITY_POSE, ObjectState, RefineRequest, Refiner, RobotPart, RobotState,
+        WorldState,
+    };
+    use nalgebra::UnitQuaternion;
+
     use super::*;
+    use crate::GmmRefiner;
+    use crate::world_view::to_pose;
+
+    /// A free-flying hand whose configuration is its world pose (x, y, z, qx, qy, qz, qw): IK
+    /// reaches every target and every configuration is valid.
+    struct FreeHand;
+
+    impl HostServices for FreeHand {
+        fn configuration_is_valid(&self, _robot: &str, _q: &[f64]) -> Result<bool, HostError> {
+            Ok(true)
+        }
+
+        fn solve_ik(
+            &self,
+            _robot: &str,
+            _link: &str,
+            target: &[f64; 7],
+            _seed_q: &[f64],
+        ) -> Result<Option<Vec<f64>>, HostError> {
+            Ok(Some(target.to_vec()))
+        }
+
+        fn forward_kinematics(
+            &self,
+            _robot: &str,
+            q: &[f64],
+            _link: &str,
+        ) -> Result<[f64; 7], HostError> {
+            Ok(q.try_into().expect("a pose"))
+        }
+    }
+
+    /// A gripper–block region of two narrow components, the block 10 cm below the gripper, one
+    /// with the gripper turned half a turn about the vertical from the other (the block's
+    /// frame's x axis along the gripper's, or against it), weighted `weights`.
+    fn grasp_artifact(weights: [f64; 2]) -> SamplerArtifact {
+        let sigma: f64 = 0.002;
+        let covariance: Vec<f64> =
+            (0..81).map(|index| if index % 10 == 0 { sigma * sigma } else { 0.0 }).collect();
+        let along = [0.0, 0.0, -0.1, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+        let against = [0.0, 0.0, -0.1, -1.0, 0.0, 0.0, 0.0, -1.0, 0.0];
+        let json = format!(
+            r#"{{"version": {}, "seed": 1, "pairs": [{{"primary": "gripper", "secondary": "block", "regions": [{{"relation": "gripper_block_1", "g": 0, "clear": false, "nowhere": true, "model": {{"g": 0, "mixture": {{"dimension": 9, "weights": {weights:?}, "means": [{along:?}, {against:?}], "covariances": [{covariance:?}, {covariance:?}]}}, "threshold": -100.0, "extent": [[-1.0, 1.0], [-1.0, 1.0], [-1.0, 1.0]]}}}}]}}]}}"#,
+            lamp_abstraction::SAMPLER_ARTIFACT_VERSION,
+        );
+        let artifact: SamplerArtifact = serde_json::from_str(&json).unwrap();
+        artifact.validate().unwrap();
+        artifact
+    }
+
+    /// The yaws (of the block in the gripper's frame) of the candidates a stream yields for
+    /// moving the hand into the region, from 40 cm above the block, turned `yaw` about the
+    /// vertical.
+    fn yielded_yaws(artifact: SamplerArtifact, options: RefinerOptions, yaw: f64) -> Vec<f64> {
+        let turn = UnitQuaternion::from_euler_angles(0.0, 0.0, yaw);
+        let q = turn.quaternion();
+        let start = vec![0.0, 0.0, 0.5, q.i, q.j, q.k, q.w];
+        let world = WorldState {
+            robots: vec![RobotState {
+                name: "hand".into(),
+                configuration: start,
+                held: Vec::new(),
+                parts: vec![RobotPart {
+                    object: "hand_gripper".into(),
+                    object_type: "gripper".into(),
+                    link: "palm".into(),
+                    gripper: true,
+                }],
+            }],
+            objects: vec![ObjectState {
+                name: "b1".into(),
+                object_type: "block".into(),
+                pose: IDENTITY_POSE,
+            }],
+        };
+        let atom = lamp_plugin_api::GroundAtom {
+            predicate: "gripper_block_1".into(),
+            arguments: vec!["hand_gripper".into(), "b1".into()],
+        };
+        let action = GroundedAction {
+            name: "approach".into(),
+            arguments: vec!["hand_gripper".into(), "b1".into()],
+            preconditions: Vec::new(),
+            negative_preconditions: Vec::new(),
+            add_effects: vec![atom],
+            delete_effects: Vec::new(),
+        };
+        let mut refiner = GmmRefiner::new(artifact, options).unwrap();
+        let mut stream =
+            refiner.refine(&RefineRequest { action, world, seed: 7 }, &FreeHand).unwrap();
+        let mut yaws = Vec::new();
+        while let Some(candidate) = stream.next(&FreeHand).unwrap() {
+            let wire: [f64; 7] = candidate.targets[0].configuration.clone().try_into().unwrap();
+            let relative = to_pose(&wire).unwrap().inverse();
+            yaws.push(relative.rotation.euler_angles().2);
+        }
+        yaws
+    }
+
+    /// Whether `yaw` is within 0.1 rad of a half turn.
+    fn half_turned(yaw: f64) -> bool {
+        yaw.abs() > std::f64::consts::PI - 0.1
+    }
+
+    /// Of a region reached in two ways a half turn apart, the first candidate comes from the way
+    /// nearest the hand's current orientation, whichever that is and however the mixture weighs
+    /// the two, then the far way and the near one by turns; after the first quarter of a
+    /// stream's draws, from the whole mixture.
+    #[test]
+    fn a_region_is_drawn_first_from_the_component_nearest_the_moving_frame() {
+        let options = RefinerOptions { samples: 4, draws: 2000, displacement: 0.25 };
+        let by_turns = |yaws: &[f64], near: fn(f64) -> bool| {
+            yaws.len() == 4 && yaws.iter().enumerate().all(|(k, &yaw)| near(yaw) == (k % 2 == 0))
+        };
+        for weights in [[0.5, 0.5], [0.9, 0.1], [0.1, 0.9]] {
+            // The hand turned 0.3 rad: the block lies along it (yaw −0.3 in its frame).
+            let yaws = yielded_yaws(grasp_artifact(weights), options, 0.3);
+            assert!(by_turns(&yaws, |yaw| yaw.abs() < 0.1), "{weights:?}: {yaws:?}");
+            // The hand turned 0.3 rad short of a half turn: the block lies against it.
+            let yaws = yielded_yaws(grasp_artifact(weights), options, std::f64::consts::PI - 0.3);
+            assert!(by_turns(&yaws, half_turned), "{weights:?}: {yaws:?}");
+        }
+        // With four draws, the first alone is from the near component; the other three come from
+        // the whole mixture, here weighted 1 : 9 against the near one.
+        let few = RefinerOptions { samples: 4, draws: 4, displacement: 0.25 };
+        let yaws = yielded_yaws(grasp_artifact([0.1, 0.9]), few, 0.3);
+        assert_eq!(yaws.len(), 4);
+        assert!(yaws[0].abs() < 0.1, "{yaws:?}");
+        assert!(yaws[1..].iter().filter(|&&yaw| half_turned(yaw)).count() >= 2, "{yaws:?}");
+    }
+
+    /// The components drawn first: those before the first step of more than a quarter turn, in
+    /// order of their turn from the moving frame; none singled out without such a step.
+    #[test]
+    fn near_components_are_those_turned_least_from_the_moving_frame() {
+        assert_eq!(near_components(&[3.0, 0.2]), Some(vec![1]));
+        assert_eq!(near_components(&[2.9, 0.1, 0.5]), Some(vec![1, 2]));
+        assert_eq!(near_components(&[0.1, 1.6]), None);
+        // Five components around the vertical (an object put down at any yaw): one way in.
+        assert_eq!(near_components(&[0.45, 2.93, 0.7, 1.64, 1.99]), None);
+        assert_eq!(near_components(&[1.0]), None);
+    }
 
     /// A pose leaning more than a release accepts is turned upright about its origin, keeping its
     /// position and its turn about the vertical; one leaning less is kept as it is.
