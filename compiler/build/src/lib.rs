@@ -62,7 +62,8 @@ pub use problems::{ProblemOutcome, problem_pddl};
 pub use provenance::Provenance;
 pub use region_plots::{REGIONS_DIR, SAMPLES_PER_REGION, region_plots};
 pub use ros2::{
-    FrameObject, FrameRobot, MAX_TREE_DEPTH, MappedRobot, Ros2Error, Ros2Mapping, ros2_trajectory,
+    BagTally, FrameObject, FrameRobot, MAX_TREE_DEPTH, MappedRobot, Ros2Bag, Ros2Error,
+    Ros2Mapping, ros2_bag, ros2_trajectory,
 };
 pub use samplers::{SAMPLERS_FORMAT, SAMPLERS_VERSION, SamplersFile};
 pub use scene_issue::IssuePlace;

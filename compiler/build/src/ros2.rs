@@ -14,7 +14,7 @@
 //! at the step the joint closes, it takes the movable object whose origin is nearest the gripper
 //! link within the robot's grab distance (none if there is none), and keeps it until it opens.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use lamp_robot::{LinkId, Robot};
 pub use lamp_spec::{FrameObject, FrameRobot, GraspJoint, Ros2Mapping};
@@ -190,6 +190,31 @@ pub enum Ros2Error {
     )]
     UnknownHeld { file: String, frame: String, time_nanoseconds: u64 },
 
+    /// The held topic names a mapped frame that the bag never records.
+    #[error(
+        "{file}, at {time_nanoseconds} ns: the gripper holds frame `{frame}`, which has no transform on `/tf` or `/tf_static` in this bag"
+    )]
+    #[diagnostic(
+        code(lamp::ros2::held_absent),
+        help(
+            "An object the robot holds must have its pose on `/tf` from the first step: record its frame, or check the held topic."
+        )
+    )]
+    HeldAbsent { file: String, frame: String, time_nanoseconds: u64 },
+
+    /// A mapped object's frame is in none of the bags of its source: most likely a misspelt
+    /// frame, since an object absent from every demonstration is learned nothing about.
+    #[error(
+        "frame `{frame}` of object `{object}` has no transform on `/tf` or `/tf_static` in any of the {bags} bag(s) of `{pattern}`"
+    )]
+    #[diagnostic(
+        code(lamp::ros2::frame_in_no_bag),
+        help(
+            "An object whose frame a bag lacks is absent from that demonstration, but a frame no bag records is most likely misspelt: check `{frame}` against the frames the bags publish, or remove the object from the mapping."
+        )
+    )]
+    FrameInNoBag { pattern: String, object: String, frame: String, bags: usize },
+
     /// The mapping's held topic is not in the bag.
     #[error("{file} has no topic `{topic}`, the mapping's held topic; its topics are: {topics}")]
     #[diagnostic(
@@ -247,7 +272,18 @@ fn recordable_range(coordinate: &lamp_robot::Coordinate) -> (f64, f64) {
     }
 }
 
-/// Reads the bag `bytes` (named `file` in errors) as a demonstration of `domain` with `mapping`.
+/// A bag read as a demonstration: the trajectory, whose bodies are the mapped objects present in
+/// the bag, and which mapped objects it lacks.
+#[derive(Debug, Clone)]
+pub struct Ros2Bag {
+    pub trajectory: Trajectory,
+    /// The indices in the mapping's `objects` of the objects whose frame has no transform on
+    /// `/tf` or `/tf_static` anywhere in the bag, ascending: the demonstration has no body for them.
+    pub absent: Vec<usize>,
+}
+
+/// Reads the bag `bytes` (named `file` in errors) as a demonstration of `domain` with `mapping`;
+/// the trajectory of [`ros2_bag`].
 pub fn ros2_trajectory(
     bytes: &[u8],
     file: &str,
@@ -255,9 +291,69 @@ pub fn ros2_trajectory(
     mapping: &Ros2Mapping,
     robot: Option<&MappedRobot<'_>>,
 ) -> Result<Trajectory, Ros2Error> {
+    ros2_bag(bytes, file, domain, mapping, robot).map(|bag| bag.trajectory)
+}
+
+/// Reads the bag `bytes` (named `file` in errors) as a demonstration of `domain` with `mapping`.
+/// A mapped object whose frame has no transform anywhere in the bag is absent: the
+/// demonstration has no body for it, and [`Ros2Bag::absent`] names it. The robot's frame, its
+/// joints and its held topic are required.
+pub fn ros2_bag(
+    bytes: &[u8],
+    file: &str,
+    domain: &str,
+    mapping: &Ros2Mapping,
+    robot: Option<&MappedRobot<'_>>,
+) -> Result<Ros2Bag, Ros2Error> {
     let held_topic = mapping.robot.as_ref().and_then(|robot| robot.held_topic.as_deref());
     let recording = read_standard_channels(bytes, file, held_topic.as_slice())?;
     let held_messages = held_messages(&recording, file, held_topic)?;
+    let recorded: BTreeSet<&str> = recording
+        .tf_static
+        .iter()
+        .chain(&recording.tf)
+        .flat_map(|message| &message.transforms)
+        .map(|transform| transform.frame.as_str())
+        .collect();
+    let absent: Vec<usize> = (mapping.objects.iter().enumerate())
+        .filter(|(_, object)| !recorded.contains(object.frame.as_str()))
+        .map(|(index, _)| index)
+        .collect();
+    if let Some((time, frame)) = held_messages
+        .iter()
+        .find(|(_, frame)| absent.iter().any(|&index| mapping.objects[index].frame == *frame))
+    {
+        return Err(Ros2Error::HeldAbsent {
+            file: file.to_string(),
+            frame: frame.clone(),
+            time_nanoseconds: *time,
+        });
+    }
+    let present_mapping;
+    let present_robot;
+    let (mapping, robot) = if absent.is_empty() {
+        (mapping, robot)
+    } else {
+        let present = |index: &usize| absent.binary_search(index).is_err();
+        present_mapping = Ros2Mapping {
+            objects: (mapping.objects.iter().enumerate())
+                .filter(|(index, _)| present(index))
+                .map(|(_, object)| object.clone())
+                .collect(),
+            robot: mapping.robot.clone(),
+        };
+        present_robot = robot.map(|robot| {
+            let mut robot = robot.clone();
+            if let Some(grasp) = &mut robot.grasp {
+                grasp.holdable = (grasp.holdable.iter().enumerate())
+                    .filter(|(index, _)| present(index))
+                    .map(|(_, holdable)| *holdable)
+                    .collect();
+            }
+            robot
+        });
+        (&present_mapping, present_robot.as_ref())
+    };
     let (header, joints) = header_and_joints(domain, mapping, robot);
     let mut reader = BagReader::new(file, mapping, robot, &recording, held_messages, joints);
     let mut steps: Vec<Step> = Vec::new();
@@ -274,7 +370,59 @@ pub fn ros2_trajectory(
     for step in &mut steps {
         step.time_nanoseconds -= start;
     }
-    Ok(Trajectory { header, steps })
+    Ok(Ros2Bag { trajectory: Trajectory { header, steps }, absent })
+}
+
+/// What the bags of one `files … as ros2 { … }` source lacked: how many were read, and how many
+/// of them had no transform for each mapped object's frame.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BagTally {
+    /// The bags read.
+    pub bags: usize,
+    /// Per mapped object, in the mapping's order: how many bags lacked it.
+    pub absent: Vec<usize>,
+}
+
+impl BagTally {
+    /// No bag read yet of a source with `mapping`.
+    pub fn new(mapping: &Ros2Mapping) -> Self {
+        BagTally { bags: 0, absent: vec![0; mapping.objects.len()] }
+    }
+
+    /// Counts one bag read with the mapping, which lacked the objects `absent`
+    /// ([`Ros2Bag::absent`]).
+    pub fn add(&mut self, absent: &[usize]) {
+        self.bags += 1;
+        for &index in absent {
+            if let Some(count) = self.absent.get_mut(index) {
+                *count += 1;
+            }
+        }
+    }
+
+    /// Refuses a mapped object that every bag read lacks (the first in the mapping's order),
+    /// once at least one bag was read; `pattern` is the source's, for the message.
+    pub fn check(&self, pattern: &str, mapping: &Ros2Mapping) -> Result<(), Ros2Error> {
+        let in_no_bag = (mapping.objects.iter().zip(&self.absent))
+            .find(|(_, absent)| self.bags > 0 && **absent == self.bags);
+        match in_no_bag {
+            Some((object, _)) => Err(Ros2Error::FrameInNoBag {
+                pattern: pattern.to_string(),
+                object: object.name.clone(),
+                frame: object.frame.clone(),
+                bags: self.bags,
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// The mapped objects some bags lacked, with how many, in the mapping's order.
+    pub fn absences<'m>(&self, mapping: &'m Ros2Mapping) -> Vec<(&'m FrameObject, usize)> {
+        (mapping.objects.iter().zip(&self.absent))
+            .filter(|(_, absent)| **absent > 0)
+            .map(|(object, absent)| (object, *absent))
+            .collect()
+    }
 }
 
 /// The messages of the held topic, after checking that the bag has `/tf` and that topic.

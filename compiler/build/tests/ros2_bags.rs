@@ -9,7 +9,9 @@
 
 mod support;
 
-use lamp_build::{DemoFile, FrameObject, FrameRobot, MappedRobot, Ros2Error, Ros2Mapping};
+use lamp_build::{
+    BagTally, DemoFile, FrameObject, FrameRobot, MappedRobot, Ros2Error, Ros2Mapping,
+};
 use lamp_demonstrators::{Simulation, file_name, generate_all};
 use lamp_trajectory::{Trajectory, WORLD_TOPIC, filter_bag};
 use nalgebra::Translation3;
@@ -109,13 +111,163 @@ fn read(bag: &[u8], mapping: &Ros2Mapping) -> Result<Trajectory, Ros2Error> {
     lamp_build::ros2_trajectory(bag, "bag.mcap", "packing", mapping, Some(&robot))
 }
 
+/// A mapped object whose frame one bag lacks is absent from that demonstration; when no bag of
+/// the source records it, the tally of the source's bags refuses it, naming the frame.
 #[test]
-fn a_mapped_frame_the_bag_lacks_is_named() {
+fn a_mapped_frame_no_bag_records_is_named() {
     let (trajectory, bag) = one_bag(|_| {});
     let mut mapping = mapping(&trajectory);
-    mapping.objects[0].frame = "can_7".into();
+    let can = mapping.objects.iter().position(|object| object.name == "can1").unwrap();
+    mapping.objects[can].frame = "can_7".into();
+    let (_, world) = support::packing();
+    let robot = packing_robot(&world);
+    let read = lamp_build::ros2_bag(&bag, "bag.mcap", "packing", &mapping, Some(&robot)).unwrap();
+    assert_eq!(read.absent, vec![can]);
+    let bodies: Vec<&str> =
+        read.trajectory.header.bodies.iter().map(|body| body.name.as_str()).collect();
+    assert!(!bodies.contains(&"can1"), "{bodies:?}");
+    let mut tally = BagTally::new(&mapping);
+    tally.add(&read.absent);
+    tally.add(&read.absent);
+    let error = tally.check("bags/*.mcap", &mapping).unwrap_err();
+    assert!(
+        matches!(&error, Ros2Error::FrameInNoBag { frame, object, bags: 2, .. }
+            if frame == "can_7" && object == "can1"),
+        "{error}"
+    );
+    let code = miette::Diagnostic::code(&error).map(|code| code.to_string());
+    assert_eq!(code.as_deref(), Some("lamp::ros2::frame_in_no_bag"));
+    assert_eq!(
+        error.to_string(),
+        "frame `can_7` of object `can1` has no transform on `/tf` or `/tf_static` in any of the 2 bag(s) of `bags/*.mcap`"
+    );
+    let help = miette::Diagnostic::help(&error).map(|help| help.to_string()).unwrap_or_default();
+    assert!(help.contains("most likely misspelt: check `can_7`"), "{help}");
+    // One bag that records it is enough.
+    tally.add(&[]);
+    tally.check("bags/*.mcap", &mapping).unwrap();
+    let absences = tally.absences(&mapping);
+    assert_eq!(absences.len(), 1);
+    assert_eq!((absences[0].0.name.as_str(), absences[0].1), ("can1", 2));
+}
+
+/// The robot's frame is not an object: a bag without it is refused as before.
+#[test]
+fn a_bag_without_the_robots_frame_is_refused() {
+    let (trajectory, bag) = one_bag(|_| {});
+    let mut mapping = mapping(&trajectory);
+    mapping.robot.as_mut().unwrap().base_frame = "gripper_base".into();
     let error = read(&bag, &mapping).unwrap_err();
-    assert!(matches!(&error, Ros2Error::MissingFrame { frame, .. } if frame == "can_7"), "{error}");
+    assert!(
+        matches!(&error, Ros2Error::MissingFrame { frame, .. } if frame == "gripper_base"),
+        "{error}"
+    );
+}
+
+/// A held topic that names a mapped frame the bag never records is refused: the held object
+/// cannot be absent.
+#[test]
+fn a_held_object_the_bag_lacks_is_refused() {
+    let (spec, world) = support::packing();
+    let mut simulation = Simulation::from_spec(&spec).unwrap();
+    simulation.count = 4;
+    let trajectory = (generate_all(&world, &simulation, |_| {}).unwrap().into_iter())
+        .map(|demonstration| demonstration.trajectory)
+        .find(|trajectory| trajectory.steps.iter().any(|step| step.robots[0].held[0].is_some()))
+        .unwrap();
+    let (channels, mut values) = lamp_world::standard_channels(&world, &trajectory).unwrap();
+    // The held topic names `can2`, a mapped frame that `/tf` never carries.
+    let mut held_can2 = false;
+    for value in &mut values {
+        for held in value.held.iter_mut().filter(|held| *held == "can1") {
+            *held = "can2".into();
+            held_can2 = true;
+        }
+    }
+    assert!(held_can2, "the demonstration grabs the can");
+    let bag = strip(&trajectory.to_bytes_with(&channels, &values).unwrap());
+    let mut two_cans = trajectory.clone();
+    with_idle_can(&mut two_cans);
+    let error = read(&bag, &mapping(&two_cans)).unwrap_err();
+    assert!(matches!(&error, Ros2Error::HeldAbsent { frame, .. } if frame == "can2"), "{error}");
+    let code = miette::Diagnostic::code(&error).map(|code| code.to_string());
+    assert_eq!(code.as_deref(), Some("lamp::ros2::held_absent"));
+}
+
+fn packing_robot(world: &lamp_world::SpecWorld) -> MappedRobot<'_> {
+    MappedRobot { model: &world.robots["gripper"], gripper: Some("gripper".into()), grasp: None }
+}
+
+/// A second can, still on the table corner, in every other demonstration.
+fn with_idle_can(trajectory: &mut Trajectory) {
+    let pose = nalgebra::Isometry3::translation(0.42, 0.42, 0.001);
+    trajectory
+        .header
+        .bodies
+        .push(lamp_trajectory::BodyDescription { name: "can2".into(), type_name: "can".into() });
+    for step in &mut trajectory.steps {
+        step.body_poses.push(pose);
+    }
+}
+
+/// Scenes with different numbers of objects under one mapping: a second can is in half of the
+/// bags. Each bag reads as the native file of its own scene (no body for the can it lacks), the
+/// tally counts the bags that lacked it, and the model learned from the bags is the one learned
+/// from the native files.
+#[test]
+fn an_object_some_bags_lack_is_absent_from_their_demonstrations() {
+    let (spec, world) = support::packing();
+    let mut simulation = Simulation::from_spec(&spec).unwrap();
+    simulation.count = DEMOS;
+    let demonstrations = generate_all(&world, &simulation, |_| {}).unwrap();
+    let robot = packing_robot(&world);
+    let mut native = Vec::new();
+    let mut from_bags = Vec::new();
+    let mut all_have_it = Vec::new();
+    let mut two_cans = demonstrations[0].trajectory.clone();
+    with_idle_can(&mut two_cans);
+    let mapping = mapping(&two_cans);
+    let mut tally = BagTally::new(&mapping);
+    for demonstration in &demonstrations {
+        let name = file_name("packing", demonstration.index);
+        let mut trajectory = demonstration.trajectory.clone();
+        let mut with_can = trajectory.clone();
+        with_idle_can(&mut with_can);
+        all_have_it.push(DemoFile { name: name.clone(), bytes: with_can.to_bytes().unwrap() });
+        let lacks_it = demonstration.index % 2 == 1;
+        if !lacks_it {
+            trajectory = with_can;
+        }
+        let (channels, values) = lamp_world::standard_channels(&world, &trajectory).unwrap();
+        let bag = strip(&trajectory.to_bytes_with(&channels, &values).unwrap());
+        let read = lamp_build::ros2_bag(&bag, &name, "packing", &mapping, Some(&robot)).unwrap();
+        let can2 = mapping.objects.iter().position(|object| object.name == "can2").unwrap();
+        assert_eq!(read.absent, if lacks_it { vec![can2] } else { vec![] });
+        assert_eq!(read.trajectory.header.bodies, trajectory.header.bodies);
+        assert_eq!(read.trajectory.steps.len(), trajectory.steps.len());
+        for (read, original) in read.trajectory.steps.iter().zip(&trajectory.steps) {
+            assert_eq!(read.body_poses, original.body_poses);
+            assert_eq!(read.robots[0].held, original.robots[0].held);
+        }
+        tally.add(&read.absent);
+        native.push(DemoFile { name: name.clone(), bytes: trajectory.to_bytes().unwrap() });
+        from_bags.push(DemoFile { name, bytes: read.trajectory.to_bytes().unwrap() });
+    }
+    tally.check("bags/*.mcap", &mapping).unwrap();
+    let absences = tally.absences(&mapping);
+    assert_eq!(absences.len(), 1);
+    assert_eq!((absences[0].0.name.as_str(), absences[0].1), ("can2", DEMOS as usize / 2));
+    let build = |files: &[DemoFile]| {
+        let (_, artifacts) = lamp_build::build(&spec, "packing.lamp", &world, files).unwrap();
+        let domain = domain_text(&artifacts);
+        domain.lines().filter(|line| !line.starts_with(';')).collect::<Vec<_>>().join("\n")
+    };
+    let bag_domain = build(&from_bags);
+    assert!(bag_domain.contains("(:action"), "{bag_domain}");
+    assert_eq!(bag_domain, build(&native));
+    // A can that only stands still teaches nothing: the domain is the one learned when every
+    // scene has it.
+    assert_eq!(bag_domain, build(&all_have_it));
 }
 
 #[test]

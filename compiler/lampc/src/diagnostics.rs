@@ -137,6 +137,25 @@ pub(crate) fn render_grab_warning(
     render_located(warning, &spans, sources, colour)
 }
 
+/// Renders a ROS 2 bag error at the mapping's `object` line it is about, where it is known (a
+/// frame no bag of the source records); other bag errors as they are.
+pub(crate) fn render_frame_in_no_bag(
+    error: &lamp_build::Ros2Error,
+    places: &lamp_lang::GoalPlaces,
+    sources: &lamp_lang::SourceMap,
+    colour: bool,
+) -> String {
+    let spans: Vec<_> = match error {
+        lamp_build::Ros2Error::FrameInNoBag { pattern, object, .. } => places
+            .mapped_object(pattern, object)
+            .map(|span| ("no bag records this frame", span))
+            .into_iter()
+            .collect(),
+        _ => Vec::new(),
+    };
+    render_located(error, &spans, sources, colour)
+}
+
 /// Renders a structure finding at the object's line in the structure and at the problem's
 /// structure goal, where they are known.
 pub(crate) fn render_structure_issue(

@@ -2,7 +2,8 @@
 //! (`files "…" as ros2 { … }`): the files `lampc demos` writes, read only through their standard
 //! channels, learn the domain the same files learn read natively, also from `--demos DIR` when
 //! the bags hold only standard messages, and `lampc eval` reads them too; a mapping that names a
-//! frame the bags lack is a diagnostic naming the frame.
+//! frame no bag records is a diagnostic naming the frame at its line in the spec, and an object
+//! that only some bags record is absent from the others' demonstrations.
 
 mod common;
 
@@ -128,8 +129,10 @@ fn bags_read_through_their_standard_channels_learn_the_native_domain() {
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     assert!(scratch.path().join("eval/eval.json").is_file());
 
-    // The mapping is what reads them: a frame the bags lack is named.
-    let wrong = spec_with(scratch.path(), "wrong.lamp", &mapping("can_7"));
+    // The mapping is what reads them: a frame no bag records is named, at its line in the spec.
+    let wrong_mapping =
+        mapping("can1").replace("object table table1", "object table table1 frame \"table_7\"");
+    let wrong = spec_with(scratch.path(), "wrong.lamp", &wrong_mapping);
     let output = lampc([
         "build".as_ref(),
         wrong.as_os_str(),
@@ -138,6 +141,75 @@ fn bags_read_through_their_standard_channels_learn_the_native_domain() {
     ]);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(!output.status.success());
-    assert!(stderr.contains("lamp::ros2::missing_frame"), "{stderr}");
-    assert!(stderr.contains("frame `can_7` never appears on `/tf` or `/tf_static`"), "{stderr}");
+    assert!(stderr.contains("lamp::ros2::frame_in_no_bag"), "{stderr}");
+    assert!(
+        stderr.contains("frame `table_7` of object `table1` has no transform on `/tf` or `/tf_static` in any of the 20 bag(s) of `demos/*.mcap`"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("object table table1 frame \"table_7\""), "{stderr}");
+    assert!(stderr.contains("no bag records this frame"), "{stderr}");
+}
+
+/// Scenes with different numbers of objects under one mapping: a second can stands in half of
+/// the bags; the build learns from all of them and says how many lacked it.
+#[test]
+fn an_object_some_bags_lack_is_absent_and_counted() {
+    let scratch = tempfile::tempdir().expect("a scratch folder");
+    let demos = scratch.path().join("native");
+    let output = lampc([
+        "demos".as_ref(),
+        packing_spec().as_os_str(),
+        "--count".as_ref(),
+        "20".as_ref(),
+        "--out".as_ref(),
+        demos.as_os_str(),
+    ]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let (_, world) = lamp_test_support::domain("packing");
+    let bags = scratch.path().join("demos");
+    std::fs::create_dir_all(&bags).expect("a folder");
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(&demos)
+        .expect("the demonstrations")
+        .map(|entry| entry.expect("an entry").path())
+        .collect();
+    paths.sort();
+    for (index, path) in paths.iter().enumerate() {
+        let bytes = std::fs::read(path).expect("readable");
+        let mut trajectory =
+            lamp_trajectory::Trajectory::from_bytes(&bytes, "demo").expect("a demo");
+        if index % 2 == 0 {
+            let can =
+                lamp_trajectory::BodyDescription { name: "can2".into(), type_name: "can".into() };
+            trajectory.header.bodies.push(can);
+            for step in &mut trajectory.steps {
+                step.body_poses.push(nalgebra::Isometry3::translation(0.42, 0.42, 0.001));
+            }
+        }
+        let (channels, values) =
+            lamp_world::standard_channels(&world, &trajectory).expect("channels");
+        let file = trajectory.to_bytes_with(&channels, &values).expect("a file");
+        let keep = |topic: &str, time| (topic != lamp_trajectory::WORLD_TOPIC).then_some(time);
+        let bag = lamp_trajectory::filter_bag(&file, "bag", keep).expect("a bag");
+        std::fs::write(bags.join(path.file_name().expect("a name")), bag).expect("writes");
+    }
+    let two_cans = mapping("can1").replace(
+        "    object can can1 frame \"can1\"\n",
+        "    object can can1 frame \"can1\"\n    object can can2\n",
+    );
+    assert!(two_cans.contains("can2"));
+    let spec = spec_with(scratch.path(), "two_cans.lamp", &two_cans);
+    let output = lampc([
+        "build".as_ref(),
+        spec.as_os_str(),
+        "--out".as_ref(),
+        scratch.path().join("build").as_os_str(),
+    ]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(
+        stdout.contains("  absent          can2 (frame `can2`) in 10 of 20 bags of `demos/*.mcap`"),
+        "{stdout}"
+    );
+    let domain = domain_without_comments(&scratch.path().join("build"));
+    assert!(domain.contains("(:action"), "{domain}");
 }

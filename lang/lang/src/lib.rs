@@ -44,6 +44,9 @@ pub struct GoalPlaces {
     /// Each object's and robot's line in a problem's scene by (problem, name): the type or robot
     /// name to the end of the pose.
     scene_placements: std::collections::BTreeMap<(String, String), Span>,
+    /// Each `object` line of a `files … as ros2 { … }` mapping by (the source's pattern as the
+    /// spec stores it, object): its type to its frame.
+    mapped_objects: std::collections::BTreeMap<(String, String), Span>,
 }
 
 impl GoalPlaces {
@@ -70,6 +73,16 @@ impl GoalPlaces {
     /// Where problem `problem`'s scene places the object or robot `name`.
     pub fn scene_placement(&self, problem: &str, name: &str) -> Option<Span> {
         self.scene_placements.get(&(problem.to_string(), name.to_string())).copied()
+    }
+
+    /// Where the ros2 mapping of the source with pattern `pattern` (as `lamp_spec::DemoSource`
+    /// stores it) maps `object`.
+    pub fn mapped_object(&self, pattern: &str, object: &str) -> Option<Span> {
+        self.mapped_objects.get(&(pattern.to_string(), object.to_string())).copied()
+    }
+
+    pub(crate) fn add_mapped_object(&mut self, pattern: &str, object: &str, span: Span) {
+        self.mapped_objects.insert((pattern.to_string(), object.to_string()), span);
     }
 
     pub(crate) fn add_scene_placement(&mut self, problem: &str, name: &str, span: Span) {

@@ -95,7 +95,7 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
         return Err(Failure::Spec);
     }
     let paths = find_demonstrations(&spec, &spec_dir, &build_dir, args.demos.as_deref())?;
-    let bags = BagMappings::new(&spec, &spec_dir, args.demos.is_some());
+    let mut bags = BagMappings::new(&spec, &spec_dir, args.demos.is_some());
     let folder = OutputFolder::new(&build_dir.join(lamp_build::MODEL_DIR))?;
     *model = Some(folder.path().to_path_buf());
     let lock = folder.lock("build")?;
@@ -124,6 +124,13 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
         progress.finish_and_clear();
         Ok::<_, BuildError>((files, demonstrations))
     })?;
+    if let Err(error) = bags.check() {
+        let rendered =
+            crate::diagnostics::render_frame_in_no_bag(&error, &places, &sources, colour);
+        eprint!("{rendered}");
+        eprintln!("lampc build: failed; no model was written");
+        return Err(Failure::Spec);
+    }
 
     let model = timings.time("learn", || {
         let spinner = spinner("learning regions, relations and actions");
@@ -158,7 +165,7 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
         emitted => emitted?,
     };
     let replaced = timings.time("write", || write_all(&folder, &lock, &artifacts.files))?;
-    print_summary(&spec_file, folder.path(), &artifacts, &timings);
+    print_summary(&spec_file, folder.path(), &artifacts, &bags.absences(), &timings);
     for warning in &artifacts.summary.grab_warnings {
         eprint!("{}", crate::diagnostics::render_grab_warning(warning, &places, &sources, colour));
     }
@@ -207,20 +214,23 @@ pub(crate) fn find_demonstrations(
 /// Which demonstration files are ROS 2 bags read through a frame mapping: those a
 /// `files … as ros2 { … }` source matches (the first such source's mapping), and, with
 /// `--demos DIR`, every file of DIR that holds no `lamp` record when the spec has exactly one
-/// such source.
+/// such source; and, per source, what the bags read so far lacked.
 pub(crate) struct BagMappings<'a> {
-    by_path: BTreeMap<PathBuf, &'a lamp_spec::Ros2Mapping>,
-    fallback: Option<&'a lamp_spec::Ros2Mapping>,
+    /// Each `files … as ros2` source: its pattern, its mapping, and what its bags lacked.
+    sources: Vec<(&'a str, &'a lamp_spec::Ros2Mapping, lamp_build::BagTally)>,
+    /// Per bag a source matches, the index of that source.
+    by_path: BTreeMap<PathBuf, usize>,
+    fallback: Option<usize>,
 }
 
 impl<'a> BagMappings<'a> {
     pub(crate) fn new(spec: &'a lamp_spec::Spec, spec_dir: &Path, demos_override: bool) -> Self {
-        let mappings: Vec<(&String, &lamp_spec::Ros2Mapping)> = spec
+        let sources: Vec<_> = spec
             .demonstrations
             .iter()
             .filter_map(|source| match source {
                 lamp_spec::DemoSource::Files { pattern, ros2: Some(mapping) } => {
-                    Some((pattern, mapping))
+                    Some((pattern.as_str(), mapping, lamp_build::BagTally::new(mapping)))
                 }
                 _ => None,
             })
@@ -228,37 +238,56 @@ impl<'a> BagMappings<'a> {
         let mut by_path = BTreeMap::new();
         let mut fallback = None;
         if demos_override {
-            fallback = match mappings[..] {
-                [(_, mapping)] => Some(mapping),
-                _ => None,
-            };
+            fallback = (sources.len() == 1).then_some(0);
         } else {
-            for (pattern, mapping) in mappings {
+            for (index, (pattern, _, _)) in sources.iter().enumerate() {
                 for path in crate::files::glob_files(&spec_dir.join(pattern)).0 {
-                    by_path.entry(path).or_insert(mapping);
+                    by_path.entry(path).or_insert(index);
                 }
             }
         }
-        BagMappings { by_path, fallback }
+        BagMappings { sources, by_path, fallback }
     }
 
     /// The file as the adapter reads it: a bag converted to a lamp file, others unchanged.
     pub(crate) fn read(
-        &self,
+        &mut self,
         world: &lamp_world::SpecWorld,
         path: &Path,
         file: DemoFile,
     ) -> Result<DemoFile, BuildError> {
-        let mapping = self.by_path.get(path).copied().or_else(|| {
+        let source = self.by_path.get(path).copied().or_else(|| {
             let reader = lamp_trajectory::TrajectoryReader::from_bytes(&file.bytes, "");
             let no_lamp_record =
                 matches!(reader, Err(lamp_trajectory::TrajectoryError::Schema { .. }));
             self.fallback.filter(|_| no_lamp_record)
         });
-        match mapping {
-            Some(mapping) => lamp_build::ros2_demo_file(world, mapping, &file),
-            None => Ok(file),
+        let Some((_, mapping, tally)) = source.and_then(|index| self.sources.get_mut(index)) else {
+            return Ok(file);
+        };
+        let (file, absent) = lamp_build::ros2_demo_file(world, mapping, &file)?;
+        tally.add(&absent);
+        Ok(file)
+    }
+
+    /// Refuses a mapped object that no bag of its source records, once every bag is read.
+    pub(crate) fn check(&self) -> Result<(), lamp_build::Ros2Error> {
+        self.sources.iter().try_for_each(|(pattern, mapping, tally)| tally.check(pattern, mapping))
+    }
+
+    /// One line per mapped object some bags lacked: `OBJECT (frame `FRAME`) in N of M bags of
+    /// `PATTERN``.
+    pub(crate) fn absences(&self) -> Vec<String> {
+        let mut lines = Vec::new();
+        for (pattern, mapping, tally) in &self.sources {
+            for (object, absent) in tally.absences(mapping) {
+                lines.push(format!(
+                    "{} (frame `{}`) in {absent} of {} bags of `{pattern}`",
+                    object.name, object.frame, tally.bags
+                ));
+            }
         }
+        lines
     }
 }
 
@@ -296,13 +325,22 @@ fn write_all(
     folder.replace(lock, &files)
 }
 
-fn print_summary(spec_file: &str, model: &Path, artifacts: &Artifacts, timings: &Timings) {
+fn print_summary(
+    spec_file: &str,
+    model: &Path,
+    artifacts: &Artifacts,
+    absences: &[String],
+    timings: &Timings,
+) {
     let summary = &artifacts.summary;
     println!("{spec_file}: built into {}", model.display());
     println!(
         "  demonstrations  {} files, {} steps ({})",
         summary.demonstrations, summary.steps, summary.digest
     );
+    for absence in absences {
+        println!("  absent          {absence}");
+    }
     println!(
         "  learned         {} regions, {} relations, {} actions",
         summary.regions, summary.relations, summary.actions

@@ -161,6 +161,12 @@ impl Checker<'_> {
                         let mapping = self.ros2_mapping(pattern, objects, robots, declared);
                         if let (Some(pattern), Some(mapping)) = (self.demo_files(pattern), mapping)
                         {
+                            for object in objects {
+                                let end =
+                                    object.frame.as_ref().map_or(object.name.span, |f| f.span);
+                                let span = Span { end: end.end, ..object.type_name.span };
+                                self.places.add_mapped_object(&pattern, &object.name.text, span);
+                            }
                             let ros2 = Some(mapping);
                             sources.push(lamp_spec::DemoSource::Files { pattern, ros2 });
                         }
