@@ -2,8 +2,13 @@
 //! `std_msgs/msg/String` topic naming the held frame become the same [`Trajectory`] a native
 //! lamp file holds, given a mapping from tf frames to the spec's objects and robot.
 //!
+//! A mapped object whose frame has no transform anywhere in the bag is absent: the demonstration
+//! has no body for it ([`Ros2Bag::absent`]); [`BagTally`] refuses a frame that no bag of a source
+//! records. The robot's frame, its joints and its held topic are required.
+//!
 //! The resampling rule, which `docs/demonstrations.md` repeats: one step per `/tf` message, at
-//! its log time, from the first `/tf` message at which every mapped frame is known; at a step,
+//! its log time, from the first `/tf` message at which every mapped frame the bag records is
+//! known; at a step,
 //! every frame's transform is the latest one received up to and including that message
 //! (`/tf_static` ones count from the start), the joint values are the latest `/joint_states`
 //! message logged at or before the step's time, and the held frame the latest message of the held

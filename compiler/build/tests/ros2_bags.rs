@@ -2,8 +2,9 @@
 //! stripped of `/lamp/world` and the `lamp` metadata so that only `/tf`, `/tf_static`,
 //! `/robot_description`, the scene and `/lamp/held` remain, read back through the frame mapping,
 //! learn the byte-identical domain; a Café bag whose grasps are only a closing gripper joint reads
-//! with the same grasps; and the reader's diagnostics for a missing frame, a jump and time going
-//! backwards.
+//! with the same grasps; bags of scenes with and without a second can read through one mapping,
+//! the can absent from the demonstrations of the bags that lack it; and the reader's diagnostics
+//! for a frame no bag records, a held object the bag lacks, a jump and time going backwards.
 
 #![allow(clippy::unwrap_used)] // a failed step is a failed test
 
