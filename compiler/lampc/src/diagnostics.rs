@@ -137,22 +137,15 @@ pub(crate) fn render_grab_warning(
     render_located(warning, &spans, sources, colour)
 }
 
-/// Renders a ROS 2 bag error at the mapping's `object` line it is about, where it is known (a
-/// frame no bag of the source records); other bag errors as they are.
+/// Renders a frame that no bag of a source records at the mapping's `object` line, `place`,
+/// where it is known.
 pub(crate) fn render_frame_in_no_bag(
     error: &lamp_build::Ros2Error,
-    places: &lamp_lang::GoalPlaces,
+    place: Option<lamp_lang::Span>,
     sources: &lamp_lang::SourceMap,
     colour: bool,
 ) -> String {
-    let spans: Vec<_> = match error {
-        lamp_build::Ros2Error::FrameInNoBag { pattern, object, .. } => places
-            .mapped_object(pattern, object)
-            .map(|span| ("no bag records this frame", span))
-            .into_iter()
-            .collect(),
-        _ => Vec::new(),
-    };
+    let spans: Vec<_> = place.map(|span| ("no bag records this frame", span)).into_iter().collect();
     render_located(error, &spans, sources, colour)
 }
 

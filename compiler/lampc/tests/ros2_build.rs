@@ -97,6 +97,24 @@ fn bags_read_through_their_standard_channels_learn_the_native_domain() {
     ]);
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     assert_eq!(domain_without_comments(&scratch.path().join("plain_build")), domain);
+    // A frame none of them records is named with the folder they were read from, at the
+    // mapping's line.
+    let wrong_mapping =
+        mapping("can1").replace("object table table1", "object table table1 frame \"table_7\"");
+    let wrong = spec_with(scratch.path(), "wrong.lamp", &wrong_mapping);
+    let output = lampc([
+        "build".as_ref(),
+        wrong.as_os_str(),
+        "--demos".as_ref(),
+        plain.as_os_str(),
+        "--out".as_ref(),
+        scratch.path().join("wrong").as_os_str(),
+    ]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(stderr.contains("lamp::ros2::frame_in_no_bag"), "{stderr}");
+    assert!(stderr.contains("plain/*.mcap`"), "{stderr}");
+    assert!(stderr.contains("no bag records this frame"), "{stderr}");
     // Without a mapping, such a bag is no demonstration file.
     let output = lampc([
         "build".as_ref(),
@@ -130,9 +148,6 @@ fn bags_read_through_their_standard_channels_learn_the_native_domain() {
     assert!(scratch.path().join("eval/eval.json").is_file());
 
     // The mapping is what reads them: a frame no bag records is named, at its line in the spec.
-    let wrong_mapping =
-        mapping("can1").replace("object table table1", "object table table1 frame \"table_7\"");
-    let wrong = spec_with(scratch.path(), "wrong.lamp", &wrong_mapping);
     let output = lampc([
         "build".as_ref(),
         wrong.as_os_str(),

@@ -95,7 +95,7 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
         return Err(Failure::Spec);
     }
     let paths = find_demonstrations(&spec, &spec_dir, &build_dir, args.demos.as_deref())?;
-    let mut bags = BagMappings::new(&spec, &spec_dir, args.demos.is_some());
+    let mut bags = BagMappings::new(&spec, &spec_dir, args.demos.as_deref());
     let folder = OutputFolder::new(&build_dir.join(lamp_build::MODEL_DIR))?;
     *model = Some(folder.path().to_path_buf());
     let lock = folder.lock("build")?;
@@ -124,9 +124,14 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
         progress.finish_and_clear();
         Ok::<_, BuildError>((files, demonstrations))
     })?;
-    if let Err(error) = bags.check() {
-        let rendered =
-            crate::diagnostics::render_frame_in_no_bag(&error, &places, &sources, colour);
+    if let Err((source, error)) = bags.check() {
+        let place = match &error {
+            lamp_build::Ros2Error::FrameInNoBag { object, .. } => {
+                places.mapped_object(source, object)
+            }
+            _ => None,
+        };
+        let rendered = crate::diagnostics::render_frame_in_no_bag(&error, place, &sources, colour);
         eprint!("{rendered}");
         eprintln!("lampc build: failed; no model was written");
         return Err(Failure::Spec);
@@ -221,10 +226,13 @@ pub(crate) struct BagMappings<'a> {
     /// Per bag a source matches, the index of that source.
     by_path: BTreeMap<PathBuf, usize>,
     fallback: Option<usize>,
+    /// With `--demos DIR`, `DIR/*.mcap`: where the bags came from, for messages.
+    read_from: Option<String>,
 }
 
 impl<'a> BagMappings<'a> {
-    pub(crate) fn new(spec: &'a lamp_spec::Spec, spec_dir: &Path, demos_override: bool) -> Self {
+    /// The bags of `spec`'s sources, or with `demos` (`--demos DIR`), those of DIR.
+    pub(crate) fn new(spec: &'a lamp_spec::Spec, spec_dir: &Path, demos: Option<&Path>) -> Self {
         let sources: Vec<_> = spec
             .demonstrations
             .iter()
@@ -237,7 +245,7 @@ impl<'a> BagMappings<'a> {
             .collect();
         let mut by_path = BTreeMap::new();
         let mut fallback = None;
-        if demos_override {
+        if demos.is_some() {
             fallback = (sources.len() == 1).then_some(0);
         } else {
             for (index, (pattern, _, _)) in sources.iter().enumerate() {
@@ -246,7 +254,8 @@ impl<'a> BagMappings<'a> {
                 }
             }
         }
-        BagMappings { sources, by_path, fallback }
+        let read_from = demos.map(|dir| dir.join("*.mcap").display().to_string());
+        BagMappings { sources, by_path, fallback, read_from }
     }
 
     /// The file as the adapter reads it: a bag converted to a lamp file, others unchanged.
@@ -270,9 +279,13 @@ impl<'a> BagMappings<'a> {
         Ok(file)
     }
 
-    /// Refuses a mapped object that no bag of its source records, once every bag is read.
-    pub(crate) fn check(&self) -> Result<(), lamp_build::Ros2Error> {
-        self.sources.iter().try_for_each(|(pattern, mapping, tally)| tally.check(pattern, mapping))
+    /// Refuses a mapped object that no bag of its source records, once every bag is read; the
+    /// error comes with the source's pattern as the spec stores it (where its mapping is).
+    pub(crate) fn check(&self) -> Result<(), (&'a str, lamp_build::Ros2Error)> {
+        self.sources.iter().try_for_each(|(pattern, mapping, tally)| {
+            let shown = self.read_from.as_deref().unwrap_or(pattern);
+            tally.check(shown, mapping).map_err(|error| (*pattern, error))
+        })
     }
 
     /// One line per mapped object some bags lacked: `OBJECT (frame `FRAME`) in N of M bags of
@@ -280,6 +293,7 @@ impl<'a> BagMappings<'a> {
     pub(crate) fn absences(&self) -> Vec<String> {
         let mut lines = Vec::new();
         for (pattern, mapping, tally) in &self.sources {
+            let pattern = self.read_from.as_deref().unwrap_or(pattern);
             for (object, absent) in tally.absences(mapping) {
                 lines.push(format!(
                     "{} (frame `{}`) in {absent} of {} bags of `{pattern}`",

@@ -80,7 +80,7 @@ pub(super) fn gather(
         entries: Vec::with_capacity(paths.len()),
         generated,
     };
-    let mut bags = crate::commands::build::BagMappings::new(spec, spec_dir, false);
+    let mut bags = crate::commands::build::BagMappings::new(spec, spec_dir, None);
     for path in &paths {
         let name = lamp_build::demo_name(path, spec_dir);
         let limit = crate::files::DEMONSTRATION_FILE_LIMIT;
@@ -97,7 +97,7 @@ pub(super) fn gather(
         pool.demonstrations.push(adapter.demonstration(&file).map_err(|error| render(&error))?);
         pool.files.push(file);
     }
-    bags.check().map_err(|error| render(&error))?;
+    bags.check().map_err(|(_, error)| render(&error))?;
     Ok(pool)
 }
 
