@@ -428,6 +428,18 @@ fn grasps_are_read_from_a_closing_gripper_joint_near_a_movable_object() {
     let read = read.unwrap();
     assert_eq!(holding(&read.steps), holding(&trajectory.steps));
 
+    // A can the bag lacks, mapped first, is absent: the grasped body is the same can.
+    let mut with_absent = grasp_joint_mapping(&trajectory, 0.03);
+    let absent_can =
+        FrameObject { frame: "can_absent".into(), name: "can0".into(), type_name: "can".into() };
+    with_absent.objects.insert(0, absent_can);
+    let robot = lamp_build::ros2::mapped_robot(&world, &with_absent).unwrap().unwrap();
+    let read = lamp_build::ros2_bag(&bag, "cafe.mcap", "cafe", &with_absent, Some(&robot));
+    let read = read.unwrap();
+    assert_eq!(read.absent, vec![0]);
+    assert_eq!(read.trajectory.header.bodies, trajectory.header.bodies);
+    assert_eq!(holding(&read.trajectory.steps), holding(&trajectory.steps));
+
     // The same bag read with a closing value below the closed fingers never grasps.
     let mapping = grasp_joint_mapping(&trajectory, 0.01);
     let robot = lamp_build::ros2::mapped_robot(&world, &mapping).unwrap().unwrap();

@@ -37,6 +37,13 @@ fn a_ros2_source_lowers_to_its_mapping() {
         spec.demonstrations,
         [DemoSource::Files { pattern: "demos/*.mcap".into(), ros2: Some(expected) }]
     );
+    // Each mapped object's line, from its type to its frame, is kept for the build's findings
+    // (a frame no bag records).
+    let span = outcome.places.mapped_object("demos/*.mcap", "can1").expect("the can's line");
+    assert_eq!(&source[span.start..span.end], "can can1 frame \"can_1\"");
+    let span = outcome.places.mapped_object("demos/*.mcap", "box1").expect("the box's line");
+    assert_eq!(&source[span.start..span.end], "surface box1");
+    assert!(outcome.places.mapped_object("other/*.mcap", "can1").is_none());
     // A plain `files` source has no mapping.
     let outcome = check(&with_source("  files \"demos/*.mcap\""));
     let spec = outcome.spec.expect("a plain files source checks");
