@@ -37,6 +37,19 @@ fn domain_without_comments(build: &Path) -> String {
     text.lines().filter(|line| !line.starts_with(';')).collect::<Vec<_>>().join("\n")
 }
 
+/// Twenty of the bundled Packing spec's demonstrations, written by `lampc demos` into `out`.
+fn demonstrate(out: &Path) {
+    let output = lampc([
+        "demos".as_ref(),
+        packing_spec().as_os_str(),
+        "--count".as_ref(),
+        "20".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+}
+
 fn mapping(can_frame: &str) -> String {
     format!(
         "  files \"demos/*.mcap\" as ros2 {{\n    object table table1\n    object surface box1\n    object can can1 frame \"{can_frame}\"\n    robot gripper frame \"gripper_link\" held topic \"/lamp/held\"\n  }}"
@@ -47,15 +60,7 @@ fn mapping(can_frame: &str) -> String {
 fn bags_read_through_their_standard_channels_learn_the_native_domain() {
     let scratch = tempfile::tempdir().expect("a scratch folder");
     let demos = scratch.path().join("demos");
-    let output = lampc([
-        "demos".as_ref(),
-        packing_spec().as_os_str(),
-        "--count".as_ref(),
-        "20".as_ref(),
-        "--out".as_ref(),
-        demos.as_os_str(),
-    ]);
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    demonstrate(&demos);
 
     let native = spec_with(scratch.path(), "native.lamp", "  files \"demos/*.mcap\"");
     let output = lampc([
@@ -171,15 +176,7 @@ fn bags_read_through_their_standard_channels_learn_the_native_domain() {
 fn an_object_some_bags_lack_is_absent_and_counted() {
     let scratch = tempfile::tempdir().expect("a scratch folder");
     let demos = scratch.path().join("native");
-    let output = lampc([
-        "demos".as_ref(),
-        packing_spec().as_os_str(),
-        "--count".as_ref(),
-        "20".as_ref(),
-        "--out".as_ref(),
-        demos.as_os_str(),
-    ]);
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    demonstrate(&demos);
     let (_, world) = lamp_test_support::domain("packing");
     let bags = scratch.path().join("demos");
     std::fs::create_dir_all(&bags).expect("a folder");
