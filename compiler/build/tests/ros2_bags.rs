@@ -624,7 +624,6 @@ fn tf_bag(frames: &[(String, String)]) -> Vec<u8> {
             .collect(),
     };
     let channels = StandardChannels {
-        world_frame: "world".into(),
         frames: frames
             .iter()
             .map(|(frame, parent)| TfFrame {
@@ -633,14 +632,7 @@ fn tf_bag(frames: &[(String, String)]) -> Vec<u8> {
                 derived: false,
             })
             .collect(),
-        static_frames: vec![],
-        joints: vec![],
-        robots: vec![],
-        objects: vec![],
-        step_labels: false,
-        held_topics: vec![],
-        trajectory_topics: Vec::new(),
-        gripper_topics: Vec::new(),
+        ..StandardChannels::rooted_at("world")
     };
     let values: Vec<StandardStep> = trajectory
         .steps

@@ -277,6 +277,23 @@ pub struct StandardStep {
 }
 
 impl StandardChannels {
+    /// The channels of a file with nothing on them but the root frame `world_frame`: the start
+    /// from which a caller sets the channels it writes (`..StandardChannels::rooted_at("world")`).
+    pub fn rooted_at(world_frame: impl Into<String>) -> Self {
+        StandardChannels {
+            world_frame: world_frame.into(),
+            frames: Vec::new(),
+            static_frames: Vec::new(),
+            joints: Vec::new(),
+            robots: Vec::new(),
+            objects: Vec::new(),
+            step_labels: false,
+            held_topics: Vec::new(),
+            trajectory_topics: Vec::new(),
+            gripper_topics: Vec::new(),
+        }
+    }
+
     /// Checks that the channels can be written: frame and joint names are non-empty and unique,
     /// every parent and every object's frame is a frame of the file, and every number is finite.
     pub(crate) fn check(&self) -> Result<(), String> {

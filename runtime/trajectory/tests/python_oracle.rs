@@ -204,19 +204,12 @@ fn the_documented_reading_example_reads_joint_trajectories_and_gripper_commands(
     let joints = ["torso", "j1", "j2", "j3"].map(String::from).to_vec();
     let base = ["base_x", "base_y", "base_yaw"].map(String::from).to_vec();
     let channels = StandardChannels {
-        world_frame: "world".into(),
-        frames: vec![],
-        static_frames: vec![],
-        joints: vec![],
-        robots: vec![],
-        objects: vec![],
-        step_labels: false,
-        held_topics: vec![],
         trajectory_topics: vec![
             TrajectoryTopic { topic: JOINT_TRAJECTORY_TOPIC.into(), joints },
             TrajectoryTopic { topic: BASE_TRAJECTORY_TOPIC.into(), joints: base },
         ],
         gripper_topics: vec![GRIPPER_COMMAND_TOPIC.into()],
+        ..StandardChannels::rooted_at("world")
     };
     let steps = &trajectory.steps;
     let mut values: Vec<StandardStep> = steps

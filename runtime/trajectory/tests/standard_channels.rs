@@ -255,19 +255,12 @@ fn resting_and_moving(steps: usize) -> (Trajectory, StandardChannels, Vec<Standa
         }
     }
     let channels = StandardChannels {
-        world_frame: "world".into(),
         frames: vec![
             TfFrame { parent: "world".into(), frame: "can_0".into(), derived: false },
             TfFrame { parent: "can_0".into(), frame: "link".into(), derived: true },
         ],
-        static_frames: vec![],
         joints: vec!["j".into()],
-        robots: vec![],
-        objects: vec![],
-        step_labels: false,
-        held_topics: vec![],
-        trajectory_topics: Vec::new(),
-        gripper_topics: Vec::new(),
+        ..StandardChannels::rooted_at("world")
     };
     let values = trajectory
         .steps
