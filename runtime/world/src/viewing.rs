@@ -302,18 +302,7 @@ mod tests {
 
     #[test]
     fn plan_labels_cover_each_step_from_its_start_to_the_next() {
-        let mut channels = StandardChannels {
-            world_frame: WORLD_FRAME.into(),
-            frames: Vec::new(),
-            static_frames: Vec::new(),
-            joints: Vec::new(),
-            robots: Vec::new(),
-            objects: Vec::new(),
-            step_labels: false,
-            held_topics: Vec::new(),
-            trajectory_topics: Vec::new(),
-            gripper_topics: Vec::new(),
-        };
+        let mut channels = StandardChannels::rooted_at(WORLD_FRAME);
         let step = StandardStep {
             frame_poses: Vec::new(),
             joint_positions: Vec::new(),
