@@ -182,6 +182,7 @@ pub fn execution_channels(
                         let pose = after.body_poses.get(*body);
                         let touching = object.zip(pose).and_then(|(object, pose)| {
                             grasp_position(topics.robot, *finger, q, &object, pose)
+                                .map(|stop| stop.position)
                         });
                         touching.unwrap_or(topics.robot.coordinates()[*finger].lower)
                     }
@@ -228,15 +229,16 @@ fn only_fingers_move(before: &Step, after: &Step, robot: usize, topics: &RobotTo
 /// by bounding boxes in a frame whose x axis is that direction, exact along it; where the object
 /// is turned so that its farthest point lies beside the face, the finger closes on, by
 /// bisection with the exact collision test, until it touches (within 1 nm), or to its lower
-/// limit when it closes past the object. Clamped to the joint's limits. `None` when the finger
-/// is not a prismatic joint with collision geometry.
+/// limit when it closes past the object ([`FingerStop::touches`] false: the object is not
+/// between the fingers). Clamped to the joint's limits. `None` when the finger is not a
+/// prismatic joint with collision geometry.
 pub fn grasp_position(
     robot: &Robot,
     finger: usize,
     q: &[f64],
     object: &CollisionShape,
     pose: &Pose,
-) -> Option<f64> {
+) -> Option<FingerStop> {
     let coordinate = robot.coordinates().get(finger)?;
     if coordinate.kind != CoordinateKind::Linear || q.len() != robot.dof() {
         return None;
@@ -284,11 +286,10 @@ pub fn grasp_position(
     let value = value.clamp(lower, upper);
     let touches = |value: f64| intersects(&shape, &at(value), object, pose);
     if touches(value) {
-        return Some(value);
+        return Some(FingerStop { position: value, touches: true });
     }
     if !touches(lower) {
-        // The finger closes all the way past the object.
-        return Some(lower);
+        return Some(FingerStop { position: lower, touches: false });
     }
     let (mut free, mut touching) = (value, lower);
     for _ in 0..TOUCH_ITERATIONS {
@@ -302,7 +303,17 @@ pub fn grasp_position(
             free = middle;
         }
     }
-    Some(free)
+    Some(FingerStop { position: free, touches: true })
+}
+
+/// Where a closing finger stops ([`grasp_position`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FingerStop {
+    /// The finger joint's position.
+    pub position: f64,
+    /// Whether the finger touches the object there; false when it closes past it to its lower
+    /// limit, the object not being between the fingers.
+    pub touches: bool,
 }
 
 /// How close (metres) [`grasp_position`] brings a finger to the object it closes onto, and at

@@ -58,9 +58,20 @@ pub fn finger_path(
             })?;
             let pose = scene.body_pose(held.body);
             for &(finger, _) in state.open_fingers() {
-                if let Some(position) = grasp_position(model, finger, &start, object, &pose) {
-                    goal[finger] = position;
+                let Some(stop) = grasp_position(model, finger, &start, object, &pose) else {
+                    continue;
+                };
+                // A finger that closes past the object holds nothing: the grasp is not one a
+                // real gripper could carry the object with.
+                if !stop.touches {
+                    return Err(fail(format!(
+                        "`{}` closes past `{}` without touching it: the object is not between \
+                         the fingers",
+                        model.coordinates()[finger].name,
+                        scene.bodies()[held.body].name
+                    )));
                 }
+                goal[finger] = stop.position;
             }
         }
         FingerMove::Open => {

@@ -22,7 +22,9 @@ mod viewing;
 
 pub use checking::Contact;
 pub use error::WorldError;
-pub use execution::{HOLD_OFF, HOLD_ON, execution_channels, grasp_position, motion_segments};
+pub use execution::{
+    FingerStop, HOLD_OFF, HOLD_ON, execution_channels, grasp_position, motion_segments,
+};
 pub use fingers::{FingerMove, finger_path};
 pub use from_spec::{
     STRUCTURE_ANGLE_TOLERANCE, STRUCTURE_POSITION_TOLERANCE, SpecWorld, load_robot, mount_of,

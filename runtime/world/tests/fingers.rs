@@ -61,7 +61,9 @@ fn fingers_close_onto_the_held_object_and_open_back() {
         }
     }
     for ((_, link), &finger) in fingers.iter().zip(&finger_indices) {
-        let target = grasp_position(&robot, finger, &open, &can_shape, &can_pose).expect("known");
+        let stop = grasp_position(&robot, finger, &open, &can_shape, &can_pose).expect("known");
+        assert!(stop.touches, "the finger touches the can");
+        let target = stop.position;
         assert!((closed[finger] - target).abs() < 1e-6, "{} not at {target}", closed[finger]);
         assert!(target < open[finger] - 0.005, "the finger closes: {target} from {}", open[finger]);
         let pose = robot.link_pose(&closed, robot.link_id(link).expect("the link"));
@@ -122,6 +124,31 @@ fn fingers_that_would_touch_something_else_are_refused() {
     let message = error.to_string();
     assert!(message.contains("cannot open its fingers"), "{message}");
     assert!(message.contains("touches `can"), "{message}");
+}
+
+#[test]
+fn a_grasp_whose_fingers_close_past_the_object_is_refused() {
+    let (mut scene, fetch, can, world) = fetch_holding_can();
+    let q = scene.robots()[fetch].configuration().to_vec();
+    let gripper = scene.gripper_pose(fetch, &q).expect("a gripper");
+    // The can held by the gripper but wholly beyond its fingertips, along its approach axis: the
+    // fingers would close on air, and a robot could not carry the can so.
+    scene.release(fetch).expect("released");
+    let robot = scene.robots()[fetch].robot().clone();
+    let finger = robot.coordinates().iter().position(|c| c.name == "l_gripper_finger_joint");
+    let finger = finger.expect("the left finger joint");
+    let beyond = gripper * Translation3::new(0.25, 0.0, -0.1);
+    scene.set_body_pose(can, beyond);
+    scene.grab(fetch, can).expect("the can is grabbed");
+    let can_shape = CollisionShape::compound(&world.type_parts["can"]).expect("a shape");
+    let stop = grasp_position(&robot, finger, &q, &can_shape, &beyond).expect("a finger");
+    assert!(!stop.touches, "the finger meets no can");
+    assert_eq!(stop.position, robot.coordinates()[finger].lower, "closed to its limit");
+    let error = finger_path(&scene, fetch, FingerMove::Close, &MotionConfig::default())
+        .expect_err("refused");
+    let message = error.to_string();
+    assert!(message.contains("cannot close its fingers"), "{message}");
+    assert!(message.contains("closes past `can"), "{message}");
 }
 
 #[test]
