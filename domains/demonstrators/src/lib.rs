@@ -222,7 +222,8 @@ fn prepare<'a>(world: &'a SpecWorld, simulation: &Simulation) -> Result<Prepared
     // the same bounds as a typed error.
     let position = limits::NOISE_POSITION.check(simulation.noise.position);
     let rotation = limits::NOISE_ROTATION.check(simulation.noise.rotation);
-    if let Err(error) = position.and(rotation) {
+    let dropped = limits::DROPPED_POSES.check(simulation.noise.dropped);
+    if let Err(error) = position.and(rotation).and(dropped) {
         return Err(DemoError::Unsupported {
             demonstrator: simulation.demonstrator.name().to_string(),
             reason: format!("tracking noise: {error}"),
@@ -316,12 +317,14 @@ fn generate_prepared(
                     finish(recording, simulation, index, cut.then_some(cut_position));
                 let trajectory = &mut demonstration.trajectory;
                 let mut noise = noise_rng(simulation.seed, index);
+                let mut drops = noise::drop_rng(simulation.seed, index);
                 noise::perturb(
                     &mut trajectory.steps,
                     &trajectory.header,
                     untracked,
                     simulation.noise,
                     &mut noise,
+                    &mut drops,
                 );
                 return Ok(demonstration);
             }
@@ -363,11 +366,15 @@ fn finish(
         .insert("cut_at".to_string(), cut_at.map_or_else(|| "none".to_string(), |k| k.to_string()));
     provenance.insert("retreat_at".to_string(), retreat_at.to_string());
     // Only with noise, so that a noise-free file is byte for byte what it was before the option.
-    if !simulation.noise.is_none() {
+    let noise = simulation.noise;
+    if noise.position != 0.0 || noise.rotation != 0.0 {
         provenance.insert(
             "tracking_noise".to_string(),
-            format!("{} m {} rad", simulation.noise.position, simulation.noise.rotation),
+            format!("{} m {} rad", noise.position, noise.rotation),
         );
+    }
+    if noise.dropped != 0.0 {
+        provenance.insert("dropped_poses".to_string(), noise.dropped.to_string());
     }
     // Only at a fixed rate, so that a file recorded as before is byte for byte what it was.
     if let Some(rate) = simulation.rate {

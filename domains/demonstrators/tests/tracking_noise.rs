@@ -17,7 +17,8 @@ static PACKING: LazyLock<(Spec, SpecWorld)> = LazyLock::new(|| support::domain("
 static KEVA: LazyLock<(Spec, SpecWorld)> = LazyLock::new(|| support::domain("keva"));
 
 /// `noise 2 mm 1 deg`.
-const NOISE: TrackingNoise = TrackingNoise { position: 0.002, rotation: 0.017_453_292_519_943_295 };
+const NOISE: TrackingNoise =
+    TrackingNoise { position: 0.002, rotation: 0.017_453_292_519_943_295, dropped: 0.0 };
 
 /// Rounding of composing a pose with a small offset and turn.
 const ROUNDING: f64 = 1e-12;
@@ -109,7 +110,7 @@ fn the_same_seed_gives_the_same_bytes_whatever_the_threads() {
 #[test]
 fn zero_noise_gives_the_noise_free_files() {
     let (_, world) = &*PACKING;
-    let zero = TrackingNoise { position: 0.0, rotation: 0.0 };
+    let zero = TrackingNoise { position: 0.0, rotation: 0.0, dropped: 0.0 };
     let absent = bytes(&generate_all(world, &packing(0.5, TrackingNoise::NONE), |_| {}).unwrap());
     assert_eq!(bytes(&generate_all(world, &packing(0.5, zero), |_| {}).unwrap()), absent);
 }
@@ -129,11 +130,11 @@ fn a_cut_recording_carries_the_noise_of_the_full_one() {
 fn only_one_kind_of_noise_perturbs_only_that_part() {
     let (_, world) = &*PACKING;
     let clean = generate(world, &packing(0.5, TrackingNoise::NONE), 0).unwrap();
-    let position_only = TrackingNoise { position: 0.002, rotation: 0.0 };
+    let position_only = TrackingNoise { position: 0.002, rotation: 0.0, dropped: 0.0 };
     let shifted = generate(world, &packing(0.5, position_only), 0).unwrap();
     let (offset, turn) = within_noise(&clean, &shifted, position_only, &[]);
     assert!(offset > 0.0 && turn < ROUNDING, "{offset} m, {turn} rad");
-    let rotation_only = TrackingNoise { position: 0.0, rotation: 0.017 };
+    let rotation_only = TrackingNoise { position: 0.0, rotation: 0.017, dropped: 0.0 };
     let turned = generate(world, &packing(0.5, rotation_only), 0).unwrap();
     let (offset, turn) = within_noise(&clean, &turned, rotation_only, &[]);
     assert!(offset < ROUNDING && turn > 0.0, "{offset} m, {turn} rad");
@@ -172,10 +173,12 @@ fn markers_are_not_tracked() {
 fn noise_out_of_range_is_refused_as_a_typed_error() {
     let (_, world) = &*PACKING;
     for noise in [
-        TrackingNoise { position: -0.001, rotation: 0.0 },
-        TrackingNoise { position: 0.2, rotation: 0.0 },
-        TrackingNoise { position: 0.0, rotation: 1.0 },
-        TrackingNoise { position: f64::NAN, rotation: 0.0 },
+        TrackingNoise { position: -0.001, rotation: 0.0, dropped: 0.0 },
+        TrackingNoise { position: 0.2, rotation: 0.0, dropped: 0.0 },
+        TrackingNoise { position: 0.0, rotation: 1.0, dropped: 0.0 },
+        TrackingNoise { position: f64::NAN, rotation: 0.0, dropped: 0.0 },
+        TrackingNoise { position: 0.0, rotation: 0.0, dropped: 0.95 },
+        TrackingNoise { position: 0.0, rotation: 0.0, dropped: -0.1 },
     ] {
         let result = generate(world, &packing(0.5, noise), 0);
         assert!(
@@ -183,4 +186,58 @@ fn noise_out_of_range_is_refused_as_a_typed_error() {
             "{noise:?}: {result:?}"
         );
     }
+}
+
+/// With `dropped F`, a tracked pose missed at a step is the one recorded at the step before, as a
+/// logger's latest transform is: about a share F of the tracked poses after the first step repeat
+/// the step before while the clean recording moves; the rest carry the noise as without drops;
+/// robots, times and untracked markers are untouched.
+#[test]
+fn dropped_poses_repeat_the_pose_recorded_before() {
+    let (spec, world) = &*KEVA;
+    let marker = spec
+        .object_types
+        .iter()
+        .find(|ty| ty.mobility == lamp_spec::Mobility::Marker)
+        .expect("Keva declares a marker type");
+    let keva = |noise| Simulation {
+        demonstrator: Demonstrator::Keva,
+        count: 1,
+        cut_fraction: 0.0,
+        objects: 3,
+        seed: 5,
+        noise,
+        rate: Some(50.0),
+    };
+    let dropping = TrackingNoise { dropped: 0.2, ..NOISE };
+    let clean = generate(world, &keva(TrackingNoise::NONE), 0).unwrap();
+    let noisy = generate(world, &keva(NOISE), 0).unwrap();
+    let dropped = generate(world, &keva(dropping), 0).unwrap();
+    let provenance = &dropped.trajectory.header.provenance;
+    assert_eq!(provenance.get("dropped_poses").map(String::as_str), Some("0.2"));
+    assert!(!noisy.trajectory.header.provenance.contains_key("dropped_poses"));
+    let (clean, noisy, dropped) = (&clean.trajectory, &noisy.trajectory, &dropped.trajectory);
+    assert_eq!(clean.steps.len(), dropped.steps.len(), "a missed pose drops no step");
+    let (mut tracked, mut repeated) = (0_usize, 0_usize);
+    for index in 1..clean.steps.len() {
+        let (step, before) = (&dropped.steps[index], &dropped.steps[index - 1]);
+        assert_eq!(step.time_nanoseconds, clean.steps[index].time_nanoseconds);
+        assert_eq!(step.robots, clean.steps[index].robots, "the encoders miss nothing");
+        for (body, ty) in clean.header.bodies.iter().enumerate() {
+            let pose = step.body_poses[body];
+            if ty.type_name == marker.name {
+                assert_eq!(pose, clean.steps[index].body_poses[body], "markers are not tracked");
+                continue;
+            }
+            tracked += 1;
+            if pose == before.body_poses[body] {
+                repeated += 1;
+            } else {
+                // Seen: the pose with this step's noise, as without drops.
+                assert_eq!(pose, noisy.steps[index].body_poses[body], "step {index}, {}", ty.name);
+            }
+        }
+    }
+    let share = repeated as f64 / tracked as f64;
+    assert!((0.15..0.25).contains(&share), "{repeated} of {tracked} poses repeated");
 }

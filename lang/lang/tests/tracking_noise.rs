@@ -95,3 +95,21 @@ fn the_noise_diagnostics_read_as_users_see_them() {
         );
     }
 }
+
+#[test]
+fn dropped_poses_are_a_share_from_zero_to_nine_tenths() {
+    let noise = noise_of(&with_simulate_option("noise 2 mm 1 deg  dropped 0.05"));
+    assert!((noise.position - 0.002).abs() < 1e-15, "{noise:?}");
+    assert_eq!(noise.dropped, 0.05);
+    // On its own: poses missed, none perturbed.
+    let noise = noise_of(&with_simulate_option("dropped 0.1"));
+    assert_eq!((noise.position, noise.rotation, noise.dropped), (0.0, 0.0, 0.1));
+    assert!(!noise.is_none());
+    assert_eq!(noise_of(&with_simulate_option("dropped 0")), TrackingNoise::NONE);
+    let range = "lamp::check::out_of_range";
+    let rendered = refused_simulate_option("dropped 0.95", &[(range, "0.95")]);
+    assert!(rendered.contains("from 0 to 0.9"), "{rendered}");
+    refused_simulate_option("dropped -0.1", &[(range, "-0.1")]);
+    refused_simulate_option("dropped 5 %", &[("lamp::parse::syntax", "%")]);
+    refused_simulate_option("dropped 0.1 s", &[("lamp::check::unexpected_unit", "s")]);
+}

@@ -49,6 +49,10 @@ pub const NOISE_POSITION: Limit = Limit::closed(0.0, 0.1, "m").noting("10 cm");
 pub const NOISE_ROTATION: Limit =
     Limit::closed(0.0, std::f64::consts::FRAC_PI_4, "rad").noting("45°");
 
+/// The share of tracked poses a simulated tracker misses (`simulate … { dropped F }`): a tracker
+/// that misses more than nine poses in ten records where things were, not where they are.
+pub const DROPPED_POSES: Limit = Limit::closed(0.0, 0.9, "");
+
 /// The rate of a simulated demonstration's recording (`simulate … { rate R Hz }`): robot loggers
 /// write joint states and tracked poses at 50 to 1000 Hz; below 1 Hz a grasp (half a second) may
 /// fall between two steps, and above 1 kHz a demonstration holds more steps than its motion has

@@ -109,7 +109,8 @@ pub enum DemoSource {
         /// Number of objects of the manipulated type per demonstration.
         objects: u32,
         seed: u64,
-        /// The tracking noise the recorded object poses carry (`noise D A`); none by default.
+        /// The tracking noise the recorded object poses carry (`noise D A`, `dropped F`); none
+        /// by default.
         noise: TrackingNoise,
         /// The rate at which steps are recorded, in hertz (`rate R Hz`): the timed motion
         /// sampled every 1/R seconds. None: one step per state of each planned path, 10 ms apart.
@@ -122,23 +123,27 @@ pub enum DemoSource {
 /// The noise of a tracking system (motion capture, a perception pipeline) that a simulated
 /// demonstrator adds to every recorded object pose: at each step, each coordinate of the
 /// position moves by a uniform draw from `[-position, position]`, and the orientation turns by a
-/// uniform angle from `[0, rotation]` about a uniformly random axis.
+/// uniform angle from `[0, rotation]` about a uniformly random axis; and with probability
+/// `dropped` the tracker misses the object at that step, whose recorded pose is then the one
+/// recorded at the step before.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TrackingNoise {
     /// The largest offset along each world axis, in metres.
     pub position: f64,
     /// The largest turn, in radians.
     pub rotation: f64,
+    /// The chance that a tracked pose is missed at a step (`dropped F`), from 0 to 1.
+    pub dropped: f64,
 }
 
 impl TrackingNoise {
     /// No noise: poses are recorded as simulated.
-    pub const NONE: TrackingNoise = TrackingNoise { position: 0.0, rotation: 0.0 };
+    pub const NONE: TrackingNoise = TrackingNoise { position: 0.0, rotation: 0.0, dropped: 0.0 };
 
     /// Whether recording with this noise changes nothing.
     #[must_use]
     pub fn is_none(&self) -> bool {
-        self.position == 0.0 && self.rotation == 0.0
+        self.position == 0.0 && self.rotation == 0.0 && self.dropped == 0.0
     }
 }
 

@@ -309,6 +309,7 @@ impl Checker<'_> {
         let mut objects = 1;
         let mut seed = None;
         let mut rate = None;
+        let mut dropped = None;
         let mut seen: BTreeMap<String, Span> = BTreeMap::new();
         let mut noise = lamp_spec::TrackingNoise::NONE;
         for entry in noise_entries {
@@ -340,6 +341,16 @@ impl Checker<'_> {
                 ("seed", Some(q)) => {
                     seed = self.count(q, "the demonstrator seed", 0).map(u64::from)
                 }
+                ("dropped", Some(q)) => {
+                    dropped = self.plain(q, "the share of dropped poses").and_then(|value| {
+                        self.limited(
+                            value,
+                            q.span,
+                            "the share of dropped poses",
+                            &limits::DROPPED_POSES,
+                        )
+                    })
+                }
                 ("rate", Some(q)) => {
                     rate = self.measure(q, Dimension::Frequency).and_then(|value| {
                         self.limited(value, q.span, "the recording rate", &limits::RECORDING_RATE)
@@ -355,7 +366,7 @@ impl Checker<'_> {
                     },
                     "Write the largest position error per axis and the largest turn, both with their units: `noise 2 mm 1 deg`.",
                 ),
-                ("count" | "cut" | "objects" | "seed" | "rate", None) => {
+                ("count" | "cut" | "objects" | "seed" | "rate" | "dropped", None) => {
                     self.report(at(option.key.span, |at| SpecError::OutOfRange {
                         what: format!("`{}`", option.key.text),
                         expected: "a number".to_string(),
@@ -368,6 +379,9 @@ impl Checker<'_> {
                     }
                 }
             }
+        }
+        if let Some(dropped) = dropped {
+            noise.dropped = dropped;
         }
         let Some(count) = count else {
             if !seen.contains_key("count") {
@@ -413,7 +427,7 @@ impl Checker<'_> {
                 &limits::NOISE_ROTATION,
             )
         });
-        Some(lamp_spec::TrackingNoise { position: position?, rotation: rotation? })
+        Some(lamp_spec::TrackingNoise { position: position?, rotation: rotation?, dropped: 0.0 })
     }
 
     pub(crate) fn learning(
