@@ -324,7 +324,9 @@ pub enum BuildFolderError {
     )]
     #[diagnostic(
         code(lamp::solve::stale_build),
-        help("Run `lampc build SPEC` again to learn the model from the spec as it is now.")
+        help(
+            "Run `lampc build SPEC` again to learn the model from the spec as it is now. A build made by another version of lampc, which may read the same spec otherwise, is refused the same way."
+        )
     )]
     SpecChanged { spec: String },
 
