@@ -33,7 +33,8 @@ pub enum Outcome {
     NoPlan,
     /// Plans exist, but none was refined into motion within the deterministic budget.
     RefinementBudget,
-    /// The per-solve time limit (`--timeout`) ran out.
+    /// A time limit ran out: the per-solve `--timeout`, or the planner's own `timeout` before
+    /// it found a plan.
     Timeout,
     /// Learning from the subset failed, or the build wrote no PDDL problem for this problem.
     BuildFailed,

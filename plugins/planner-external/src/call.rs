@@ -144,18 +144,16 @@ fn found_before_the_end(
     }
 }
 
-/// A finished run is solved when it found its plans; K* stopped by a limit with fewer than
-/// wanted ran out of budget, and K* ending normally without any plan proved there is none.
+/// A finished run is solved when it found its plans (the caller refuses a "solved" run that
+/// wrote none); K* stopped by a limit with fewer than wanted ran out of budget. K* ending
+/// normally found every plan there is, fewer than wanted or none: a task it proves unsolvable
+/// ends with its own exit code instead, so a normal end with no plan is no proof of anything.
 fn finished_status(engine: Engine, verdict: Verdict, found: usize, wanted: usize) -> PlanStatus {
     match engine {
-        Engine::FastDownward => PlanStatus::Solved,
-        Engine::KStar if found == 0 && verdict == Verdict::Finished => {
-            PlanStatus::Unsolvable { reason: format!("{}: no plan was found", engine.name()) }
-        }
         Engine::KStar if found < wanted && verdict == Verdict::FinishedAtLimit => {
             PlanStatus::BudgetExhausted
         }
-        Engine::KStar => PlanStatus::Solved,
+        Engine::FastDownward | Engine::KStar => PlanStatus::Solved,
     }
 }
 

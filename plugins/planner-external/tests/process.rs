@@ -164,6 +164,22 @@ fn a_planner_that_prints_nothing_and_plans_nothing_produced_no_output() {
     });
     let error = planner.plan_external(&top_k, &MinimalHost);
     assert!(matches!(error, Err(ExternalError::NoOutput { code: 0, .. })), "{error:?}");
+    // K* that ends normally with a log but no plan file found nothing and proved nothing (K*
+    // proving a task unsolvable exits with its own code): a failure with its log, not a verdict
+    // that the learned model has no way to the goal.
+    let mut planner = ExternalPlanner::new(ExternalOptions {
+        kstar_command: Some(CommandLine {
+            program: "sh".into(),
+            arguments: vec!["-c".into(), "echo 'Search done.'; exit 0".into()],
+        }),
+        ..ExternalOptions::default()
+    });
+    let error = planner.plan_external(&top_k, &MinimalHost);
+    assert!(
+        matches!(&error, Err(ExternalError::Failed { reason, log, .. })
+            if reason.contains("wrote no plan") && log.contains("Search done.")),
+        "{error:?}"
+    );
     // Printing is not enough to be believed when a plan was promised: exit 0 needs a plan.
     let error = stand_in("echo working").plan_external(&task, &MinimalHost);
     assert!(matches!(error, Err(ExternalError::Failed { .. })), "{error:?}");

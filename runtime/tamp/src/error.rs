@@ -57,6 +57,20 @@ pub enum SolveError {
         )
     )]
     NoPlan { reason: String },
+    /// The planner's budget ran out before it found a plan: the goal may be reachable, so it is
+    /// not relaxed. `relaxed` lists the atoms dropped before, when a plan was proved not to
+    /// exist for the whole goal.
+    #[error(
+        "no plan: the planner's budget ran out before it found one{}",
+        if relaxed.is_empty() { String::new() } else { format!(" (after dropping {relaxed})") }
+    )]
+    #[diagnostic(
+        code(lamp::solve::planner_budget),
+        help(
+            "A plan may exist: give the planner more time (`planner gbfs-ff {{ timeout 60 s }}` in the spec, or leave its `timeout` out for no limit) or try another planner (`--planner external`)."
+        )
+    )]
+    PlannerBudget { relaxed: String },
     /// Relaxing the goal left nothing to achieve: every atom still in it holds initially.
     #[error(
         "no plan reaches any goal atom that does not already hold: relaxing the goal dropped {dropped} ({reason})"

@@ -16,8 +16,10 @@ use crate::settings::SolveSettings;
 pub enum Planned {
     /// At least one plan, at most the number asked for.
     Plans(Vec<Plan>),
-    /// No plan, and why (unsolvable, or the planner's budget ran out).
+    /// No plan exists, and why.
     NoPlan(String),
+    /// The planner's budget ran out before it found a plan: whether one exists is not known.
+    OutOfBudget,
 }
 
 /// Plans for `problem` (at most `plan_count`) or why there is none; `Err` is a planner failure.
@@ -42,7 +44,7 @@ pub fn plans(
     }
     Ok(Planned::NoPlan(match response.status {
         PlanStatus::Unsolvable { reason } => reason,
-        PlanStatus::BudgetExhausted => "the planner's budget ran out".to_string(),
+        PlanStatus::BudgetExhausted => return Ok(Planned::OutOfBudget),
         PlanStatus::Failed { message } => {
             return Err(SolveError::PluginAnswer { kind: "planner", reason: message });
         }
@@ -59,7 +61,8 @@ pub fn plans(
     }))
 }
 
-/// One plan from `state` to `problem`'s goal, grounded; `None` when the planner finds none.
+/// One plan from `state` to `problem`'s goal, grounded; `None` when the planner finds none
+/// (none exists, or its budget ran out first).
 pub fn plan_from(
     plugins: &mut Plugins<'_>,
     domain: &Domain,

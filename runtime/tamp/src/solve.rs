@@ -109,6 +109,11 @@ fn solve_with(
         summary.seconds_planning += started.elapsed().as_secs_f64();
         let found = match found {
             Planned::Plans(found) => found,
+            // Relaxing would drop a goal atom a plan may well reach: the planner only stopped.
+            Planned::OutOfBudget => {
+                let relaxed = summary.relaxed_goal.join(", ");
+                return Err(SolveError::PlannerBudget { relaxed });
+            }
             Planned::NoPlan(reason) => {
                 let relaxed = if settings.relax_goal { relax(domain, problem) } else { None };
                 let Some(dropped) = relaxed else {

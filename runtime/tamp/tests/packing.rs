@@ -141,6 +141,39 @@ fn a_planner_that_says_solved_without_a_plan_fails_as_the_planner() {
     assert!(!error.to_string().contains("no way"), "{error}");
 }
 
+/// A planner whose budget runs out before it finds a plan, as one with a short `timeout` on a
+/// large task does.
+struct OutOfBudget;
+
+impl Planner for OutOfBudget {
+    fn plan(
+        &mut self,
+        _request: &PlanRequest,
+        _host: &dyn HostServices,
+    ) -> Result<PlanResponse, PluginError> {
+        Ok(PlanResponse { status: lamp_plugin_api::PlanStatus::BudgetExhausted, plans: vec![] })
+    }
+}
+
+/// A planner out of budget has not shown that no plan reaches the goal: the goal is not relaxed
+/// (which dropped a goal atom, then another, and ended saying the learned model has no way to
+/// the goal), and the failure says a plan may exist and how to give the planner more time.
+#[test]
+fn a_planner_out_of_budget_relaxes_no_goal_and_says_a_plan_may_exist() {
+    let error = learned::solve_relaxing_with_planner(&PACKING, "pack4_01", &mut OutOfBudget)
+        .err()
+        .expect("no plan to refine");
+    assert!(
+        matches!(&error, SolveError::PlannerBudget { relaxed } if relaxed.is_empty()),
+        "{error}"
+    );
+    let code = miette::Diagnostic::code(&error).map(|code| code.to_string());
+    assert_eq!(code.as_deref(), Some("lamp::solve::planner_budget"));
+    let help = miette::Diagnostic::help(&error).map(|help| help.to_string()).unwrap_or_default();
+    assert!(help.contains("A plan may exist") && help.contains("timeout"), "{help}");
+    assert!(!error.to_string().contains("no way"), "{error}");
+}
+
 /// The learned domain and pack4_01's problem, the `in_box` atom of can1 and the "not in the box"
 /// relation the only placing action deletes (no action adds it back).
 fn placing() -> (String, String, lamp_pddl::Atom, String) {

@@ -138,6 +138,18 @@ pub fn solve_with_planner(
     solve_texts(learned, name, seed, planner, (domain, problem), false)
 }
 
+/// [`solve_with_planner`] with goal relaxation on, as `lampc solve` runs by default.
+pub fn solve_relaxing_with_planner(
+    learned: &Learned,
+    name: &str,
+    planner: &mut dyn Planner,
+) -> Result<Solution, SolveError> {
+    let artifacts = &learned.artifacts;
+    let domain = artifact(artifacts, "domain.pddl");
+    let problem = artifact(artifacts, &format!("problems/{name}.pddl"));
+    solve_texts(learned, name, 1, planner, (domain, problem), true)
+}
+
 /// [`solve_problem`] of PDDL edited by hand, with goal relaxation on or off.
 pub fn solve_edited(
     learned: &Learned,

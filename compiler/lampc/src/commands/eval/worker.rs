@@ -200,7 +200,7 @@ fn failure_result(failure: &SolveError) -> SolveResult {
     let outcome = match code.as_str() {
         "lamp::solve::no_plan" | "lamp::solve::goal_relaxed_away" => Outcome::NoPlan,
         "lamp::solve::refinement_failed" => Outcome::RefinementBudget,
-        "lamp::solve::cancelled" => Outcome::Timeout,
+        "lamp::solve::cancelled" | "lamp::solve::planner_budget" => Outcome::Timeout,
         _ => Outcome::Error,
     };
     let mut result = SolveResult::failed(outcome, one_line(&format!("{code}: {failure}")));
