@@ -43,6 +43,11 @@ pub const MAX_SETTLE_TILT: Real = 5.0 * std::f64::consts::PI / 180.0;
 /// A lean under this (radians) is rounding: the orientation is left as it is.
 const LEVEL: Real = 1e-9;
 
+/// A lean under this (radians, 0.06°) cannot tip any real body over (one would need to be
+/// a thousand times taller than it is wide), and its low edge is a matter of rounding among the
+/// contact points: the body is seated without the tipping test.
+const TIPS_NEVER: Real = 1e-3;
+
 /// How far down a release looks for a support (metres): far enough to name what is below a
 /// body released much too high.
 const LOOK_DOWN: Real = 100.0;
@@ -82,6 +87,18 @@ pub enum RestError {
         help("let go of the object level, or with the fingers clear of where it will rest")
     )]
     TouchingRobot { object: String, link: String },
+    /// Landed on the low edge of its base, the body's centre of mass lies beyond that edge: it
+    /// falls over instead of seating itself level.
+    #[error(
+        "`{object}` would tip over: let go of leaning {:.1}°, its centre of mass is beyond the edge it lands on (it seats itself only when leaning less than {:.1}° that way)",
+        lean.to_degrees(),
+        tipping.to_degrees()
+    )]
+    #[diagnostic(
+        code(lamp::world::tips_over),
+        help("let go of the object more nearly level, above the face it is to rest on")
+    )]
+    TipsOver { object: String, lean: Real, tipping: Real },
     /// The body's centre of mass is outside the polygon of its supporting contacts.
     #[error(
         "`{object}` is not supported: its centre of mass is {:.1} mm outside the contacts that hold it up{}",
@@ -170,6 +187,23 @@ impl Scene {
             .map(|(_, contact)| contact.point)
             .min_by(|a, b| a.z.total_cmp(&b.z))
             .unwrap_or_else(|| landed * shape.centre_of_mass());
+        // Gravity seats it only when it pulls the centre of mass down along the levelling turn;
+        // past the edge's tipping angle it pulls the other way, and the body falls over.
+        let centre = landed * shape.centre_of_mass();
+        let arm = centre - pivot;
+        let axis = turn.axis().map_or_else(Vec3::zeros, |axis| axis.into_inner());
+        // The turn's axis is level, so this is how far the centre of mass lies beyond the edge
+        // across it, whatever its offset along the edge.
+        let beyond_edge = axis.cross(&arm).z;
+        if beyond_edge >= 0.0 && turn.angle() >= TIPS_NEVER {
+            let lean = turn.angle();
+            let beyond = beyond_edge.atan2(arm.z.max(0.0));
+            return Err(RestError::TipsOver {
+                object: name(),
+                lean,
+                tipping: (lean - beyond).max(0.0),
+            });
+        }
         let seated =
             Translation3::from(pivot.coords) * turn * Translation3::from(-pivot.coords) * landed;
         if let Some(touched) = self.collision.first_contact(shape, &seated, 0.0, skip) {

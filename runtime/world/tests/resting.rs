@@ -105,6 +105,49 @@ fn a_can_let_go_of_leaning_far_is_not_set_level_and_falls_over() {
     assert!(matches!(scene.resting_pose(can), Err(RestError::Unsupported { .. })));
 }
 
+/// A Keva plank (7 × 23 × 117 mm here: its thickness along x, its length up z, its frame at the
+/// centre of its lower end) standing over a floor, leaning `lean` radians about the y axis
+/// (toward +x, its thin side), its low edge 1.5 mm above the floor.
+fn leaning_upright_plank(lean: f64) -> (Scene, usize) {
+    let mut scene = Scene::new();
+    scene
+        .add_body(block("floor", (1.0, 1.0, 0.01), false), pose(0.0, 0.0, -0.01, 0.0, 0.0, 0.0))
+        .unwrap();
+    let half_extents = Vec3::new(0.0035, 0.0115, 0.0585);
+    let parts = vec![(pose(0.0, 0.0, 0.0585, 0.0, 0.0, 0.0), Shape::Box { half_extents })];
+    let plank = body("plank", true, parts);
+    let low_edge_drop = 0.0035 * lean.abs().sin();
+    let placed = pose(0.0, 0.0, 0.0015 + low_edge_drop, 0.0, lean, 0.0);
+    let index = scene.add_body(plank, placed).unwrap();
+    (scene, index)
+}
+
+/// An upright plank 7 mm thick and 117 mm tall tips toward its thin side at atan(3.5 / 58.5),
+/// 3.4°: let go of leaning less it seats itself on its end, leaning more it falls over, and the
+/// refusal says so with the angle it would have had to stay under.
+#[test]
+fn an_upright_plank_seats_itself_within_its_tipping_angle_and_tips_over_beyond_it() {
+    let (scene, plank) = leaning_upright_plank(3_f64.to_radians());
+    let rest = scene.resting_pose(plank).expect("3° is within the tipping angle");
+    assert!(rest.rotation.angle() < 1e-9, "seated upright: {}", rest.rotation.angle());
+    assert!((rest.translation.vector.z - RESTING_GAP).abs() < 1e-9, "{rest}");
+    let (scene, plank) = leaning_upright_plank(4_f64.to_radians());
+    match scene.resting_pose(plank) {
+        Err(error @ RestError::TipsOver { .. }) => {
+            let RestError::TipsOver { lean, tipping, .. } = &error else { unreachable!() };
+            assert!((lean.to_degrees() - 4.0).abs() < 1e-6, "{lean}");
+            let expected = (0.0035_f64 / 0.0585).atan().to_degrees();
+            assert!((tipping.to_degrees() - expected).abs() < 1e-6, "{tipping} against {expected}");
+            let message = error.to_string();
+            assert!(message.contains("would tip over") && message.contains("3.4°"), "{message}");
+        }
+        other => panic!("expected TipsOver, got {other:?}"),
+    }
+    // Leaning the other way by as much, the low edge is on the side of the centre of mass.
+    let (scene, plank) = leaning_upright_plank(-4_f64.to_radians());
+    assert!(matches!(scene.resting_pose(plank), Err(RestError::TipsOver { .. })));
+}
+
 #[test]
 fn a_tilted_drop_is_measured_at_the_first_point_to_land() {
     // The low rim 5.5 mm up: too high, though the seated can's base would drop less.
