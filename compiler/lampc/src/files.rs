@@ -8,6 +8,30 @@ use lamp_spec::{RobotKind, RobotNames};
 /// Reads files from disk.
 pub(crate) struct DiskLoader;
 
+/// Reads files from disk, but takes a demonstration pattern as the files it would match: for a
+/// command that does not read the spec's demonstrations (`lampc solve` works from the model, and
+/// `lampc build --demos DIR` reads DIR instead), recordings that were moved or deleted, or never
+/// were where the spec looks, are no error in the spec.
+pub(crate) struct DemonstrationsUnread;
+
+impl lamp_lang::Loader for DemonstrationsUnread {
+    fn read_to_string(&self, path: &Path) -> Result<String, String> {
+        DiskLoader.read_to_string(path)
+    }
+
+    fn file_kind(&self, path: &Path) -> FileKind {
+        DiskLoader.file_kind(path)
+    }
+
+    fn glob(&self, pattern: &Path) -> Vec<PathBuf> {
+        vec![pattern.to_path_buf()]
+    }
+
+    fn robot_names(&self, path: &Path, kind: RobotKind) -> Result<Option<RobotNames>, String> {
+        DiskLoader.robot_names(path, kind)
+    }
+}
+
 impl lamp_lang::Loader for DiskLoader {
     fn read_to_string(&self, path: &Path) -> Result<String, String> {
         read_text_limited(path, SPEC_FILE_LIMIT, "spec file").map_err(|error| error.to_string())

@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::files::DiskLoader;
+use crate::files::{DemonstrationsUnread, DiskLoader};
 
 /// A checked spec and where it lives.
 pub(crate) struct CheckedSpec {
@@ -16,9 +16,24 @@ pub(crate) struct CheckedSpec {
     pub(crate) places: lamp_lang::GoalPlaces,
 }
 
+/// Whether a command reads the spec's demonstration files: only then must a `files` pattern
+/// match one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Demonstrations {
+    Read,
+    Unread,
+}
+
 /// Checks the spec at `path`, printing every diagnostic; `None` if it has errors.
-pub(crate) fn check_spec(path: &Path, colour: bool) -> Option<CheckedSpec> {
-    let outcome = lamp_lang::check(path, &DiskLoader);
+pub(crate) fn check_spec(
+    path: &Path,
+    colour: bool,
+    demonstrations: Demonstrations,
+) -> Option<CheckedSpec> {
+    let outcome = match demonstrations {
+        Demonstrations::Read => lamp_lang::check(path, &DiskLoader),
+        Demonstrations::Unread => lamp_lang::check(path, &DemonstrationsUnread),
+    };
     eprint!("{}", crate::diagnostics::render_all(&outcome, colour, crate::terminal_width()));
     let Some(spec) = outcome.spec else {
         let name = outcome.sources.name(lamp_lang::FileId(0)).to_string();

@@ -225,3 +225,44 @@ fn an_object_some_bags_lack_is_absent_and_counted() {
     let domain = domain_without_comments(&scratch.path().join("build"));
     assert!(domain.contains("(:action"), "{domain}");
 }
+
+/// Only the commands that read a spec's recordings ask its pattern to match a file: `--demos DIR`
+/// replaces the pattern, and a model built from bags that were moved away since still solves.
+#[test]
+fn a_pattern_that_matches_nothing_stops_only_the_commands_that_read_it() {
+    let scratch = tempfile::tempdir().expect("a scratch folder");
+    let elsewhere = scratch.path().join("elsewhere");
+    demonstrate(&elsewhere);
+    // The spec's `demos/*.mcap` matches nothing in the scratch folder.
+    let spec = spec_with(scratch.path(), "bags.lamp", &mapping("can1"));
+    let checked = lampc(["check".as_ref(), spec.as_os_str()]);
+    assert!(!checked.status.success(), "nothing matches the pattern");
+    let stderr = String::from_utf8_lossy(&checked.stderr);
+    assert!(stderr.contains("lamp::check::missing_file"), "{stderr}");
+    let refused = lampc(["build".as_ref(), spec.as_os_str()]);
+    assert!(!refused.status.success(), "a build that reads the pattern needs its files");
+
+    let build = scratch.path().join("build");
+    let output = lampc([
+        "build".as_ref(),
+        spec.as_os_str(),
+        "--demos".as_ref(),
+        elsewhere.as_os_str(),
+        "--out".as_ref(),
+        build.as_os_str(),
+    ]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let output = lampc([
+        "solve".as_ref(),
+        spec.as_os_str(),
+        "--problem".as_ref(),
+        "pack4_01".as_ref(),
+        "--build".as_ref(),
+        build.as_os_str(),
+        "--out".as_ref(),
+        scratch.path().join("pack4_01").as_os_str(),
+    ]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{stdout}{}", String::from_utf8_lossy(&output.stderr));
+    assert!(stdout.contains("pack4_01: solved"), "{stdout}");
+}

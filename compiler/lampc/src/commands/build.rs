@@ -68,7 +68,13 @@ pub(crate) fn run(args: &Args) -> ExitCode {
 /// Runs the build; `model` is set to the model folder as soon as it is known, for the last message.
 fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), Failure> {
     let mut timings = Timings::default();
-    let checked = timings.time("check", || crate::spec_input::check_spec(&args.spec, colour));
+    // With `--demos DIR` the spec's own sources are not read, so their patterns need not match.
+    let demonstrations = match args.demos {
+        Some(_) => crate::spec_input::Demonstrations::Unread,
+        None => crate::spec_input::Demonstrations::Read,
+    };
+    let checked =
+        timings.time("check", || crate::spec_input::check_spec(&args.spec, colour, demonstrations));
     let Some(crate::spec_input::CheckedSpec {
         spec,
         dir: spec_dir,

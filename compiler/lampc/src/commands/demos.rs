@@ -50,7 +50,7 @@ pub(crate) fn run(args: &Args) -> ExitCode {
 fn demos(args: &Args, colour: bool) -> Result<(), Failure> {
     let start = Instant::now();
     let Some(crate::spec_input::CheckedSpec { spec, dir: spec_dir, file_name: spec_file, .. }) =
-        crate::spec_input::check_spec(&args.spec, colour)
+        crate::spec_input::check_spec(&args.spec, colour, crate::spec_input::Demonstrations::Read)
     else {
         return Err(Failure::Spec);
     };

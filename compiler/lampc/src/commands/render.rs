@@ -136,7 +136,9 @@ fn refuse_option(given: bool, option: &str, what: &str) -> Result<(), Failure> {
 
 /// Checks the spec, printing its diagnostics if it has any.
 fn check_spec(path: &Path, colour: bool) -> Result<lamp_spec::Spec, Failure> {
-    crate::spec_input::check_spec(path, colour).map(|checked| checked.spec).ok_or(Failure::Spec)
+    crate::spec_input::check_spec(path, colour, crate::spec_input::Demonstrations::Unread)
+        .map(|checked| checked.spec)
+        .ok_or(Failure::Spec)
 }
 
 /// The initial scene of the named problem (or the first), and a description of it.

@@ -164,7 +164,11 @@ const NOTHING_WRITTEN: &str = "no solution files were written";
 
 /// Solves and writes the solution folder; `left` is kept true about what a failure leaves.
 fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summary, String> {
-    let Some(checked) = crate::spec_input::check_spec(&args.spec, colour) else {
+    let Some(checked) = crate::spec_input::check_spec(
+        &args.spec,
+        colour,
+        crate::spec_input::Demonstrations::Unread,
+    ) else {
         return Err(String::new());
     };
     let (spec, spec_dir) = (&checked.spec, &checked.dir);

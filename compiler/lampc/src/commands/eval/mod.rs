@@ -120,7 +120,9 @@ struct Slot {
 /// Runs the evaluation; `Ok(false)` when interrupted.
 fn evaluate(args: &Args, colour: bool) -> Result<bool, Failure> {
     let started = Instant::now();
-    let Some(checked) = crate::spec_input::check_spec(&args.spec, colour) else {
+    let Some(checked) =
+        crate::spec_input::check_spec(&args.spec, colour, crate::spec_input::Demonstrations::Read)
+    else {
         return Err(Failure::Spec);
     };
     evaluate_checked(args, colour, &checked, started).map_err(Failure::Message)
