@@ -17,8 +17,10 @@ impl lamp_lang::Loader for Disk {
             false => lamp_lang::FileKind::Missing,
         }
     }
-    fn glob(&self, _pattern: &Path) -> Vec<PathBuf> {
-        Vec::new()
+    /// Recorded demonstrations are generated, never bundled: a `files` pattern stands for the
+    /// files it would match.
+    fn glob(&self, pattern: &Path) -> Vec<PathBuf> {
+        vec![pattern.to_path_buf()]
     }
     /// Robot files are read by `lamp-robot`, which this crate does not know: the workspace's
     /// domain tests check the names (`lamp-test-support` loads them).
@@ -66,4 +68,9 @@ fn jenga_checks() {
 #[test]
 fn dinner_checks() {
     check_domain("dinner");
+}
+
+#[test]
+fn cubes_checks() {
+    check_domain("cubes");
 }

@@ -11,8 +11,10 @@ use lamp_spec::Spec;
 use lamp_trajectory::Trajectory;
 use lamp_world::SpecWorld;
 
-/// Reads spec files and robot files from disk; demonstration globs match nothing (tests pass
-/// files explicitly).
+/// Reads spec files and robot files from disk. A demonstration pattern stands for the files it
+/// would match: recorded demonstrations are generated (`domains/cubes/record.py`), never bundled,
+/// so a spec's `files` source checks whether or not they have been recorded, and tests pass files
+/// explicitly.
 pub struct Disk;
 
 impl lamp_lang::Loader for Disk {
@@ -28,8 +30,8 @@ impl lamp_lang::Loader for Disk {
         }
     }
 
-    fn glob(&self, _pattern: &Path) -> Vec<PathBuf> {
-        Vec::new()
+    fn glob(&self, pattern: &Path) -> Vec<PathBuf> {
+        vec![pattern.to_path_buf()]
     }
 
     fn robot_names(
