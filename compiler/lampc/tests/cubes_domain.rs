@@ -1,0 +1,114 @@
+//! The Cubes domain end to end, as a user builds one: `domains/cubes/record.py`, a pybullet script
+//! that knows nothing of lamp, records demonstrations as plain ROS 2 bags; `lampc build` learns
+//! from them with an empty `learn` block, and `lampc solve` stacks towers of two and four cubes.
+//! Skipped unless python3 has pybullet and mcap-ros2-support (tests/oracles.txt).
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use common::lampc;
+
+fn domains() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains")
+}
+
+fn run(output: Output, what: &str) -> String {
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    assert!(
+        output.status.success(),
+        "{what} failed:\n{stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    stdout
+}
+
+/// The bundled spec in `scratch`, its robot file found where it is; its demonstrations are then
+/// `scratch/build/bags/*.mcap`, where the spec looks for them.
+fn spec_in(scratch: &Path) -> PathBuf {
+    let robots = domains().join("robots");
+    let text = std::fs::read_to_string(domains().join("cubes/cubes.lamp"))
+        .expect("the bundled spec")
+        .replace("\"../robots/", &format!("\"{}/", robots.display()));
+    let path = scratch.join("cubes.lamp");
+    std::fs::write(&path, text).expect("writes the spec");
+    path
+}
+
+/// The cube's world position in the solution's last step.
+fn final_position(trajectory: &lamp_trajectory::Trajectory, name: &str) -> nalgebra::Vector3<f64> {
+    let index = trajectory
+        .header
+        .bodies
+        .iter()
+        .position(|body| body.name == name)
+        .unwrap_or_else(|| panic!("the trajectory lists {name}"));
+    trajectory.steps.last().expect("steps").body_poses[index].translation.vector
+}
+
+#[test]
+fn towers_are_stacked_with_a_model_learned_from_plain_ros2_bags() {
+    if !lamp_test_support::python_oracle("pybullet", "pybullet")
+        || !lamp_test_support::python_oracle("mcap_ros2", "mcap-ros2-support")
+    {
+        return;
+    }
+    let scratch = tempfile::tempdir().expect("a scratch folder");
+    let spec = spec_in(scratch.path());
+    let bags = scratch.path().join("build/bags");
+    let recorded = Command::new("python3")
+        .arg(domains().join("cubes/record.py"))
+        .args(["--count", "30", "--seed", "1", "--out"])
+        .arg(&bags)
+        .output()
+        .expect("python3 runs");
+    run(recorded, "record.py");
+
+    let built = run(lampc(["build".as_ref(), spec.as_os_str()]), "lampc build");
+    // The spec's `on` names the learned region of a cube resting on another.
+    assert!(built.contains("alias           on = cube_cube_"), "{built}");
+    let model = scratch.path().join("build/model");
+
+    let validator = lamp_test_support::python_oracle("unified_planning", "unified-planning");
+    for (problem, tower) in [("tower_2", 2), ("tower_4", 4)] {
+        let out = scratch.path().join(problem);
+        let solved = run(
+            lampc([
+                "solve".as_ref(),
+                spec.as_os_str(),
+                "--problem".as_ref(),
+                problem.as_ref(),
+                "--out".as_ref(),
+                out.as_os_str(),
+            ]),
+            problem,
+        );
+        assert!(solved.contains(&format!("{problem}: solved")), "{solved}");
+        assert!(solved.contains("validated by replay"), "{solved}");
+
+        let bytes = std::fs::read(out.join("trajectory.mcap")).expect("a trajectory");
+        let trajectory = lamp_trajectory::Trajectory::from_bytes(&bytes, "trajectory.mcap")
+            .expect("it reads back");
+        // Each cube of the goal ends square on the one below: centred within a few millimetres,
+        // its bottom 1 mm above the lower cube's top (a cube is 4 cm high).
+        for upper in 2..=tower {
+            let (lower, upper) = (format!("c{}", upper - 1), format!("c{upper}"));
+            let offset = final_position(&trajectory, &upper) - final_position(&trajectory, &lower);
+            assert!(offset.xy().norm() < 0.01, "{problem}: {upper} is beside {lower}: {offset}");
+            assert!((offset.z - 0.041).abs() < 0.002, "{problem}: {upper} over {lower}: {offset}");
+        }
+
+        if validator {
+            let checked = Command::new("python3")
+                .arg(domains().join("tools/validate_plan.py"))
+                .arg(model.join("domain.pddl"))
+                .arg(model.join("problems").join(format!("{problem}.pddl")))
+                .arg(&out)
+                .output()
+                .expect("python3 runs");
+            let verdict = run(checked, "validate_plan.py");
+            assert!(verdict.contains("reaches the goal"), "{verdict}");
+        }
+    }
+}
