@@ -1,18 +1,18 @@
 """Record simulated cube-stacking demonstrations as plain ROS 2 bags.
 
-    python3 record.py --count 100 --seed 1 --out bags/
+    python3 domains/cubes/record.py --count 100 --seed 1 --out domains/cubes/build/bags
 
-A YuMi-like arm (the left arm of domains/robots/yumi.urdf) picks one of one to three cubes lying on a
-table and sets it down on the table or on top of another cube, scripted with pybullet's kinematics
-(its forward kinematics and Jacobians drive a damped least-squares IK: calculateInverseKinematics
-misses this arm's top-down poses by centimetres). Each demonstration is one MCAP file of standard ROS 2 messages only, as a robot's logger
-would record it at 50 Hz:
+A YuMi-like arm (the left arm of domains/robots/yumi.urdf) picks one of one to three cubes lying
+on a table and sets it down on the table or on top of another cube, scripted with pybullet's
+kinematics (its forward kinematics and Jacobians drive a damped least-squares IK:
+calculateInverseKinematics misses this arm's top-down poses by centimetres). Each demonstration is
+one MCAP file of standard ROS 2 messages only, as a robot's logger would record it at 50 Hz:
 
 - /tf_static: world -> table, world -> yumi_body (the arm's root link, where it is bolted);
-- /tf: world -> cube_N for every cube in the scene, as a motion-capture system reports them (off by up
-  to 1.5 mm per axis and 1 degree, and now and then missed: the sample then lacks that cube);
-- /joint_states: the arm's joints and both finger joints by their URDF names. The fingers close on a
-  grasped cube and open again on release; nothing else says what the gripper holds.
+- /tf: world -> cube_N for every cube in the scene, as a motion-capture system reports them (off by
+  up to 1.5 mm per axis and 1 degree, and now and then missed: the sample then lacks that cube);
+- /joint_states: the arm's joints and both finger joints by their URDF names. The fingers close on
+  a grasped cube and open again on release; nothing else says what the gripper holds.
 
 Nothing here uses lamp: it is what a user's own simulation script looks like.
 """
@@ -24,8 +24,31 @@ import os
 import sys
 
 import numpy as np
-import pybullet as p
 from mcap_ros2.writer import Writer
+
+
+@contextlib.contextmanager
+def quiet():
+    """Silences what pybullet prints on the C streams (its URDF importer warns of every link
+    without inertia)."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved = [os.dup(1), os.dup(2)]
+    null = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(null, 1)
+    os.dup2(null, 2)
+    try:
+        yield
+    finally:
+        os.dup2(saved[0], 1)
+        os.dup2(saved[1], 2)
+        for fd in saved + [null]:
+            os.close(fd)
+
+
+# pybullet prints its build time on stdout when it loads.
+with quiet():
+    import pybullet as p  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 URDF = os.path.join(HERE, "..", "robots", "yumi.urdf")
@@ -115,24 +138,6 @@ uint32 nanosec
 
 class Failed(Exception):
     """A layout or motion the arm cannot do; the demonstration is redrawn."""
-
-
-@contextlib.contextmanager
-def quiet():
-    """pybullet's URDF importer prints a warning per link without inertia, on the C streams."""
-    sys.stdout.flush()
-    sys.stderr.flush()
-    saved = [os.dup(1), os.dup(2)]
-    null = os.open(os.devnull, os.O_WRONLY)
-    os.dup2(null, 1)
-    os.dup2(null, 2)
-    try:
-        yield
-    finally:
-        os.dup2(saved[0], 1)
-        os.dup2(saved[1], 2)
-        for fd in saved + [null]:
-            os.close(fd)
 
 
 def yaw_quat(yaw):
@@ -406,7 +411,8 @@ def demonstration(scene, rng):
     # show it, and a cut demonstration keeps at most the samples up to that one.
     state["held"] = False
     pos, quat = current[moved]
-    current[moved] = [(pos[0], pos[1], support_top + CLEARANCE), yaw_quat(p.getEulerFromQuaternion(quat)[2])]
+    yaw = p.getEulerFromQuaternion(quat)[2]
+    current[moved] = [(pos[0], pos[1], support_top + CLEARANCE), yaw_quat(yaw)]
     scene.place_cube(scene.cubes[moved], current[moved])
     release = len(samples) + 1
     line(place, pre_place)
@@ -460,7 +466,6 @@ def write_bag(path, samples, rng):
             ]
         }
         writer.write_message("/tf_static", tf_schema, static, log_time=first, publish_time=first)
-        seen = {}
         for index, (ns, arm, fingers, cubes) in enumerate(samples):
             transforms = []
             for i, frame in enumerate(cubes):
@@ -468,7 +473,6 @@ def write_bag(path, samples, rng):
                 # The tracker misses a cube now and then; the sample then has no transform for it.
                 if index > 0 and rng.uniform() < DROP_CHANCE:
                     continue
-                seen[i] = measured
                 transforms.append(transform(ns, "world", f"cube_{i + 1}", measured))
             if transforms:
                 writer.write_message(
