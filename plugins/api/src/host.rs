@@ -112,6 +112,40 @@ pub trait HostServices {
         Err(HostError::unsupported("distance"))
     }
 
+    /// `q` in the form [`nearest`](Self::nearest) reads; by default `q` itself.
+    ///
+    /// A sampling-based planner compares every new state with every state it keeps, so it keeps
+    /// each state's form: a host whose distance derives something costly from a configuration (a
+    /// quaternion from a rotation vector) derives it here, once per state.
+    ///
+    /// # Errors
+    /// [`HostError`] when the robot is unknown or `q` is not one of its configurations.
+    fn distance_form(&self, robot: &str, q: &[f64]) -> Result<Vec<f64>, HostError> {
+        let _ = robot;
+        Ok(q.to_vec())
+    }
+
+    /// The index of the first of `forms` (the [`distance_form`](Self::distance_form)s of
+    /// configurations) whose configuration is strictly nearest, by
+    /// [`distance`](Self::distance) from it, to the configuration whose form is `form`; 0 when
+    /// none is nearer than infinity. Whatever shortcut a host takes, the answer is the one this
+    /// default scan gives, so that a planner's choices do not depend on the host's speed. A host
+    /// overriding one of the two form services overrides both.
+    ///
+    /// # Errors
+    /// [`HostError`] when the service is unavailable, the robot is unknown or a form is not one
+    /// of its forms.
+    fn nearest(&self, robot: &str, forms: &[Vec<f64>], form: &[f64]) -> Result<usize, HostError> {
+        let mut best = (0, f64::INFINITY);
+        for (index, candidate) in forms.iter().enumerate() {
+            let d = self.distance(robot, candidate, form)?;
+            if d < best.1 {
+                best = (index, d);
+            }
+        }
+        Ok(best.0)
+    }
+
     /// The configuration a fraction `t` in [0, 1] of the way from `a` to `b`.
     ///
     /// # Errors
@@ -149,3 +183,34 @@ pub trait HostServices {
 pub struct MinimalHost;
 
 impl HostServices for MinimalHost {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Points on a line; a NaN is not one.
+    struct Line;
+
+    impl HostServices for Line {
+        fn distance(&self, _robot: &str, a: &[f64], b: &[f64]) -> Result<f64, HostError> {
+            if a[0].is_nan() {
+                return Err(HostError::failed("not a point"));
+            }
+            Ok((a[0] - b[0]).abs())
+        }
+    }
+
+    #[test]
+    fn the_default_nearest_is_the_first_strictly_nearest_by_distance() {
+        let forms: Vec<Vec<f64>> = [5.0, 2.0, 4.0, 2.0]
+            .iter()
+            .map(|&x| Line.distance_form("point", &[x]))
+            .collect::<Result<_, _>>()
+            .expect("the default form is the configuration");
+        assert_eq!(forms[1], vec![2.0]);
+        // 2 and 4 are both 1 away from 3: the first of them is the nearest.
+        assert_eq!(Line.nearest("point", &forms, &[3.0]), Ok(1));
+        assert_eq!(Line.nearest("point", &[], &[3.0]), Ok(0));
+        assert!(Line.nearest("point", &[vec![1.0], vec![f64::NAN]], &[3.0]).is_err());
+    }
+}

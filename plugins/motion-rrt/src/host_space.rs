@@ -93,6 +93,16 @@ impl Space for HostSpace<'_> {
         self.ask(f64::INFINITY, || self.host.distance(self.robot, a, b))
     }
 
+    fn distance_form(&self, q: &[f64]) -> Vec<f64> {
+        // Any form will do once failed: `nearest` then answers without reading it.
+        self.ask(Vec::new(), || self.host.distance_form(self.robot, q))
+    }
+
+    fn nearest(&self, forms: &[Vec<f64>], form: &[f64]) -> usize {
+        // The root once failed; the search stops before it grows from it.
+        self.ask(0, || self.host.nearest(self.robot, forms, form))
+    }
+
     fn interpolate(&self, a: &[f64], b: &[f64], t: f64, out: &mut [f64]) {
         if self.failed() {
             return;

@@ -30,6 +30,51 @@ fn rotation_at(q: &[f64], start: usize) -> Rotation {
     Rotation::from_scaled_axis(Vec3::new(q[start], q[start + 1], q[start + 2]))
 }
 
+/// Values a rotation adds to a configuration's distance form: its unit quaternion.
+const QUATERNION_VALUES: usize = 4;
+
+/// The unit quaternion stored at `form[start..start + 4]` as `[i, j, k, w]`.
+#[inline]
+fn quaternion_at(form: &[f64], start: usize) -> Rotation {
+    let quaternion =
+        nalgebra::Quaternion::new(form[start + 3], form[start], form[start + 1], form[start + 2]);
+    Rotation::new_unchecked(quaternion)
+}
+
+/// The smallest vector part [`angle_lower_bound`] bounds: below it the bound is 0. Its square is
+/// still a normal number, so no bound falls among the subnormals, where a relative error bound
+/// of the arc tangent says little.
+const SMALLEST_BOUNDED_VECTOR_NORM: f64 = 1e-150;
+
+/// How far from 1 the squared norm of a quaternion may be for [`angle_lower_bound`] to bound it:
+/// a product of two unit quaternions is within some 1e-15, a quaternion far from unit is not
+/// bounded.
+const UNIT_NORM_SQUARED_SLACK: f64 = 1e-9;
+
+/// A lower bound on `rotation.angle()` as computed, without its arc tangent (0 where the reasoning
+/// below does not hold).
+///
+/// `angle()` is `2φ` with `φ = atan2(n, |w|)` in [0, π/2], of the vector part's norm `n` and the
+/// scalar part `w`; so `sin φ = n / r` and `cos φ = |w| / r` with `r = √(n² + w²)`. Snellius'
+/// inequality `φ ≥ 3 sin φ / (2 + cos φ)` (its difference grows from 0 with derivative
+/// `(1 − cos φ)² / (2 + cos φ)²`) gives `φ ≥ 3n / (2r + |w|)`, within a relative `φ⁴ / 180` of
+/// `φ`. With `r²` within [`UNIT_NORM_SQUARED_SLACK`] of 1 that is at least
+/// `3n / (2 + |w|) · (1 − 1e-9)`; an arc tangent of any math library is well within a relative
+/// 1e-9 of the true value, so shrinking the bound by a relative 1e-6 leaves room for both and for
+/// the rounding of the bound itself.
+#[inline]
+fn angle_lower_bound(rotation: &Rotation) -> f64 {
+    let quaternion = rotation.quaternion();
+    let vector_norm = quaternion.imag().norm();
+    let scalar = quaternion.w.abs();
+    let near_unit = vector_norm * vector_norm + scalar * scalar <= 1.0 + UNIT_NORM_SQUARED_SLACK;
+    if vector_norm >= SMALLEST_BOUNDED_VECTOR_NORM && near_unit {
+        2.0 * (3.0 * vector_norm / (2.0 + scalar)) * (1.0 - 1e-6)
+    } else {
+        0.0
+    }
+}
+
 #[inline]
 fn write_rotation(rotation: &Rotation, out: &mut [f64], start: usize) {
     let vector = rotation.scaled_axis();
@@ -49,19 +94,114 @@ impl Robot {
     /// differences, with wrapped angles taking the short way and each rotation counted once by its
     /// geodesic angle.
     pub fn distance(&self, a: &[f64], b: &[f64]) -> f64 {
+        self.weighted_sum(a, b, |start, _| rotation_at(a, start).angle_to(&rotation_at(b, start)))
+            .sqrt()
+    }
+
+    /// `q` followed by the unit quaternion of each of its rotations (`[i, j, k, w]`, in the order
+    /// the rotations come): what [`Robot::nearest_form`] reads. A nearest-neighbour scan compares
+    /// one configuration with many, and building a quaternion from a rotation vector (a sine and
+    /// a cosine) costs more than the rest of a comparison; a form builds it once per
+    /// configuration.
+    pub fn distance_form(&self, q: &[f64]) -> Vec<f64> {
+        let mut form = Vec::with_capacity(self.distance_form_len());
+        form.extend_from_slice(q);
+        for (index, coordinate) in self.coordinates.iter().enumerate() {
+            if coordinate.kind == CoordinateKind::Rotation(0) {
+                let rotation = rotation_at(q, index);
+                let quaternion = rotation.quaternion();
+                form.extend_from_slice(&[quaternion.i, quaternion.j, quaternion.k, quaternion.w]);
+            }
+        }
+        form
+    }
+
+    /// How many values a [`Robot::distance_form`] has.
+    pub fn distance_form_len(&self) -> usize {
+        let rotations = self
+            .coordinates
+            .iter()
+            .filter(|coordinate| coordinate.kind == CoordinateKind::Rotation(0))
+            .count();
+        self.coordinates.len() + QUATERNION_VALUES * rotations
+    }
+
+    /// The index of the first of `forms` whose configuration is strictly nearest, by
+    /// [`Robot::distance`], the configuration whose form is `form`; 0 when none is nearer than
+    /// infinity. Exactly the node a scan computing `distance(node, q)` for every node and keeping
+    /// the first strictly smaller one picks: the same quaternions enter the same arithmetic.
+    ///
+    /// Most candidates are ruled out before their rotations' arc tangents are taken. With no
+    /// negative weight every term of the weighted sum is non-negative and rounding is monotone,
+    /// so a sum whose rotation terms use a lower bound on the angle (`angle_lower_bound`, no arc
+    /// tangent), accumulated in the same order, is at most the candidate's sum; when it already
+    /// reaches the best candidate's sum, the candidate's distance (its square root, also
+    /// monotone) cannot be strictly smaller.
+    pub fn nearest_form(&self, forms: &[Vec<f64>], form: &[f64]) -> usize {
+        let dof = self.coordinates.len();
+        let relative_rotation = |candidate: &[f64], ordinal: usize| {
+            let start = dof + QUATERNION_VALUES * ordinal;
+            // What `angle_to` measures the angle of.
+            quaternion_at(candidate, start).rotation_to(&quaternion_at(form, start))
+        };
+        let rotation_angle = |candidate: &[f64], ordinal: usize| {
+            let start = dof + QUATERNION_VALUES * ordinal;
+            quaternion_at(candidate, start).angle_to(&quaternion_at(form, start))
+        };
+        // Without a rotation the bound is the sum itself and would only be computed twice.
+        let has_rotation = self
+            .coordinates
+            .iter()
+            .any(|coordinate| coordinate.kind == CoordinateKind::Rotation(0));
+        let prunable =
+            has_rotation && self.coordinates.iter().all(|coordinate| coordinate.weight >= 0.0);
+        let mut best = (0, f64::INFINITY);
+        let mut best_sum = f64::INFINITY;
+        for (index, candidate) in forms.iter().enumerate() {
+            if prunable {
+                let at_most = self.weighted_sum(candidate, form, |_, ordinal| {
+                    angle_lower_bound(&relative_rotation(candidate, ordinal))
+                });
+                if at_most >= best_sum {
+                    continue;
+                }
+            }
+            let sum =
+                self.weighted_sum(candidate, form, |_, ordinal| rotation_angle(candidate, ordinal));
+            let distance = sum.sqrt();
+            if distance < best.1 {
+                best = (index, distance);
+                best_sum = sum;
+            }
+        }
+        best.0
+    }
+
+    /// The weighted sum of squared coordinate differences that [`Robot::distance`] is the square
+    /// root of, with each rotation's geodesic angle given by `rotation_angle`, called with the
+    /// rotation's first coordinate and its ordinal among the robot's rotations.
+    #[inline]
+    fn weighted_sum(
+        &self,
+        a: &[f64],
+        b: &[f64],
+        mut rotation_angle: impl FnMut(usize, usize) -> f64,
+    ) -> f64 {
         let mut sum = 0.0;
+        let mut rotations = 0;
         for (index, coordinate) in self.coordinates.iter().enumerate() {
             let difference = match coordinate.kind {
                 CoordinateKind::Linear | CoordinateKind::Angle => b[index] - a[index],
                 CoordinateKind::WrappedAngle => wrap_angle(b[index] - a[index]),
                 CoordinateKind::Rotation(0) => {
-                    rotation_at(a, index).angle_to(&rotation_at(b, index))
+                    rotations += 1;
+                    rotation_angle(index, rotations - 1)
                 }
                 CoordinateKind::Rotation(_) => 0.0,
             };
             sum += coordinate.weight * difference * difference;
         }
-        sum.sqrt()
+        sum
     }
 
     /// The configuration a fraction `t` of the way from `a` to `b` (wrap-aware; slerp for rotations).

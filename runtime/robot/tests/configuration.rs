@@ -8,8 +8,8 @@ use std::f64::consts::PI;
 use approx::assert_relative_eq;
 use lamp_geometry::{Rotation, Vec3};
 use lamp_robot::{
-    DEFAULT_ACCELERATION, DEFAULT_JOINT_VELOCITY, MOUNT_ANGULAR_VELOCITY, MOUNT_LINEAR_VELOCITY,
-    Mount, wrap_angle,
+    ALL_GROUP, CoordinateKind, DEFAULT_ACCELERATION, DEFAULT_JOINT_VELOCITY,
+    MOUNT_ANGULAR_VELOCITY, MOUNT_LINEAR_VELOCITY, Mount, wrap_angle,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -310,4 +310,82 @@ fn displacements_take_the_short_way_and_unwrapping_keeps_the_configuration() {
     gripper.displacement(&c, &d, &mut turn);
     assert_relative_eq!(turn[5], 0.2, epsilon = 1e-9);
     assert_relative_eq!(Vec3::new(turn[3], turn[4], turn[5]).norm(), 0.2, epsilon = 1e-9);
+}
+
+#[test]
+fn nearest_form_picks_the_node_a_scan_of_distances_picks() {
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    for robot in [
+        common::load("magnetic_gripper.urdf", Mount::Floating),
+        common::load("fetch.urdf", Mount::Planar),
+    ] {
+        let group = robot.group(ALL_GROUP).expect("every robot has the all group");
+        let reference = vec![0.0; robot.dof()];
+        let mut q = reference.clone();
+        let mut nodes = Vec::new();
+        for _ in 0..300 {
+            robot.sample_uniform(group, &reference, &mut rng, &mut q);
+            nodes.push(q.clone());
+        }
+        // Ties and near ties: repeated nodes, and nodes a hair from others in one coordinate
+        // (a rotation's included), where only the exact arithmetic tells them apart.
+        for index in [3, 50, 200] {
+            nodes.push(nodes[index].clone());
+            for coordinate in 0..robot.dof() {
+                let mut nudged = nodes[index].clone();
+                nudged[coordinate] += 1e-12;
+                nodes.push(nudged);
+            }
+        }
+        let forms: Vec<Vec<f64>> = nodes.iter().map(|node| robot.distance_form(node)).collect();
+        assert!(forms.iter().all(|form| form.len() == robot.distance_form_len()));
+        for trial in 0..400 {
+            // Every fourth query is a node, the near ties first.
+            let query = if trial % 4 == 0 {
+                nodes[nodes.len() - 1 - trial / 4].clone()
+            } else {
+                robot.sample_uniform(group, &reference, &mut rng, &mut q);
+                q.clone()
+            };
+            let mut scan = (0, f64::INFINITY);
+            for (index, node) in nodes.iter().enumerate() {
+                let distance = robot.distance(node, &query);
+                if distance < scan.1 {
+                    scan = (index, distance);
+                }
+            }
+            let nearest = robot.nearest_form(&forms, &robot.distance_form(&query));
+            assert_eq!(nearest, scan.0, "{} at trial {trial}", robot.name());
+        }
+    }
+}
+
+#[test]
+fn nearest_form_tells_apart_rotations_a_hair_apart() {
+    let robot = common::load("magnetic_gripper.urdf", Mount::Floating);
+    let rotation = robot
+        .coordinates()
+        .iter()
+        .position(|coordinate| coordinate.kind == CoordinateKind::Rotation(0))
+        .expect("a floating mount has a rotation");
+    let query = vec![0.0; robot.dof()];
+    // Each rung turns a relative 1e-8 less than the one before, so each is strictly nearer the
+    // query than any listed before it, and only by a little of its rotation term. The turns are
+    // small, where a lower bound on a rotation's angle is at its tightest.
+    let nodes: Vec<Vec<f64>> = (0..5)
+        .map(|rung| {
+            let mut node = query.clone();
+            let scale = 1.0 - 1e-8 * f64::from(rung);
+            node[rotation..rotation + 3].copy_from_slice(&[
+                0.007 * scale,
+                -0.004 * scale,
+                0.011 * scale,
+            ]);
+            node
+        })
+        .collect();
+    let forms: Vec<Vec<f64>> = nodes.iter().map(|node| robot.distance_form(node)).collect();
+    let distances: Vec<f64> = nodes.iter().map(|node| robot.distance(node, &query)).collect();
+    assert!(distances.windows(2).all(|pair| pair[1] < pair[0]), "{distances:?}");
+    assert_eq!(robot.nearest_form(&forms, &robot.distance_form(&query)), nodes.len() - 1);
 }

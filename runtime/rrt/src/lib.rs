@@ -5,7 +5,8 @@
 //! sample by at most `step` and then greedily connects the other tree toward the new node. Edges
 //! are checked at the space's resolution. The trees swap roles every iteration. Nearest neighbours
 //! are found by a linear scan: trees stay in the hundreds to low thousands of nodes, and the
-//! space's metric (wrapped angles, rotations) is not one a k-d tree can index.
+//! space's metric (wrapped angles, rotations) is not one a k-d tree can index. Each node keeps its
+//! [`Space::distance_form`], so what a distance derives from a configuration is derived once.
 //!
 //! Deterministic: the same seed and inputs give the same path. The budget is an iteration count
 //! (deterministic) and, optionally, a wall-clock limit (a safety net; hitting it is reported).
@@ -28,6 +29,32 @@ pub trait Space {
     fn sample(&self, rng: &mut ChaCha8Rng, out: &mut [f64]);
     /// The distance between two configurations (a metric).
     fn distance(&self, a: &[f64], b: &[f64]) -> f64;
+
+    /// `q` in the form [`nearest`](Self::nearest) reads. The search measures every tree node
+    /// against every sample, so a space whose distance derives something costly from each
+    /// configuration (a rotation from its rotation vector) derives it here, once per node. The
+    /// default form is `q` itself.
+    fn distance_form(&self, q: &[f64]) -> Vec<f64> {
+        q.to_vec()
+    }
+
+    /// The index of the first of `forms` (the [`distance_form`](Self::distance_form)s of
+    /// configurations) whose configuration is strictly nearest, by [`distance`](Self::distance)
+    /// from it, to the configuration whose form is `form`; 0 when none is nearer than infinity.
+    /// Whatever shortcut a space takes, the answer is the one this default scan gives, so that
+    /// the search grows the same trees. A space overriding one of the two form methods overrides
+    /// both.
+    fn nearest(&self, forms: &[Vec<f64>], form: &[f64]) -> usize {
+        let mut best = (0, f64::INFINITY);
+        for (index, candidate) in forms.iter().enumerate() {
+            let d = self.distance(candidate, form);
+            if d < best.1 {
+                best = (index, d);
+            }
+        }
+        best.0
+    }
+
     /// The configuration a fraction `t` of the way from `a` to `b`.
     fn interpolate(&self, a: &[f64], b: &[f64], t: f64, out: &mut [f64]);
     /// Whether a configuration is valid (within limits, collision-free).
@@ -112,27 +139,23 @@ pub struct RrtStats {
 
 struct Tree {
     nodes: Vec<Vec<f64>>,
+    /// Each node's [`Space::distance_form`], kept so that nearest-neighbour scans derive it once.
+    forms: Vec<Vec<f64>>,
     parents: Vec<usize>,
 }
 
 impl Tree {
-    fn new(root: &[f64]) -> Tree {
-        Tree { nodes: vec![root.to_vec()], parents: vec![usize::MAX] }
-    }
-
-    fn nearest(&self, space: &impl Space, q: &[f64]) -> usize {
-        let mut best = (0, f64::INFINITY);
-        for (index, node) in self.nodes.iter().enumerate() {
-            let d = space.distance(node, q);
-            if d < best.1 {
-                best = (index, d);
-            }
+    fn new(space: &impl Space, root: &[f64]) -> Tree {
+        Tree {
+            nodes: vec![root.to_vec()],
+            forms: vec![space.distance_form(root)],
+            parents: vec![usize::MAX],
         }
-        best.0
     }
 
-    fn add(&mut self, q: Vec<f64>, parent: usize) -> usize {
+    fn add(&mut self, q: Vec<f64>, form: Vec<f64>, parent: usize) -> usize {
         self.nodes.push(q);
+        self.forms.push(form);
         self.parents.push(parent);
         self.nodes.len() - 1
     }
@@ -155,8 +178,15 @@ enum Extension {
     Reached(usize),
 }
 
-fn extend(space: &impl Space, tree: &mut Tree, target: &[f64], step: f64) -> Extension {
-    let near = tree.nearest(space, target);
+/// Extends `tree` toward `target`, whose distance form is `target_form`.
+fn extend(
+    space: &impl Space,
+    tree: &mut Tree,
+    target: &[f64],
+    target_form: &[f64],
+    step: f64,
+) -> Extension {
+    let near = space.nearest(&tree.forms, target_form);
     let from = tree.nodes[near].clone();
     let distance = space.distance(&from, target);
     let (new, reached) = if distance <= step {
@@ -169,7 +199,8 @@ fn extend(space: &impl Space, tree: &mut Tree, target: &[f64], step: f64) -> Ext
     if !space.is_valid(&new) || !space.edge_is_valid(&from, &new) {
         return Extension::Trapped;
     }
-    let index = tree.add(new, near);
+    let form = if reached { target_form.to_vec() } else { space.distance_form(&new) };
+    let index = tree.add(new, form, near);
     if reached { Extension::Reached(index) } else { Extension::Advanced(index) }
 }
 
@@ -194,7 +225,7 @@ pub fn rrt_connect(
         let stats = RrtStats { iterations: 0, nodes: 2, raw_waypoints: 2, waypoints: 2 };
         return Ok((path, stats));
     }
-    let mut trees = [Tree::new(start), Tree::new(goal)];
+    let mut trees = [Tree::new(space, start), Tree::new(space, goal)];
     let mut sample = start.to_vec();
     for iteration in 1..=config.max_iterations {
         if let Some(limit) = config.timeout
@@ -207,15 +238,17 @@ pub fn rrt_connect(
         }
         let grow = iteration % 2;
         space.sample(rng, &mut sample);
+        let sample_form = space.distance_form(&sample);
         let [first, second] = &mut trees;
         let (growing, other) = if grow == 0 { (first, second) } else { (second, first) };
-        let new = match extend(space, growing, &sample, config.step) {
+        let new = match extend(space, growing, &sample, &sample_form, config.step) {
             Extension::Trapped => continue,
             Extension::Advanced(index) | Extension::Reached(index) => index,
         };
         let target = growing.nodes[new].clone();
+        let target_form = growing.forms[new].clone();
         let connected = loop {
-            match extend(space, other, &target, config.step) {
+            match extend(space, other, &target, &target_form, config.step) {
                 Extension::Trapped => break None,
                 Extension::Advanced(_) => {}
                 Extension::Reached(index) => break Some(index),

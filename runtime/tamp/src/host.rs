@@ -177,6 +177,8 @@ impl HostServices for SceneHost<'_> {
 pub struct GroupHost<'a> {
     robot: &'a str,
     model: &'a Robot,
+    /// How many values the model's distance forms have.
+    form_len: usize,
     space: RobotSpace<'a>,
     cancelled: &'a dyn Fn() -> bool,
 }
@@ -189,7 +191,7 @@ impl<'a> GroupHost<'a> {
         space: RobotSpace<'a>,
         cancelled: &'a dyn Fn() -> bool,
     ) -> Self {
-        GroupHost { robot, model, space, cancelled }
+        GroupHost { robot, model, form_len: model.distance_form_len(), space, cancelled }
     }
 
     fn check(&self, robot: &str, q: &[f64]) -> Result<(), HostError> {
@@ -203,6 +205,27 @@ impl<'a> GroupHost<'a> {
             return Err(HostError::failed(format!(
                 "a configuration of `{robot}` has {} finite coordinates",
                 self.model.dof()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Whether `form` can be one of `robot`'s distance forms. Its values are not checked to be
+    /// finite, as configurations are: a form comes from [`HostServices::distance_form`], which
+    /// checks its configuration, and a non-finite value could only make a distance infinite or
+    /// NaN, never chosen as the nearest.
+    fn check_form(&self, robot: &str, form: &[f64]) -> Result<(), HostError> {
+        if robot != self.robot {
+            return Err(HostError::failed(format!(
+                "this motion call plans for `{}`, not `{robot}`",
+                self.robot
+            )));
+        }
+        if form.len() != self.form_len {
+            return Err(HostError::failed(format!(
+                "a distance form of `{robot}` has {} values, not {}",
+                form.len(),
+                self.form_len
             )));
         }
         Ok(())
@@ -239,6 +262,19 @@ impl HostServices for GroupHost<'_> {
         self.check(robot, a)?;
         self.check(robot, b)?;
         Ok(self.space.distance(a, b))
+    }
+
+    fn distance_form(&self, robot: &str, q: &[f64]) -> Result<Vec<f64>, HostError> {
+        self.check(robot, q)?;
+        Ok(self.space.distance_form(q))
+    }
+
+    fn nearest(&self, robot: &str, forms: &[Vec<f64>], form: &[f64]) -> Result<usize, HostError> {
+        self.check_form(robot, form)?;
+        for candidate in forms {
+            self.check_form(robot, candidate)?;
+        }
+        Ok(self.space.nearest(forms, form))
     }
 
     fn interpolate(

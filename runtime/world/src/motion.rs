@@ -174,6 +174,14 @@ impl Space for RobotSpace<'_> {
         self.robot.distance(a, b)
     }
 
+    fn distance_form(&self, q: &[f64]) -> Vec<f64> {
+        self.robot.distance_form(q)
+    }
+
+    fn nearest(&self, forms: &[Vec<f64>], form: &[f64]) -> usize {
+        self.robot.nearest_form(forms, form)
+    }
+
     fn interpolate(&self, a: &[f64], b: &[f64], t: f64, out: &mut [f64]) {
         self.robot.interpolate(a, b, t, out);
     }
