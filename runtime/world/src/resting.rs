@@ -43,6 +43,10 @@ pub const MAX_SETTLE_TILT: Real = 5.0 * std::f64::consts::PI / 180.0;
 /// A lean under this (radians) is rounding: the orientation is left as it is.
 const LEVEL: Real = 1e-9;
 
+/// A turn under this (radians) of a body the rule would settle again is rounding: it is at
+/// rest.
+const LEAVE_ALONE_TURN: Real = 1e-6;
+
 /// A lean under this (radians, 0.06°) cannot tip any real body over (one would need to be
 /// a thousand times taller than it is wide), and its low edge is a matter of rounding among the
 /// contact points: the body is seated without the tipping test.
@@ -227,6 +231,45 @@ impl Scene {
         };
         self.check_support(body, &rest)?;
         Ok(rest)
+    }
+
+    /// Whether every object that rested on `taken`, now held (a held object is no support),
+    /// still rests where it is: `Err` names the first that would not, and why. An object
+    /// within 1.5 mm of `taken` counts as resting on it; it still rests when the resting rule
+    /// leaves it where it is (within a micrometre), else it would drop, tip or hang in the air,
+    /// which no real robot can leave it to do.
+    pub fn rests_without(&self, taken: usize) -> Result<(), (String, String)> {
+        let Some(taken_shape) = self.collision.shape(BodyId(taken)) else { return Ok(()) };
+        let taken_pose = self.body_pose(taken);
+        let held: Vec<usize> = self
+            .robots
+            .iter()
+            .filter_map(|robot| robot.gripper.as_ref()?.held.map(|held| held.body))
+            .collect();
+        let reach = RESTING_GAP + CONTACT_BAND;
+        for (index, body) in self.bodies.iter().enumerate() {
+            if !body.movable || index == taken || held.contains(&index) {
+                continue;
+            }
+            let Some(shape) = self.collision.shape(BodyId(index)) else { continue };
+            let pose = self.body_pose(index);
+            if lamp_geometry::distance(shape, &pose, taken_shape, &taken_pose) > reach {
+                continue;
+            }
+            let reason = match self.resting_pose(index) {
+                Err(error) => error.to_string(),
+                Ok(rest) => {
+                    let moved = pose.inv_mul(&rest);
+                    let shift = moved.translation.vector.norm();
+                    if shift <= AT_REST && moved.rotation.angle() <= LEAVE_ALONE_TURN {
+                        continue;
+                    }
+                    format!("it would settle {:.1} mm", shift * 1000.0)
+                }
+            };
+            return Err((body.name.clone(), reason));
+        }
+        Ok(())
     }
 
     /// Whether `body` at `pose` is statically supported: its centre of mass, projected straight

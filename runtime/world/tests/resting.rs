@@ -256,6 +256,34 @@ fn a_plank_across_two_blocks_is_held_by_both_and_one_off_a_single_block_is_not()
     }
 }
 
+/// Two cubes stacked on a floor: taking the lower one away leaves the upper one in the air (it
+/// would drop onto the floor), taking the upper one leaves the lower one at rest, and a cube
+/// standing apart is not asked.
+#[test]
+fn taking_what_another_object_rests_on_is_named() {
+    // Packing's scene gives a gripper; the cubes stand on a floor of their own, far from it (a
+    // grab here does not ask for the gripper to be near).
+    let (mut scene, gripper, ..) = support::gripper_over_can();
+    let floor = block("floor", (1.0, 1.0, 0.01), false);
+    scene.add_body(floor, pose(10.0, 0.0, -0.01, 0.0, 0.0, 0.0)).unwrap();
+    let cube = |name: &str| block(name, (0.02, 0.02, 0.02), true);
+    let lower = scene.add_body(cube("lower"), pose(10.0, 0.0, 0.021, 0.0, 0.0, 0.0)).unwrap();
+    let upper = scene.add_body(cube("upper"), pose(10.0, 0.0, 0.062, 0.0, 0.0, 0.0)).unwrap();
+    let apart = scene.add_body(cube("apart"), pose(10.3, 0.0, 0.021, 0.0, 0.0, 0.0)).unwrap();
+    for (taken, left) in [(lower, Some("upper")), (upper, None), (apart, None)] {
+        let mut scene = scene.clone();
+        scene.grab(gripper, taken).unwrap();
+        match (scene.rests_without(taken), left) {
+            (Ok(()), None) => {}
+            (Err((name, reason)), Some(expected)) => {
+                assert_eq!(name, expected);
+                assert!(reason.contains("would drop 41.0 mm onto `floor`"), "{reason}");
+            }
+            (outcome, expected) => panic!("taking {taken}: {outcome:?}, expected {expected:?}"),
+        }
+    }
+}
+
 #[test]
 fn a_release_settles_the_can_it_lets_go_of_or_keeps_holding_it() {
     let (mut scene, gripper, can, q, grasp) = support::gripper_over_can();
