@@ -140,25 +140,36 @@ fn only_one_kind_of_noise_perturbs_only_that_part() {
     assert!(offset < ROUNDING && turn > 0.0, "{offset} m, {turn} rad");
 }
 
-/// Keva records a marker at each placed plank: where the demonstrator put it, not a tracked body,
-/// so it stays as recorded while the planks and the table move.
-#[test]
-fn markers_are_not_tracked() {
+/// Keva's marker type and world.
+fn keva_marker() -> (&'static lamp_spec::ObjectType, &'static SpecWorld) {
     let (spec, world) = &*KEVA;
     let marker = spec
         .object_types
         .iter()
         .find(|ty| ty.mobility == lamp_spec::Mobility::Marker)
         .expect("Keva declares a marker type");
-    let keva = |noise| Simulation {
+    (marker, world)
+}
+
+/// One Keva demonstration of three planks, uncut, recorded with `noise` at `rate`.
+fn keva_once(noise: TrackingNoise, rate: Option<f64>) -> Simulation {
+    Simulation {
         demonstrator: Demonstrator::Keva,
         count: 1,
         cut_fraction: 0.0,
         objects: 3,
         seed: 5,
         noise,
-        rate: None,
-    };
+        rate,
+    }
+}
+
+/// Keva records a marker at each placed plank: where the demonstrator put it, not a tracked body,
+/// so it stays as recorded while the planks and the table move.
+#[test]
+fn markers_are_not_tracked() {
+    let (marker, world) = keva_marker();
+    let keva = |noise| keva_once(noise, None);
     let clean = generate(world, &keva(TrackingNoise::NONE), 0).unwrap();
     let noisy = generate(world, &keva(NOISE), 0).unwrap();
     assert!(
@@ -194,21 +205,8 @@ fn noise_out_of_range_is_refused_as_a_typed_error() {
 /// robots, times and untracked markers are untouched.
 #[test]
 fn dropped_poses_repeat_the_pose_recorded_before() {
-    let (spec, world) = &*KEVA;
-    let marker = spec
-        .object_types
-        .iter()
-        .find(|ty| ty.mobility == lamp_spec::Mobility::Marker)
-        .expect("Keva declares a marker type");
-    let keva = |noise| Simulation {
-        demonstrator: Demonstrator::Keva,
-        count: 1,
-        cut_fraction: 0.0,
-        objects: 3,
-        seed: 5,
-        noise,
-        rate: Some(50.0),
-    };
+    let (marker, world) = keva_marker();
+    let keva = |noise| keva_once(noise, Some(50.0));
     let dropping = TrackingNoise { dropped: 0.2, ..NOISE };
     let clean = generate(world, &keva(TrackingNoise::NONE), 0).unwrap();
     let noisy = generate(world, &keva(NOISE), 0).unwrap();
