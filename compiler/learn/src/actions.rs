@@ -447,6 +447,14 @@ fn preconditions(
                 if p == pair && r == region && primary == object)
         })
     };
+    // Whether the action changes how a robot part relates to the object: it comes to take it,
+    // takes it, lets go of it or leaves it.
+    let grasp_changes = |object: usize| {
+        transition.added.iter().chain(transition.deleted).any(|fact| {
+            matches!(*fact, Fact::Relation { primary, secondary, .. }
+                if secondary == object && is_robot(primary))
+        })
+    };
     let mut result = BTreeSet::new();
     // Step 1: what the action deletes must hold before it.
     result.extend(transition.deleted.iter().filter_map(|fact| lift(vocabulary, *fact, &names)));
@@ -473,7 +481,10 @@ fn preconditions(
             // history (the two blocks a third is laid across had nothing under them), which a
             // larger task does not repeat.
             Fact::Clear { pair, region, object } => {
-                is_changed(object) && (is_robot(object) || fills_region_of(pair, region, object))
+                is_changed(object)
+                    && (is_robot(object)
+                        || fills_region_of(pair, region, object)
+                        || grasp_changes(object))
             }
             // That the object is in a region of no robot part (held by another gripper, say)
             // matters to any change of its relations of the pair. Of an object's regions, as with
