@@ -199,11 +199,8 @@ pub fn execute(
         }
         scene.grab(robot, body).map_err(|error| Rejection::Candidate(error.to_string()))?;
         // Lifted, the object would leave what rests on it hanging in the air.
-        if let Err((left, reason)) = scene.rests_without(body) {
-            return Err(Rejection::Candidate(format!(
-                "taking `{}` leaves `{left}` without its support: {reason}",
-                change.object
-            )));
+        if let Err(left) = scene.rests_without(body) {
+            return Err(Rejection::Candidate(format!("taking `{}`: {left}", change.object)));
         }
         recorder.record(scene);
         // Held first, so that the fingers may touch the object as they close onto it.

@@ -37,7 +37,7 @@ pub use motion::{
     MotionError, MotionPlan, RobotSpace, checked_edge_steps, densify, edge_steps, plan_motion,
 };
 pub use recording::{Recorder, STEP_NANOSECONDS, trajectory_header};
-pub use resting::{MAX_SETTLE_DROP, RESTING_GAP, RestError, SUPPORT_TOLERANCE};
+pub use resting::{LeftUnsupported, MAX_SETTLE_DROP, RESTING_GAP, RestError, SUPPORT_TOLERANCE};
 pub use scene::{Body, Gripper, Held, Scene, SceneRobot};
 pub use straight::{StraightLineError, straight_line};
 pub use timing::{GRASP_SECONDS, time_steps};

@@ -118,6 +118,17 @@ pub enum RestError {
     Unsupported { object: String, outside: Real, supports: Vec<String> },
 }
 
+/// An object that would no longer rest once what it rested on is taken away
+/// ([`Scene::rests_without`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("`{object}` would be left without its support: {reason}")]
+pub struct LeftUnsupported {
+    /// The object left behind.
+    pub object: String,
+    /// How it would fall: the resting rule's refusal, or how far it would settle.
+    pub reason: String,
+}
+
 fn on_list(supports: &[String]) -> String {
     if supports.is_empty() {
         " (no level contact)".to_string()
@@ -238,7 +249,10 @@ impl Scene {
     /// within 1.5 mm of `taken` counts as resting on it; it still rests when the resting rule
     /// leaves it where it is (within a micrometre), else it would drop, tip or hang in the air,
     /// which no real robot can leave it to do.
-    pub fn rests_without(&self, taken: usize) -> Result<(), (String, String)> {
+    ///
+    /// # Errors
+    /// [`LeftUnsupported`] naming the first object that would no longer rest.
+    pub fn rests_without(&self, taken: usize) -> Result<(), LeftUnsupported> {
         let Some(taken_shape) = self.collision.shape(BodyId(taken)) else { return Ok(()) };
         let taken_pose = self.body_pose(taken);
         let held: Vec<usize> = self
@@ -267,7 +281,7 @@ impl Scene {
                     format!("it would settle {:.1} mm", shift * 1000.0)
                 }
             };
-            return Err((body.name.clone(), reason));
+            return Err(LeftUnsupported { object: body.name.clone(), reason });
         }
         Ok(())
     }

@@ -275,9 +275,10 @@ fn taking_what_another_object_rests_on_is_named() {
         scene.grab(gripper, taken).unwrap();
         match (scene.rests_without(taken), left) {
             (Ok(()), None) => {}
-            (Err((name, reason)), Some(expected)) => {
-                assert_eq!(name, expected);
-                assert!(reason.contains("would drop 41.0 mm onto `floor`"), "{reason}");
+            (Err(left), Some(expected)) => {
+                assert_eq!(left.object, expected);
+                assert!(left.reason.contains("would drop 41.0 mm onto `floor`"), "{left}");
+                assert!(left.to_string().contains("left without its support"), "{left}");
             }
             (outcome, expected) => panic!("taking {taken}: {outcome:?}, expected {expected:?}"),
         }
