@@ -210,8 +210,8 @@ impl Scene {
         // The turn's axis is level, so this is how far the centre of mass lies beyond the edge
         // across it, whatever its offset along the edge.
         let beyond_edge = axis.cross(&arm).z;
-        if beyond_edge >= 0.0 && turn.angle() >= TIPS_NEVER {
-            let lean = turn.angle();
+        let lean = turn.angle();
+        if beyond_edge >= 0.0 && lean >= TIPS_NEVER {
             let beyond = beyond_edge.atan2(arm.z.max(0.0));
             return Err(RestError::TipsOver {
                 object: name(),
