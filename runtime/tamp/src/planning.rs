@@ -61,26 +61,38 @@ pub fn plans(
     }))
 }
 
-/// One plan from `state` to `problem`'s goal, grounded; `None` when the planner finds none
-/// (none exists, or its budget ran out first).
+/// How the goal is reached from a state met during refinement.
+#[derive(Clone, Debug)]
+pub enum Rest {
+    /// The planner's plan from there, grounded.
+    Plan(Vec<GroundedAction>),
+    /// No plan reaches the goal from there.
+    Unreachable,
+    /// The planner's budget ran out before it found one: whether one exists is not known.
+    OutOfBudget,
+}
+
+/// One plan from `state` to `problem`'s goal, grounded, or why there is none.
 pub fn plan_from(
     plugins: &mut Plugins<'_>,
     domain: &Domain,
     problem: &Problem,
     state: &BTreeSet<GroundAtom>,
     settings: &SolveSettings<'_>,
-) -> Result<Option<Vec<GroundedAction>>, SolveError> {
+) -> Result<Rest, SolveError> {
     let mut from = problem.clone();
     from.init = ground_atoms(state);
-    let Planned::Plans(found) = plans(plugins, domain, &from, 1, settings)? else {
-        return Ok(None);
+    let found = match plans(plugins, domain, &from, 1, settings)? {
+        Planned::Plans(found) => found,
+        Planned::NoPlan(_) => return Ok(Rest::Unreachable),
+        Planned::OutOfBudget => return Ok(Rest::OutOfBudget),
     };
-    let Some(plan) = found.into_iter().next() else { return Ok(None) };
+    let Some(plan) = found.into_iter().next() else { return Ok(Rest::Unreachable) };
     plan.steps
         .iter()
         .map(|step| ground_step(domain, problem, step))
         .collect::<Result<Vec<_>, _>>()
-        .map(Some)
+        .map(Rest::Plan)
 }
 
 /// Drops the goal atom whose predicate appears least often in action preconditions (ties: the

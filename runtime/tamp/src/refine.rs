@@ -29,7 +29,7 @@ use crate::error::SolveError;
 use crate::execute::{MotionCounts, Rejection, execute};
 use crate::ground::{Broken, Unmet, first_broken, progress, unmet_effects};
 use crate::host::SceneHost;
-use crate::planning::plan_from;
+use crate::planning::{Rest, plan_from};
 use crate::plugins::Plugins;
 use crate::settings::SolveSettings;
 use crate::state::{abstraction, world_state};
@@ -314,8 +314,8 @@ impl Search {
 }
 
 /// The rests of plans planned from states reached during one plan's refinement, by state
-/// (`None`: no plan reaches the goal from there).
-type Rests = BTreeMap<BTreeSet<GroundAtom>, Option<Vec<GroundedAction>>>;
+/// (or why none was planned).
+type Rests = BTreeMap<BTreeSet<GroundAtom>, Rest>;
 
 /// What became of a candidate that was carried out.
 enum Verdict {
@@ -378,8 +378,13 @@ impl Judge<'_, '_, '_> {
             }
         };
         Ok(match rest {
-            Some(rest) => Verdict::Replanned(reached, rest),
-            None => Verdict::Refused(format!("{broken}, and no plan reaches the goal from there")),
+            Rest::Plan(rest) => Verdict::Replanned(reached, rest),
+            Rest::Unreachable => {
+                Verdict::Refused(format!("{broken}, and no plan reaches the goal from there"))
+            }
+            Rest::OutOfBudget => Verdict::Refused(format!(
+                "{broken}, and the planner's budget ran out before it found a plan from there"
+            )),
         })
     }
 }

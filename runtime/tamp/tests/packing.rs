@@ -174,6 +174,49 @@ fn a_planner_out_of_budget_relaxes_no_goal_and_says_a_plan_may_exist() {
     assert!(!error.to_string().contains("no way"), "{error}");
 }
 
+/// The built-in planner's first plan without its second step, and then no plan, its budget run
+/// out: the replan from the reached state is out of budget.
+struct SkipsThenRunsOut {
+    inner: BuiltinPlanner,
+    calls: usize,
+}
+
+impl Planner for SkipsThenRunsOut {
+    fn plan(
+        &mut self,
+        request: &PlanRequest,
+        host: &dyn HostServices,
+    ) -> Result<PlanResponse, PluginError> {
+        self.calls += 1;
+        if self.calls > 1 {
+            return Ok(PlanResponse {
+                status: lamp_plugin_api::PlanStatus::BudgetExhausted,
+                plans: vec![],
+            });
+        }
+        let mut response = self.inner.plan(request, host)?;
+        response.plans[0].steps.remove(1);
+        Ok(response)
+    }
+}
+
+/// A replan whose planner ran out of budget refuses the candidate saying so, not that no plan
+/// reaches the goal from there.
+#[test]
+fn a_replan_out_of_budget_is_not_called_unreachable() {
+    let mut planner =
+        SkipsThenRunsOut { inner: BuiltinPlanner::new(BuiltinAlgorithm::GbfsFf), calls: 0 };
+    let error = learned::solve_with_planner(&PACKING, "pack4_01", 1, &mut planner)
+        .err()
+        .expect("no rest of the plan is found");
+    let message = error.to_string();
+    assert!(
+        message.contains("the planner's budget ran out before it found a plan from there"),
+        "{message}"
+    );
+    assert!(!message.contains("no plan reaches the goal from there"), "{message}");
+}
+
 /// The learned domain and pack4_01's problem, the `in_box` atom of can1 and the "not in the box"
 /// relation the only placing action deletes (no action adds it back).
 fn placing() -> (String, String, lamp_pddl::Atom, String) {
