@@ -622,3 +622,61 @@ fn an_executor_that_does_not_exist_is_refused_before_any_work() {
     assert!(!scratch.path().join("build").exists(), "no demonstration is generated");
     assert!(!out.exists(), "nothing is written");
 }
+
+/// `--keep-models` writes each run's model as a build folder: the solver solves a problem with
+/// it exactly as the evaluation's worker did, and a rerun whose solves are all in the journal
+/// still writes the models (they are learned again from the same subsets, byte for byte).
+#[test]
+fn kept_models_are_build_folders_the_solver_reads_and_a_resumed_evaluation_writes_them_too() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let out = scratch.path().join("eval");
+    let output = quick_eval(&spec, &out, &["--keep-models"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let build = out.join("models/30-1");
+    let domain = std::fs::read(build.join("model/domain.pddl")).expect("the run's domain is kept");
+    let vocabulary =
+        std::fs::read_to_string(build.join("model/vocabulary.md")).expect("its report");
+    assert!(vocabulary.contains("Learned from 30 demonstrations"), "{vocabulary}");
+
+    let document = read_json(&out.join("eval.json"));
+    let row = document["rows"]
+        .as_array()
+        .expect("rows")
+        .iter()
+        .find(|row| row["problem"] == "pack2")
+        .expect("a row for pack2")
+        .clone();
+    assert_eq!(row["solved"], true, "{row}");
+    let solution = scratch.path().join("solution");
+    let args = [
+        OsStr::new("solve"),
+        spec.as_os_str(),
+        OsStr::new("--build"),
+        build.as_os_str(),
+        OsStr::new("--problem"),
+        OsStr::new("pack2"),
+        OsStr::new("--out"),
+        solution.as_os_str(),
+    ];
+    let output = run(args);
+    let printed = String::from_utf8_lossy(&output.stdout);
+    assert!(printed.contains("pack2: solved"), "{printed}");
+    let summary: Value = serde_json::from_str(
+        &std::fs::read_to_string(solution.join("summary.json")).expect("a summary"),
+    )
+    .expect("JSON");
+    assert_eq!(summary["candidates"], row["candidates"], "{summary}");
+    assert_eq!(
+        summary["plan"].as_array().map(Vec::len),
+        row["plan_length"].as_u64().map(|n| n as usize)
+    );
+
+    std::fs::remove_dir_all(out.join("models")).expect("removes the kept models");
+    let output = quick_eval(&spec, &out, &["--keep-models"]);
+    let message = stderr(&output);
+    assert!(output.status.success(), "{message}");
+    assert!(message.contains("2 already in the journal"), "{message}");
+    let again = std::fs::read(build.join("model/domain.pddl")).expect("written again");
+    assert_eq!(again, domain);
+}

@@ -11,6 +11,7 @@
 
 mod executor;
 mod journal;
+mod kept_models;
 mod pool;
 mod schedule;
 pub(crate) mod worker;
@@ -33,6 +34,7 @@ use miette::Diagnostic as _;
 
 use self::executor::Executor;
 use self::journal::{JOURNAL_FILE, Journal, Key};
+use self::kept_models::KeptModels;
 use self::schedule::{Done, Ending, Learned, Model, SubsetWork};
 use self::worker::one_line;
 use crate::commands::failure::Failure;
@@ -70,6 +72,10 @@ pub(crate) struct Args {
     /// this lampc's `eval-worker`].
     #[arg(long, value_name = "COMMAND")]
     pub(crate) executor: Option<String>,
+    /// Also write each run's learned model to `<out>/models/<count>-<run>/`, a build folder that
+    /// `lampc solve --build` reads, to see what a run learned and why it failed.
+    #[arg(long)]
+    pub(crate) keep_models: bool,
 }
 
 /// The most runs per count: far beyond any evaluation (the paper uses 10), low enough that a
@@ -205,7 +211,10 @@ fn evaluate_checked(
         adapter: &adapter,
         model_file_limit: crate::files::MODEL_FILE_LIMIT,
     };
-    let learn = |work: &SubsetWork| learn(&context, &pool.demonstrations, work);
+    let kept_models = args.keep_models.then(|| KeptModels::new(&out, &slots));
+    let learn = |work: &SubsetWork| {
+        learn(&context, &pool.demonstrations, work, kept_models.as_ref(), &render)
+    };
     let model_sources = lamp_build::SpecSources::of(&spec, &world).model;
     let schedule_settings = schedule::Settings {
         spec: &args.spec,
@@ -218,6 +227,12 @@ fn evaluate_checked(
     };
     let ending =
         run_solves(&schedule_settings, work, &learn, &slots, &mut results, &mut journal, reused)?;
+    if let Some(kept_models) = &kept_models {
+        // Subsets whose every solve was in the journal were not learned above.
+        for work in kept_models.unwritten(&subsets) {
+            learn(&work);
+        }
+    }
     let kept = slots.iter().filter(|slot| results.contains_key(&slot.key)).count();
     if !completed(ending, kept, slots.len(), &journal_path, &render)? {
         return Ok(false);
@@ -627,6 +642,8 @@ fn learn(
     context: &BuildContext<'_>,
     demonstrations: &[lamp_learn::Demonstration],
     work: &SubsetWork,
+    kept_models: Option<&KeptModels>,
+    render: &dyn Fn(&dyn miette::Diagnostic) -> String,
 ) -> Learned {
     let started = Instant::now();
     let subset: Vec<lamp_learn::Demonstration> =
@@ -636,6 +653,11 @@ fn learn(
         .map_err(|error| {
             let code = error.code().map(|code| format!("{code}: ")).unwrap_or_default();
             one_line(&format!("{code}{error}"))
+        })
+        .inspect(|artifacts| {
+            if let Some(kept_models) = kept_models {
+                kept_models.write(work, &artifacts.files, render);
+            }
         })
         .and_then(|artifacts| {
             let text = |path: &Path| {

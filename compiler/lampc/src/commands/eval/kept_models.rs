@@ -1,0 +1,78 @@
+//! `--keep-models`: each run's learned model, written as a build folder.
+//!
+//! A run that fails is explained by what it learned: its `vocabulary.md` says which relations and
+//! actions the subset taught, and `lampc solve --build <out>/models/<count>-<run>` solves one
+//! problem with it again, with the solver's own messages. Runs of one count that drew the same
+//! subset (a count equal to the pool's size) share a model, written under each run's name.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+use lamp_build::ArtifactFile;
+
+use super::schedule::SubsetWork;
+use super::{Slot, Subsets};
+use crate::output::OutputFolder;
+
+/// The folder, beside the evaluation's outputs, that holds the kept models.
+const MODELS_DIR: &str = "models";
+
+/// Where each subset's model goes, and which have been written.
+pub(super) struct KeptModels {
+    /// Per subset digest, the build folders of the runs that drew it, in slot order.
+    folders: BTreeMap<String, Vec<PathBuf>>,
+    written: Mutex<BTreeSet<String>>,
+}
+
+impl KeptModels {
+    pub(super) fn new(out: &Path, slots: &[Slot]) -> Self {
+        let mut folders: BTreeMap<String, Vec<PathBuf>> = BTreeMap::new();
+        for slot in slots {
+            let folder = out.join(MODELS_DIR).join(format!("{}-{}", slot.demos, slot.run));
+            let runs = folders.entry(slot.key.0.clone()).or_default();
+            if !runs.contains(&folder) {
+                runs.push(folder);
+            }
+        }
+        KeptModels { folders, written: Mutex::new(BTreeSet::new()) }
+    }
+
+    /// Writes a subset's model into the build folder of every run that drew it. A folder that
+    /// cannot be written is reported and skipped: the evaluation's figures do not depend on it.
+    pub(super) fn write(
+        &self,
+        work: &SubsetWork,
+        files: &[ArtifactFile],
+        render: &dyn Fn(&dyn miette::Diagnostic) -> String,
+    ) {
+        let digest = work.digest.to_string();
+        let files: Vec<(&Path, &[u8])> =
+            files.iter().map(|file| (file.path.as_path(), file.contents.as_bytes())).collect();
+        for build in self.folders.get(&digest).into_iter().flatten() {
+            let model = build.join(lamp_build::MODEL_DIR);
+            let written = OutputFolder::new(&model)
+                .and_then(|folder| folder.lock("eval").map(|lock| (folder, lock)))
+                .and_then(|(folder, lock)| folder.replace(&lock, &files));
+            if let Err(error) = written {
+                eprintln!("lampc eval: the model was not kept: {}", render(&error));
+            }
+        }
+        self.written.lock().unwrap_or_else(std::sync::PoisonError::into_inner).insert(digest);
+    }
+
+    /// The subsets no model was written for yet (every solve of theirs was in the journal).
+    pub(super) fn unwritten(&self, subsets: &Subsets) -> Vec<SubsetWork> {
+        let written = self.written.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        self.folders
+            .keys()
+            .filter(|digest| !written.contains(*digest))
+            .filter_map(|digest| subsets.get(digest))
+            .map(|(digest, indices)| SubsetWork {
+                digest: *digest,
+                indices: indices.clone(),
+                problems: Vec::new(),
+            })
+            .collect()
+    }
+}
