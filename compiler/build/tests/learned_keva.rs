@@ -9,7 +9,7 @@ mod support;
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::LazyLock;
 
-use lamp_build::Artifacts;
+use lamp_build::{Artifacts, DemoFile};
 use lamp_learn::{Action, GroundAtom, Model, Participant, Pose, Role, Snapshot, abstract_state};
 use lamp_spec::Spec;
 use lamp_world::SpecWorld;
@@ -24,14 +24,97 @@ static KEVA: LazyLock<(Spec, SpecWorld)> = LazyLock::new(|| lamp_test_support::d
 
 /// The spec's 160 demonstrations: each variant of each relation is made by one in twenty to
 /// forty of them, and the minimum support (3) needs all of them.
-static KEVA_BUILD: LazyLock<(Model, Artifacts)> = LazyLock::new(|| {
+static KEVA_FILES: LazyLock<Vec<DemoFile>> = LazyLock::new(|| {
     let (spec, world) = &*KEVA;
     let count = lamp_demonstrators::Simulation::from_spec(spec).expect("a simulation").count;
-    let demonstrations = support::simulated(spec, world, count);
-    let files = support::demo_files("keva", demonstrations);
-    lamp_build::build(spec, "keva.lamp", world, &files)
-        .unwrap_or_else(|error| panic!("the demonstrations build: {error}"))
+    support::demo_files("keva", support::simulated(spec, world, count))
 });
+
+static KEVA_BUILD: LazyLock<(Model, Artifacts)> = LazyLock::new(|| build(&KEVA_FILES));
+
+fn build(files: &[DemoFile]) -> (Model, Artifacts) {
+    let (spec, world) = &*KEVA;
+    lamp_build::build(spec, "keva.lamp", world, files)
+        .unwrap_or_else(|error| panic!("the demonstrations build: {error}"))
+}
+
+/// From the first forty demonstrations some ways of resting are in no region (seen too rarely).
+/// A placement that came to rest on such a plank would teach an action that puts a plank onto its
+/// marker with nothing under it, which a plan uses to let go of planks in mid-air: every action
+/// that puts a plank onto its marker and relates it to no plank is learned only from placements
+/// that rest against no plank, and the demonstrations cut short for it are in the report.
+#[test]
+fn from_forty_demonstrations_a_placement_onto_the_table_is_learned_only_where_the_plank_rests_on_it()
+ {
+    let (spec, world) = &*KEVA;
+    let files = &KEVA_FILES[..40];
+    let (model, artifacts) = build(files);
+    let adapter = lamp_build::Adapter::new(spec, &world.robots).expect("an adapter");
+    let shapes = lamp_build::SpecShapes::new(world);
+    let by_id: BTreeMap<String, lamp_learn::Demonstration> = files
+        .iter()
+        .map(|file| {
+            let demonstration = adapter.demonstration(file).expect("a demonstration");
+            (demonstration.id.clone(), demonstration)
+        })
+        .collect();
+    let mut onto_the_table = 0;
+    for (action, _) in placing(&model) {
+        if !plank_added(action).is_empty() {
+            continue;
+        }
+        for transition in &action.transitions {
+            let demonstration = &by_id[&transition.demonstration];
+            let touching = planks_touching_at_rest(demonstration, transition.step, &shapes);
+            assert!(
+                touching.is_empty(),
+                "{} puts a plank onto its marker alone, but in {}@{} it rests against {touching:?}",
+                action.name,
+                transition.demonstration,
+                transition.step
+            );
+            onto_the_table += 1;
+        }
+    }
+    assert!(onto_the_table > 0, "some placement onto the table is learned");
+    assert!(!model.undescribed_rests.is_empty(), "forty demonstrations miss a way of resting");
+    let vocabulary = artifact(&artifacts, "vocabulary.md");
+    for rest in &model.undescribed_rests {
+        let line = format!(
+            "- {}: `{}` let go of against `{}`",
+            rest.demonstration, rest.object, rest.against
+        );
+        assert!(vocabulary.contains(&line), "{line}");
+    }
+}
+
+/// The planks the plank held at `step` touches (within 5 mm) where it is let go of, or at the
+/// end of a demonstration cut short while holding it.
+fn planks_touching_at_rest(
+    demonstration: &lamp_learn::Demonstration,
+    step: usize,
+    shapes: &lamp_build::SpecShapes,
+) -> Vec<String> {
+    use lamp_learn::ShapeOracle as _;
+    let steps = &demonstration.steps;
+    let (_, held) = *steps[step].held.first().expect("the placed plank is held");
+    let rest = (step..steps.len())
+        .find(|&later| steps[later].held.iter().all(|&(_, object)| object != held))
+        .unwrap_or(steps.len() - 1);
+    let poses = &steps[rest].poses;
+    demonstration
+        .participants
+        .iter()
+        .enumerate()
+        .filter(|&(other, participant)| {
+            let relative = poses[other].inverse() * poses[held];
+            other != held
+                && participant.type_name == "plank"
+                && shapes.gap("plank", "plank", &relative).is_some_and(|gap| gap <= 0.005)
+        })
+        .map(|(_, participant)| participant.name.clone())
+        .collect()
+}
 
 #[test]
 fn on_its_marker_is_one_region_at_the_marker_and_held_is_one_top_grasp() {

@@ -2,7 +2,7 @@
 //!
 //! Stages: validate → objects steadied between grasps ([`rigid`]) → type pairs → per pair: occupancy over all demonstrations → critical cells → regions with
 //! provenance → one classifier per region (fitted in region order from one seeded generator) → vocabulary →
-//! abstraction of every snapshot → actions.
+//! abstraction of every snapshot → demonstrations cut where a release rests undescribed ([`resting`]) → actions.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -21,6 +21,7 @@ use crate::occupancy::Occupancy;
 use crate::pairs;
 use crate::regions::{self, RegionCells};
 use crate::relations::PairVocabulary;
+use crate::resting::{self, UndescribedRest};
 use crate::rigid;
 use crate::selection::{self, Selection, Track, TrackFrame};
 
@@ -85,6 +86,8 @@ pub(crate) struct Induced<C> {
     pub empty_pairs: Vec<TypePair>,
     pub classifiers: Vec<Vec<C>>,
     pub actions: Vec<Action>,
+    /// Demonstrations learned from only up to a grasp ([`resting`]), in demonstration order.
+    pub undescribed_rests: Vec<UndescribedRest>,
 }
 
 struct Observation {
@@ -145,12 +148,13 @@ pub(crate) fn induce<C: RegionClassifier>(
         classifiers.push(fitted);
     }
     let vocabulary: Vec<PairVocabulary> = learned.iter().map(PairRegions::vocabulary).collect();
+    let related: BTreeSet<TypePair> =
+        learned.iter().map(|pair| pair.pair.clone()).chain(empty_pairs.iter().cloned()).collect();
+    let mut undescribed_rests = Vec::new();
     let abstracted: Vec<AbstractDemonstration<'_>> = demonstrations
         .iter()
-        .map(|demonstration| AbstractDemonstration {
-            id: &demonstration.id,
-            participants: &demonstration.participants,
-            states: demonstration
+        .map(|demonstration| {
+            let mut states: Vec<_> = demonstration
                 .steps
                 .iter()
                 .map(|snapshot| {
@@ -161,11 +165,27 @@ pub(crate) fn induce<C: RegionClassifier>(
                         snapshot,
                     )
                 })
-                .collect(),
+                .collect();
+            let rest = resting::first_undescribed_rest(
+                demonstration,
+                &states,
+                &related,
+                shapes,
+                config.release_tolerance,
+            );
+            if let Some(rest) = rest {
+                states.truncate(rest.kept_steps);
+                undescribed_rests.push(rest);
+            }
+            AbstractDemonstration {
+                id: &demonstration.id,
+                participants: &demonstration.participants,
+                states,
+            }
         })
         .collect();
     let actions = actions::induce(&vocabulary, &abstracted);
-    Ok(Induced { roles, pairs: learned, empty_pairs, classifiers, actions })
+    Ok(Induced { roles, pairs: learned, empty_pairs, classifiers, actions, undescribed_rests })
 }
 
 /// Occupancy, critical cells and regions with provenance of one type pair.

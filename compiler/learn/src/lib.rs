@@ -32,6 +32,7 @@ pub mod regions;
 mod rigid;
 pub use lamp_abstraction::relations;
 pub mod report;
+pub mod resting;
 pub mod selection;
 pub mod synthetic;
 
@@ -47,6 +48,7 @@ pub use lamp_abstraction::AbstractionError;
 pub use learner::{PairRegions, RegionSummary};
 pub use model::{LearnedPair, Model, Region, abstract_state, learn};
 pub use report::vocabulary_report;
+pub use resting::UndescribedRest;
 #[cfg(test)]
 mod chosen_settings;
 #[cfg(test)]

@@ -14,6 +14,7 @@ use crate::error::LearnError;
 use crate::learner::{self, PairRegions, RegionSummary};
 use crate::region_model::{self, RegionModel};
 use crate::relations::{self, PairVocabulary, PredicateSignature};
+use crate::resting::UndescribedRest;
 
 /// One learned region: its relation, where it came from, and its model.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,6 +49,9 @@ pub struct Model {
     pub pairs_without_regions: Vec<TypePair>,
     /// Induced actions, `a1` … `an`.
     pub actions: Vec<Action>,
+    /// Demonstrations learned from only up to a grasp: the object let go of afterwards rested
+    /// against another with no relation between them ([`crate::resting`]).
+    pub undescribed_rests: Vec<UndescribedRest>,
     /// How many demonstrations it was learned from.
     pub demonstrations: usize,
     /// The seed it was learned with.
@@ -97,6 +101,7 @@ pub fn learn(
         pairs,
         pairs_without_regions: induced.empty_pairs,
         actions: induced.actions,
+        undescribed_rests: induced.undescribed_rests,
         demonstrations: demonstrations.len(),
         seed: config.seed,
     })

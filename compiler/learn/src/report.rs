@@ -42,10 +42,40 @@ pub fn vocabulary_report(model: &Model) -> String {
         );
     }
     let _ = writeln!(out, "## Actions\n");
+    rests_section(&mut out, model);
     for action in &model.actions {
         action_section(&mut out, action);
     }
     out
+}
+
+/// The demonstrations learned from only up to a grasp, when there are any.
+fn rests_section(out: &mut String, model: &Model) {
+    let rests = &model.undescribed_rests;
+    if rests.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "{} of the {} demonstrations are learned from only up to a grasp: the object let go of afterwards came to rest against another with no learned relation between them, so an action learned from that placement would put it there with nothing to hold it (more demonstrations of that way of resting make its relation):\n",
+        rests.len(),
+        model.demonstrations
+    );
+    for rest in rests.iter().take(LISTED_TRANSITIONS) {
+        let _ = writeln!(
+            out,
+            "- {}: `{}` let go of against `{}` at step {}; steps 0–{} kept",
+            rest.demonstration,
+            rest.object,
+            rest.against,
+            rest.release,
+            rest.kept_steps.saturating_sub(1)
+        );
+    }
+    if rests.len() > LISTED_TRANSITIONS {
+        let _ = writeln!(out, "- and {} more", rests.len() - LISTED_TRANSITIONS);
+    }
+    let _ = writeln!(out);
 }
 
 fn pair_section(out: &mut String, learned: &LearnedPair) {
