@@ -12,56 +12,17 @@
 use lamp_learn::{Model, Pose, RegionClassifier};
 use lamp_pddl::Atom;
 use lamp_spec::{AtGoal, Problem, RelationAlias};
-use miette::Diagnostic;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use thiserror::Error;
 
 use crate::aliases::resolve_alias;
 use crate::error::BuildError;
+use crate::goal_warning::GoalWarning;
 
 /// Samples drawn from a region to measure how far it strays from its target.
 const SPREAD_SAMPLES: usize = 400;
 /// The share of samples a tolerance must cover for the build not to warn.
 const SPREAD_QUANTILE: f64 = 0.95;
-
-/// A warning about a goal the build wrote, located by problem and object so that `lampc` can
-/// point at the goal in the spec.
-#[derive(Debug, Clone, PartialEq, Eq, Error, Diagnostic)]
-pub enum GoalWarning {
-    /// The learned region of the object on its marker is wider than the goal's tolerance.
-    #[error(
-        "problem `{problem}`: the `at` goal on `{object}` is tighter than what was learned: {share} of the region `{relation}` lies within {position} and {angle} of the target, the goal asks for {tolerance}"
-    )]
-    #[diagnostic(
-        code(lamp::build::at_goal_tolerance),
-        severity(Warning),
-        help(
-            "The solver samples the region and keeps only placements within the tolerance, so it may need more samples or fail; loosen the tolerance, or record demonstrations that place objects onto their markers more precisely."
-        )
-    )]
-    LooserRegion {
-        problem: String,
-        object: String,
-        relation: String,
-        /// The quantile, as a percentage.
-        share: String,
-        /// The quantile's distance and angle from the target.
-        position: String,
-        angle: String,
-        /// The goal's tolerance.
-        tolerance: String,
-    },
-}
-
-impl GoalWarning {
-    /// The problem and the object whose `at` goal the warning is about.
-    pub fn at_goal(&self) -> (&str, &str) {
-        match self {
-            GoalWarning::LooserRegion { problem, object, .. } => (problem, object),
-        }
-    }
-}
 
 /// The goal atoms of a problem's AtGoals, and warnings about them.
 pub fn at_goal_atoms(

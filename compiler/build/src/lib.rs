@@ -21,6 +21,7 @@ pub mod at_goals;
 pub mod config;
 pub mod digest;
 pub mod error;
+pub mod goal_warning;
 pub mod grasps;
 pub mod initial_scene;
 pub mod input;
@@ -40,10 +41,11 @@ pub mod structure_issue;
 
 pub use adapter::{Adapter, ros2_demo_file};
 pub use aliases::{ResolvedAlias, resolve_alias, resolve_aliases};
-pub use at_goals::{GoalWarning, at_goal_atoms};
+pub use at_goals::at_goal_atoms;
 pub use config::learn_config;
 pub use digest::{Digest, demonstration_digest, file_digest};
 pub use error::BuildError;
+pub use goal_warning::{GoalPlace, GoalWarning};
 pub use grasps::{GrabDistanceWarning, grasps_outside_grab_distance};
 pub use initial_scene::{
     CONTACT_TOLERANCE, MAX_DISTANCE, SceneIssue, check_initial_scenes, initial_scene_issues,
@@ -69,5 +71,5 @@ pub use samplers::{SAMPLERS_FORMAT, SAMPLERS_VERSION, SamplersFile};
 pub use scene_issue::IssuePlace;
 pub use shapes::SpecShapes;
 pub use spec_sources::{ProblemSources, SpecSources};
-pub use structure_goals::{placed_structure_issues, structure_goal_atoms};
+pub use structure_goals::{StructureGoal, placed_structure_issues, structure_goal_atoms};
 pub use structure_issue::StructureIssue;

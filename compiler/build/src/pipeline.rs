@@ -13,10 +13,10 @@ use lamp_world::SpecWorld;
 
 use crate::adapter::Adapter;
 use crate::aliases::resolve_aliases;
-use crate::at_goals::GoalWarning;
 use crate::config::learn_config;
 use crate::digest::{Digest, demonstration_digest};
 use crate::error::BuildError;
+use crate::goal_warning::GoalWarning;
 use crate::grasps::{GrabDistanceWarning, grasps_outside_grab_distance};
 use crate::initial_scene::check_initial_scenes;
 use crate::input::DemoFile;

@@ -18,8 +18,9 @@ use lamp_world::SpecWorld;
 
 use crate::adapter::Adapter;
 use crate::aliases::ResolvedAlias;
-use crate::at_goals::{GoalWarning, at_goal_atoms, contradicting_goals};
+use crate::at_goals::{at_goal_atoms, contradicting_goals};
 use crate::error::BuildError;
+use crate::goal_warning::GoalWarning;
 use crate::structure_goals::structure_goal_atoms;
 use crate::structure_issue::StructureIssue;
 
@@ -73,12 +74,13 @@ pub fn problem_pddl(
         );
         return Ok(ProblemOutcome::Skipped { name, reason });
     }
-    let (structure_atoms, issues) =
-        structure_goal_atoms(context.model, context.world, context.adapter, problem)?;
-    if !issues.is_empty() {
-        return Ok(ProblemOutcome::Refused { name, issues });
+    let structure = structure_goal_atoms(context.model, context.world, context.adapter, problem)?;
+    if !structure.issues.is_empty() {
+        return Ok(ProblemOutcome::Refused { name, issues: structure.issues });
     }
-    goal_atoms.extend(structure_atoms);
+    goal_atoms.extend(structure.atoms);
+    let mut warnings = warnings;
+    warnings.extend(structure.warnings);
     let init = abstract_state(context.model, &participants, &snapshot)?;
     let mut pddl = lamp_pddl::Problem::new(problem.name.clone(), context.domain.name.clone());
     pddl.objects = participants

@@ -17,7 +17,7 @@ use std::collections::BTreeSet;
 
 use lamp_geometry::Pose;
 use lamp_geometry::math::relative_pose;
-use lamp_learn::{GroundAtom, Model, abstract_state};
+use lamp_learn::{GroundAtom, Model, ShapeOracle as _, abstract_state};
 use lamp_participants::scene_snapshot;
 use lamp_pddl::Atom;
 use lamp_spec::Problem;
@@ -26,8 +26,13 @@ use lamp_world::{Scene, SpecWorld};
 
 use crate::adapter::Adapter;
 use crate::error::BuildError;
+use crate::goal_warning::GoalWarning;
 use crate::initial_scene::{MAX_DISTANCE, objects_at_targets};
+use crate::shapes::SpecShapes;
 use crate::structure_issue::StructureIssue;
+
+/// Resting pairs named in a warning before the rest are counted.
+const LISTED_RESTS: usize = 4;
 
 /// The goal atoms of a problem's structure goal, or why it cannot be written; no atoms and no
 /// findings for a problem without one.
@@ -36,15 +41,15 @@ pub fn structure_goal_atoms(
     world: &SpecWorld,
     adapter: &Adapter,
     problem: &Problem,
-) -> Result<(Vec<Atom>, Vec<StructureIssue>), BuildError> {
-    let Some(goal) = &problem.goal.structure else { return Ok((Vec::new(), Vec::new())) };
+) -> Result<StructureGoal, BuildError> {
+    let Some(goal) = &problem.goal.structure else { return Ok(StructureGoal::default()) };
     let scene_error = |reason: String| BuildError::Scene { problem: problem.name.clone(), reason };
     let targets =
         world.structure_targets(problem).map_err(|error| scene_error(error.to_string()))?;
     let issue_context = IssueContext { problem: &problem.name, structure: &goal.structure };
     let issues = placed_structure_issues(world, problem)?;
     if !issues.is_empty() {
-        return Ok((Vec::new(), issues));
+        return Ok(StructureGoal { issues, ..StructureGoal::default() });
     }
     let mut scene = world.problem_scene(problem).map_err(|error| scene_error(error.to_string()))?;
     for (object, pose) in &targets {
@@ -66,8 +71,9 @@ pub fn structure_goal_atoms(
     let mut issues = found.objects_without_atoms(&targets, &atoms, !markers.is_empty());
     issues.extend(found.unlearned(model, &atoms, &objects));
     if !issues.is_empty() {
-        return Ok((Vec::new(), issues));
+        return Ok(StructureGoal { issues, ..StructureGoal::default() });
     }
+    let warnings = found.unrelated_rests(model, &SpecShapes::new(world), &targets, &atoms);
     let atoms = atoms
         .iter()
         .map(|atom| {
@@ -75,7 +81,19 @@ pub fn structure_goal_atoms(
             Atom::ground(atom.predicate.clone(), &names)
         })
         .collect();
-    Ok((atoms, Vec::new()))
+    Ok(StructureGoal { atoms, issues: Vec::new(), warnings })
+}
+
+/// A problem's structure goal as written: its atoms, or the findings that refuse it, and the
+/// warnings about a goal that is written.
+#[derive(Debug, Default)]
+pub struct StructureGoal {
+    /// The goal atoms; none when there are findings.
+    pub atoms: Vec<Atom>,
+    /// Why the goal cannot be written.
+    pub issues: Vec<StructureIssue>,
+    /// What may keep a written goal from being reached.
+    pub warnings: Vec<GoalWarning>,
 }
 
 /// The region relations of `state` between two structure objects, or between a structure object
@@ -195,6 +213,64 @@ impl Found<'_> {
                 })
             })
             .collect()
+    }
+
+    /// The structure objects of a type pair the model relates that touch at their places (one
+    /// resting on the other, within the release tolerance) with no goal atom between them, in one
+    /// warning. Without the atom the goal does not order the two, and a plan that puts the upper
+    /// one first lets go of it above nothing.
+    fn unrelated_rests(
+        &self,
+        model: &Model,
+        shapes: &SpecShapes,
+        targets: &[(String, Pose)],
+        atoms: &[GroundAtom],
+    ) -> Vec<GoalWarning> {
+        let related: BTreeSet<(&str, &str)> = model
+            .pairs
+            .iter()
+            .map(|learned| &learned.pair.pair)
+            .chain(&model.pairs_without_regions)
+            .map(|pair| (pair.primary.as_str(), pair.secondary.as_str()))
+            .collect();
+        let relates = |a: &str, b: &str| {
+            atoms.iter().any(|atom| {
+                matches!(atom.arguments.as_slice(), [x, y] if (x == a && y == b) || (x == b && y == a))
+            })
+        };
+        // (object above, what it rests on), in the structure's order.
+        let mut rests: Vec<(&str, &str)> = Vec::new();
+        for (index, (first, first_pose)) in targets.iter().enumerate() {
+            for (second, second_pose) in &targets[index + 1..] {
+                let (first_type, second_type) = (self.type_of(first), self.type_of(second));
+                let pair_related = related.contains(&(first_type.as_str(), second_type.as_str()))
+                    || related.contains(&(second_type.as_str(), first_type.as_str()));
+                let relative = relative_pose(first_pose, second_pose);
+                let touching = shapes
+                    .gap(&first_type, &second_type, &relative)
+                    .is_some_and(|gap| gap <= lamp_world::MAX_SETTLE_DROP);
+                if pair_related && touching && !relates(first, second) {
+                    let first_higher = first_pose.translation.z >= second_pose.translation.z;
+                    rests.push(if first_higher { (first, second) } else { (second, first) });
+                }
+            }
+        }
+        let Some(&(object, _)) = rests.first() else { return Vec::new() };
+        let mut listed: Vec<String> = rests
+            .iter()
+            .take(LISTED_RESTS)
+            .map(|(object, support)| format!("`{object}` on `{support}`"))
+            .collect();
+        if rests.len() > LISTED_RESTS {
+            listed.push(format!("{} more", rests.len() - LISTED_RESTS));
+        }
+        vec![GoalWarning::UnrelatedRest {
+            problem: self.context.problem.to_string(),
+            structure: self.context.structure.to_string(),
+            object: object.to_string(),
+            count: rests.len(),
+            rests: listed.join(", "),
+        }]
     }
 
     fn type_of(&self, name: &str) -> String {

@@ -124,7 +124,8 @@ fn a_tolerance_tighter_than_the_learned_region_is_warned_about_and_the_bundled_o
     assert_eq!(atoms.len(), problem.goal.at.len(), "the goal keeps every atom");
     match &warnings[..] {
         [warning @ lamp_build::GoalWarning::LooserRegion { relation, .. }] => {
-            assert_eq!(warning.at_goal(), (problem.name.as_str(), object.as_str()));
+            let place = lamp_build::GoalPlace::AtGoal { problem: &problem.name, object: &object };
+            assert_eq!(warning.place(), place);
             assert!(relation.starts_with("place_"), "{relation}");
             assert!(warning.to_string().contains("0.5 mm"), "{warning}");
         }

@@ -78,6 +78,17 @@ fn from_forty_demonstrations_a_placement_onto_the_table_is_learned_only_where_th
     }
     assert!(onto_the_table > 0, "some placement onto the table is learned");
     assert!(!model.undescribed_rests.is_empty(), "forty demonstrations miss a way of resting");
+    // The house's walls rest on its floor in a way these demonstrations do not show often enough
+    // for a region: its goal cannot order them, and the build says so.
+    let house = artifacts.summary.warnings.iter().find_map(|warning| match warning {
+        lamp_build::GoalWarning::UnrelatedRest { problem, rests, .. }
+            if problem == "house_2d_6" =>
+        {
+            Some(rests.clone())
+        }
+        _ => None,
+    });
+    assert!(house.as_deref().is_some_and(|rests| rests.contains("`p2` on `p1`")), "{house:?}");
     let vocabulary = artifact(&artifacts, "vocabulary.md");
     for rest in &model.undescribed_rests {
         let line = format!(
@@ -197,6 +208,14 @@ fn a_pis_legs_are_in_no_region_of_each_other_and_its_lintel_rests_on_both() {
 fn every_bundled_structure_goal_is_transcribed() {
     let (spec, _) = &*KEVA;
     let (_, artifacts) = &*KEVA_BUILD;
+    // Every way a bundled structure rests one plank on another is a learned relation.
+    let unordered: Vec<_> = artifacts
+        .summary
+        .warnings
+        .iter()
+        .filter(|warning| matches!(warning, lamp_build::GoalWarning::UnrelatedRest { .. }))
+        .collect();
+    assert!(unordered.is_empty(), "{unordered:#?}");
     for problem in &spec.problems {
         let text = artifact(artifacts, &format!("problems/{}.pddl", problem.name));
         // Every plank of the structure on its marker, and planks related to planks.

@@ -116,9 +116,18 @@ pub(crate) fn render_goal_warning(
     sources: &lamp_lang::SourceMap,
     colour: bool,
 ) -> String {
-    let (problem, object) = warning.at_goal();
-    let spans: Vec<_> =
-        places.at_goal(problem, object).map(|span| ("this goal", span)).into_iter().collect();
+    let spans: Vec<_> = match warning.place() {
+        lamp_build::GoalPlace::AtGoal { problem, object } => {
+            places.at_goal(problem, object).map(|span| ("this goal", span)).into_iter().collect()
+        }
+        lamp_build::GoalPlace::StructureObject { problem, structure, object } => [
+            places.structure_object(structure, object).map(|span| ("placed here", span)),
+            places.structure_goal(problem).map(|span| ("in this goal", span)),
+        ]
+        .into_iter()
+        .flatten()
+        .collect(),
+    };
     render_located(warning, &spans, sources, colour)
 }
 
