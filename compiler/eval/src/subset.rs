@@ -51,6 +51,17 @@ pub fn subset_seed(seed: u64, count: usize, run: usize) -> u64 {
     x
 }
 
+/// How many of a subset of `count` (at most `pool`) demonstrations are cut short, for a pool of
+/// `pool` demonstrations of which `cut` are: `round(count · cut / pool)`, halves rounded up, never
+/// more than there are, nor so few that the full ones run out. The rest reach their goal.
+pub fn cut_places(count: usize, pool: usize, cut: usize) -> usize {
+    if pool == 0 {
+        return 0;
+    }
+    let places = ((2 * count * cut + pool) / (2 * pool)).min(cut);
+    places.max(count.saturating_sub(pool - cut))
+}
+
 /// Draws `count` demonstrations of `pool` for run `run`: indices into `pool`, ascending.
 ///
 /// The cut demonstrations get `round(count · cut / pool)` of the places (halves rounded up, never
@@ -69,14 +80,7 @@ pub fn draw_subset(
     }
     let (mut cut, mut full): (Vec<usize>, Vec<usize>) =
         (0..pool.len()).partition(|&index| pool[index].cut);
-    let mut cut_places = if pool.is_empty() {
-        0
-    } else {
-        ((2 * count * cut.len() + pool.len()) / (2 * pool.len())).min(cut.len())
-    };
-    if count - cut_places > full.len() {
-        cut_places = count - full.len();
-    }
+    let cut_places = cut_places(count, pool.len(), cut.len());
     let full_places = count - cut_places;
     let mut rng = ChaCha8Rng::seed_from_u64(subset_seed(seed, count, run));
     let mut chosen = Vec::with_capacity(count);
@@ -105,6 +109,18 @@ mod tests {
                 objects: 1,
             })
             .collect()
+    }
+
+    #[test]
+    fn cut_places_says_how_many_of_a_drawn_subset_are_cut() {
+        for (cut, full) in [(3, 7), (5, 5), (0, 4), (10, 11)] {
+            let pool = pool(cut, full);
+            for count in 1..=pool.len() {
+                let drawn = draw_subset(&pool, count, 7, 1).expect("a subset");
+                let drawn_cut = drawn.iter().filter(|&&index| pool[index].cut).count();
+                assert_eq!(cut_places(count, pool.len(), cut), drawn_cut, "{cut} {full} {count}");
+            }
+        }
     }
 
     #[test]
