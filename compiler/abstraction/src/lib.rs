@@ -15,6 +15,7 @@ pub mod instances;
 pub mod region_model;
 pub mod relations;
 pub mod snapshot;
+pub mod symmetry;
 mod type_pair;
 
 pub use abstraction::{GroundAtom, RegionClassifier};
@@ -23,4 +24,5 @@ pub use error::AbstractionError;
 pub use free_turn::FreeTurn;
 pub use region_model::RegionModel;
 pub use snapshot::{Participant, Pose, Role, Snapshot};
+pub use symmetry::PairSymmetry;
 pub use type_pair::TypePair;

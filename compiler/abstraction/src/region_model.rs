@@ -14,6 +14,7 @@ use crate::abstraction::RegionClassifier;
 use crate::features::{FEATURE_DIMENSION, features_pose, pose_features};
 use crate::free_turn::FreeTurn;
 use crate::snapshot::Pose;
+use crate::symmetry::PairSymmetry;
 
 /// The features of a region with a free turn: the position and the swing's two components.
 pub const SWING_FEATURE_DIMENSION: usize = 5;
@@ -35,6 +36,7 @@ pub const EXTENT_DRAWS: usize = 64;
 /// uniformly.
 ///
 /// Serialised as `{ "g", "mixture", "threshold", "extent" }` and, for a free turn, `"free_turn"`,
+/// and, for a pair compared up to its shapes' symmetries, `"symmetry"`,
 /// the mixture in lamp-gmm's parameter layout; deserialising the mixture validates it, and
 /// [`RegionModel::validate`] checks the rest.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -48,6 +50,10 @@ pub struct RegionModel {
     /// The turn of the secondary the region leaves free, if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     free_turn: Option<FreeTurn>,
+    /// The shapes' symmetries the region compares relative poses up to, if any: every pose is
+    /// taken to its orbit's representative before it is tested ([`PairSymmetry`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    symmetry: Option<PairSymmetry>,
 }
 
 impl RegionModel {
@@ -60,9 +66,23 @@ impl RegionModel {
         extent: [[f64; 2]; 3],
         free_turn: Option<FreeTurn>,
     ) -> Result<Self, String> {
-        let model = RegionModel { g, mixture, threshold, extent, free_turn };
+        let model = RegionModel { g, mixture, threshold, extent, free_turn, symmetry: None };
         model.validate()?;
         Ok(model)
+    }
+
+    /// The model comparing relative poses up to `symmetry` (its mixture and extent are over
+    /// representatives, [`PairSymmetry::canonical`]).
+    pub fn with_symmetry(self, symmetry: Option<PairSymmetry>) -> Self {
+        RegionModel { symmetry, ..self }
+    }
+
+    /// The representative of `relative` the region is over: itself without a symmetry.
+    pub fn representative(&self, relative: &Pose) -> Pose {
+        match &self.symmetry {
+            Some(symmetry) => symmetry.canonical(relative),
+            None => *relative,
+        }
     }
 
     /// The turn the region leaves free, if any.
@@ -76,9 +96,9 @@ impl RegionModel {
         if free_turn.is_some() { SWING_FEATURE_DIMENSION } else { FEATURE_DIMENSION }
     }
 
-    /// The features the mixture is over.
+    /// The features the mixture is over, of `relative`'s representative.
     pub fn features(&self, relative: &Pose) -> Vec<f64> {
-        Self::features_with(self.free_turn.as_ref(), relative)
+        Self::features_with(self.free_turn.as_ref(), &self.representative(relative))
     }
 
     /// The features of a pose for a model that leaves `free_turn` free (for fitting one): with a
@@ -143,6 +163,7 @@ impl RegionModel {
     /// `relative`'s orientation into that of the component's mean; with a free turn, of their
     /// orientations with the turn taken out, since every angle of it is in the region.
     pub fn component_turns(&self, relative: &Pose) -> Vec<f64> {
+        let relative = self.representative(relative);
         let here = match &self.free_turn {
             Some(turn) => turn.untwisted(&relative.rotation),
             None => relative.rotation,
@@ -237,17 +258,22 @@ impl RegionModel {
         if let Some(turn) = &self.free_turn {
             turn.validate()?;
         }
+        if let Some(symmetry) = &self.symmetry {
+            symmetry.validate()?;
+        }
         Ok(())
     }
 }
 
 impl RegionClassifier for RegionModel {
     fn margin(&self, relative: &Pose) -> f64 {
-        let outside = self.outside(relative);
+        let relative = self.representative(relative);
+        let outside = self.outside(&relative);
         if outside > 0.0 {
             // Below zero, and lower the further out.
             return -1.0 - outside;
         }
-        self.mixture.log_density(&self.features(relative)) - self.threshold
+        let features = Self::features_with(self.free_turn.as_ref(), &relative);
+        self.mixture.log_density(&features) - self.threshold
     }
 }

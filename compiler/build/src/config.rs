@@ -80,6 +80,7 @@ mod tests {
             defaults,
             pairs: BTreeMap::from([(("surface".into(), "can".into()), override_settings)]),
             ignored_pairs: BTreeSet::from([("can".into(), "can".into())]),
+            symmetry: None,
         };
         let spec = lamp_spec::Spec {
             domain: "d".into(),

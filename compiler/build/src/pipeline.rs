@@ -88,7 +88,27 @@ pub fn learn_model(
     world: &SpecWorld,
     demonstrations: &[Demonstration],
 ) -> Result<Model, BuildError> {
-    Ok(lamp_learn::learn(demonstrations, &learn_config(spec), &SpecShapes::new(world))?)
+    let mut config = learn_config(spec);
+    config.symmetries = shape_symmetries(spec, world);
+    Ok(lamp_learn::learn(demonstrations, &config, &SpecShapes::new(world))?)
+}
+
+/// With `symmetry on`, the turns about each object type's vertical axis (its frame's z, up as the
+/// type is declared) that map its shape onto itself (lamp-geometry's `upright_symmetries`); none
+/// otherwise.
+fn shape_symmetries(
+    spec: &Spec,
+    world: &SpecWorld,
+) -> std::collections::BTreeMap<String, Vec<nalgebra::UnitQuaternion<f64>>> {
+    if spec.learning.symmetry != Some(lamp_spec::Switch::On) {
+        return std::collections::BTreeMap::new();
+    }
+    world
+        .type_parts
+        .iter()
+        .map(|(name, parts)| (name.clone(), lamp_geometry::upright_symmetries(parts)))
+        .filter(|(_, turns)| turns.len() > 1)
+        .collect()
 }
 
 /// Every artifact of a learned model.

@@ -165,6 +165,10 @@ pub struct LearnConfig {
     pub release_tolerance: f64,
     /// The one seed of all randomness in learning.
     pub seed: u64,
+    /// Per object type, the turns of its frame that map its shape onto itself (the identity
+    /// first); a pair of types with any besides the identity compares relative poses up to them
+    /// (lamp-abstraction's `PairSymmetry`). Empty: every relative pose as recorded.
+    pub symmetries: BTreeMap<String, Vec<nalgebra::UnitQuaternion<f64>>>,
 }
 
 impl Default for LearnConfig {
@@ -178,6 +182,7 @@ impl Default for LearnConfig {
             samples_per_region: 400,
             release_tolerance: 0.005,
             seed: 0,
+            symmetries: BTreeMap::new(),
         }
     }
 }
@@ -193,6 +198,12 @@ impl LearnConfig {
             Some(own) => own.over(&self.default),
             None => self.default.clone(),
         }
+    }
+
+    /// The symmetry a pair's relative poses are compared up to, if its types have any.
+    pub fn pair_symmetry(&self, pair: &TypePair) -> Option<lamp_abstraction::PairSymmetry> {
+        let turns = |type_name: &str| self.symmetries.get(type_name).cloned().unwrap_or_default();
+        lamp_abstraction::PairSymmetry::new(turns(&pair.primary), turns(&pair.secondary))
     }
 
     /// Whether a pair (in either order) is ignored.

@@ -63,6 +63,9 @@ pub struct PairRegions {
     pub demonstrations: usize,
     /// Its regions; region k is at index k − 1.
     pub regions: Vec<RegionSummary>,
+    /// The shapes' symmetry its relative poses are compared up to, if any: every pose it was
+    /// learned from is its orbit's representative.
+    pub symmetry: Option<lamp_abstraction::PairSymmetry>,
 }
 
 impl PairRegions {
@@ -201,7 +204,8 @@ fn find_regions(
     let type_pairs = [pair.clone()];
     let pinned = config.pinned(pair);
     // One pass over the recordings: the selection and the occupancy both read these tracks.
-    let tracks = tracks(demonstrations, pauses, &type_pairs);
+    let symmetry = config.pair_symmetry(pair);
+    let tracks = tracks(demonstrations, pauses, &type_pairs, symmetry.as_ref());
     // Two movable objects relate only where they touch (`selection::Contact`); that needs both shapes.
     let release_tolerance = config.release_tolerance;
     let touching = |pose: &Pose| {
@@ -282,6 +286,7 @@ fn find_regions(
         grid,
         demonstrations: occupancy.demonstrations(),
         regions,
+        symmetry,
     }
 }
 
@@ -313,6 +318,7 @@ fn tracks(
     demonstrations: &[Demonstration],
     pauses: &[Vec<bool>],
     type_pairs: &[TypePair],
+    symmetry: Option<&lamp_abstraction::PairSymmetry>,
 ) -> Vec<Track> {
     let mut tracks = Vec::new();
     for ((index, demonstration), paused) in demonstrations.iter().enumerate().zip(pauses) {
@@ -332,7 +338,10 @@ fn tracks(
                 .enumerate()
                 .map(|(step, snapshot)| TrackFrame {
                     g: pairs::held_flag(snapshot, instance),
-                    pose: pairs::relative_pose(snapshot, instance),
+                    pose: {
+                        let relative = pairs::relative_pose(snapshot, instance);
+                        symmetry.map_or(relative, |symmetry| symmetry.canonical(&relative))
+                    },
                     contact: changed(step, instance.primary) || changed(step, instance.secondary),
                     paused: paused[step],
                 })

@@ -50,7 +50,8 @@ pub fn fit(
             extent[axis][1] = extent[axis][1].max(high);
         }
     }
-    RegionModel::new(region.g, mixture, threshold, extent, free_turn)
+    Ok(RegionModel::new(region.g, mixture, threshold, extent, free_turn)?
+        .with_symmetry(pair.symmetry.clone()))
 }
 
 fn cell_list(cells: &RegionCells) -> Vec<(Voxel, RotationCell)> {
@@ -102,6 +103,7 @@ mod tests {
             selection: None,
             demonstrations: 1,
             regions: vec![summary],
+            symmetry: None,
         }
     }
 

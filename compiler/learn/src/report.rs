@@ -111,6 +111,18 @@ fn pair_section(out: &mut String, learned: &LearnedPair) {
             axis = ["x", "y", "z"][turn.axis],
         );
     }
+    if let Some(symmetry) = &pair.symmetry {
+        let turns = |count: usize, type_name: &str| match count {
+            1 => format!("the {type_name} has none"),
+            count => format!("the {type_name} {} about its vertical axis", plural_turns(count)),
+        };
+        let _ = writeln!(
+            out,
+            "Relative poses are compared up to the shapes' symmetries (`symmetry on`): {}, {}; every pose, centre and representative below is its orbit's representative.\n",
+            turns(symmetry.primary.len(), &pair.pair.primary),
+            turns(symmetry.secondary.len(), &pair.pair.secondary),
+        );
+    }
     if let Some(selection) = &pair.selection {
         selection_section(out, selection);
     }
@@ -265,6 +277,14 @@ fn side_line(primary: &str, secondary: &str, region: &Region, clear: bool) -> St
 }
 
 /// An English plural of a type name: `es` after a hiss, else `s`.
+/// "looks the same half turned", "… after each of 3 turns".
+fn plural_turns(count: usize) -> String {
+    match count {
+        2 => "looks the same half turned".to_string(),
+        count => format!("looks the same after each of {} turns", count - 1),
+    }
+}
+
 fn plural(type_name: &str) -> String {
     let hiss = ["s", "x", "z", "ch", "sh"].iter().any(|end| type_name.ends_with(end));
     format!("{type_name}{}", if hiss { "es" } else { "s" })

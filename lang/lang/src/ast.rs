@@ -180,6 +180,9 @@ pub enum LearnItem {
     Clear(lamp_spec::Switch, Span),
     /// `nowhere on|off|auto`: whether `nowhere_…` relations are invented.
     Nowhere(lamp_spec::Switch, Span),
+    /// `symmetry on|off|auto`: whether relative poses are compared up to the shapes' symmetries
+    /// (the whole block's setting).
+    Symmetry(lamp_spec::Switch, Span),
     Pair {
         first: Name,
         second: Name,

@@ -157,9 +157,10 @@ fn describe(rule: Rule) -> &'static str {
         | Rule::likelihood
         | Rule::clear
         | Rule::nowhere
+        | Rule::symmetry
         | Rule::pair_override
         | Rule::ignore_pair => {
-            "a learning setting (threshold, position, rotation, components, likelihood, clear, nowhere, pair, ignore pair)"
+            "a learning setting (threshold, position, rotation, components, likelihood, clear, nowhere, symmetry, pair, ignore pair)"
         }
         Rule::placement => "a placement `TYPE NAME at POSE`",
         Rule::scene_inline | Rule::scene_ref | Rule::goal => "`scene` or `goal`",
@@ -516,6 +517,7 @@ impl Lower {
             Rule::likelihood => LearnItem::Likelihood(self.quantity(next()), span),
             Rule::clear => LearnItem::Clear(switch(next().as_str()), span),
             Rule::nowhere => LearnItem::Nowhere(switch(next().as_str()), span),
+            Rule::symmetry => LearnItem::Symmetry(switch(next().as_str()), span),
             Rule::pair_override => {
                 let first = self.name(next());
                 let second = self.name(next());

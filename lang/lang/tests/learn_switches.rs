@@ -52,3 +52,24 @@ fn goals_may_name_clear_and_nowhere_relations_with_their_argument_types() {
     assert_eq!(codes(&goal("    nowhere_surface_can_1(box1)")), ["lamp::goal::argument_type"]);
     assert_eq!(codes(&goal("    clear_surface_can_1(c1)")), ["lamp::goal::argument_type"]);
 }
+
+#[test]
+fn symmetry_is_a_setting_of_the_whole_block_given_once() {
+    let outcome = check(VALID);
+    assert_eq!(outcome.spec.expect("the valid spec checks").learning.symmetry, None);
+    let on = with("  threshold 0.5\n", "  threshold 0.5\n  symmetry on\n");
+    let spec = check(&on).spec.unwrap_or_else(|| panic!("{}", render(&check(&on))));
+    assert_eq!(spec.learning.symmetry, Some(Switch::On));
+
+    let repeated = with("  threshold 0.5\n", "  threshold 0.5\n  symmetry on\n  symmetry off\n");
+    assert_eq!(codes(&check(&repeated)), ["lamp::check::duplicate_setting"]);
+    let in_pair = with(
+        "pair gripper can { position bins (9, 9, 9) range (0.3, 0.3, 0.3) m }",
+        "pair gripper can { position bins (9, 9, 9) range (0.3, 0.3, 0.3) m  symmetry on }",
+    );
+    let outcome = check(&in_pair);
+    assert_eq!(codes(&outcome), ["lamp::check::conflict"]);
+    let rendered = render(&outcome);
+    assert!(rendered.contains("`symmetry` is a setting of the whole `learn` block"), "{rendered}");
+    assert!(rendered.contains("symmetry on }"), "points at the setting: {rendered}");
+}

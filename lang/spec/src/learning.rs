@@ -56,6 +56,10 @@ pub struct Learning {
     pub pairs: BTreeMap<TypePair, PairSettings>,
     /// Pairs excluded from learning, in both orders.
     pub ignored_pairs: BTreeSet<TypePair>,
+    /// `symmetry on|off|auto`: whether relative poses are compared up to the turns that map the
+    /// object types' shapes onto themselves. Left out, or `auto`: for now, not (see
+    /// `docs/learning.md`).
+    pub symmetry: Option<Switch>,
 }
 
 impl Learning {

@@ -10,6 +10,7 @@ pub mod math;
 mod parry_boundary;
 pub mod shape;
 pub mod support;
+pub mod symmetry;
 pub mod world;
 
 pub use collision::{Aabb, CollisionShape, distance, intersects, within_margin};
@@ -17,4 +18,5 @@ pub use error::GeometryError;
 pub use math::{Point3, Pose, Real, Rotation, Vec3};
 pub use shape::Shape;
 pub use support::{ContactPoint, contact_points, drop_distance};
+pub use symmetry::{axis_symmetries, upright_symmetries};
 pub use world::{BodyId, CollisionWorld};

@@ -440,6 +440,8 @@ impl Checker<'_> {
         let mut pairs = BTreeMap::new();
         let mut ignored = BTreeSet::new();
         let mut block_seen = None;
+        let mut symmetry = None;
+        let mut symmetry_seen = None;
         let mut pair_spans: BTreeMap<(String, String), Span> = BTreeMap::new();
         let blocks: Vec<(&Vec<LearnItem>, Span)> = items
             .iter()
@@ -460,6 +462,11 @@ impl Checker<'_> {
             self.settings(&overrides, &mut settings, &mut defaults);
             for item in items.iter() {
                 match item {
+                    LearnItem::Symmetry(switch, span)
+                        if self.once(&mut symmetry_seen, "`symmetry`", *span) =>
+                    {
+                        symmetry = Some(*switch);
+                    }
                     LearnItem::IgnorePair(first, second)
                         if self.relation_type(declared, first)
                             & self.relation_type(declared, second) =>
@@ -496,6 +503,13 @@ impl Checker<'_> {
                                     help: "Write `pair` and `ignore pair` at the top of the `learn` block.".to_string(),
                                 }));
                             }
+                            if let LearnItem::Symmetry(_, span) = nested {
+                                self.report(at(*span, |at| SpecError::Conflict {
+                                    message: "`symmetry` is a setting of the whole `learn` block, not of one pair".to_string(),
+                                    at,
+                                    help: "Write `symmetry on` at the top of the `learn` block.".to_string(),
+                                }));
+                            }
                         }
                         let flat: Vec<_> = items
                             .iter()
@@ -518,6 +532,7 @@ impl Checker<'_> {
             defaults,
             pairs,
             ignored_pairs: ignored,
+            symmetry,
         })
     }
 
@@ -619,7 +634,7 @@ impl Checker<'_> {
                         out.nowhere = Some(*switch);
                     }
                 }
-                LearnItem::Pair { .. } | LearnItem::IgnorePair(..) => {}
+                LearnItem::Pair { .. } | LearnItem::IgnorePair(..) | LearnItem::Symmetry(..) => {}
             }
         }
     }
