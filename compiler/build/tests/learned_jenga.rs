@@ -309,12 +309,7 @@ fn with_symmetry_twenty_demonstrations_learn_every_placement_of_a_tower() {
         assert!((x.abs() - WIDTH).abs() < 0.003 && (y.abs() - WIDTH).abs() < 0.003, "{x} {y}");
         assert!((z.abs() - LAYER).abs() < 0.003, "{}: z {z}", region.relation);
     }
-    let unordered: Vec<_> = artifacts
-        .summary
-        .warnings
-        .iter()
-        .filter(|warning| matches!(warning, lamp_build::GoalWarning::UnrelatedRest { .. }))
-        .collect();
+    let unordered = support::unrelated_rests(&artifacts);
     assert!(unordered.is_empty(), "{unordered:#?}");
     assert_eq!(artifacts.summary.problems_skipped, Vec::new());
     assert_every_tower_placement_is_learned(&model);

@@ -209,12 +209,7 @@ fn every_bundled_structure_goal_is_transcribed() {
     let (spec, _) = &*KEVA;
     let (_, artifacts) = &*KEVA_BUILD;
     // Every way a bundled structure rests one plank on another is a learned relation.
-    let unordered: Vec<_> = artifacts
-        .summary
-        .warnings
-        .iter()
-        .filter(|warning| matches!(warning, lamp_build::GoalWarning::UnrelatedRest { .. }))
-        .collect();
+    let unordered = support::unrelated_rests(artifacts);
     assert!(unordered.is_empty(), "{unordered:#?}");
     for problem in &spec.problems {
         let text = artifact(artifacts, &format!("problems/{}.pddl", problem.name));

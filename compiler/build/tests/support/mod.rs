@@ -85,6 +85,16 @@ pub fn artifact<'a>(artifacts: &'a Artifacts, path: &str) -> &'a str {
 }
 
 /// The regions of one type pair of a model.
+/// The build's warnings that a structure's objects rest on others with no learned relation.
+pub fn unrelated_rests(artifacts: &Artifacts) -> Vec<&lamp_build::GoalWarning> {
+    artifacts
+        .summary
+        .warnings
+        .iter()
+        .filter(|warning| matches!(warning, lamp_build::GoalWarning::UnrelatedRest { .. }))
+        .collect()
+}
+
 pub fn regions<'a>(model: &'a Model, primary: &str, secondary: &str) -> Vec<&'a Region> {
     model
         .pairs
