@@ -12,6 +12,8 @@ use lamp_world::SpecWorld;
 /// Every object type's collision shape with its bounding radius about the type's origin.
 pub struct SpecShapes {
     shapes: BTreeMap<String, (CollisionShape, f64)>,
+    /// The types whose shape is round about an axis of their frame, with that axis.
+    round: BTreeMap<String, usize>,
 }
 
 impl SpecShapes {
@@ -27,7 +29,12 @@ impl SpecShapes {
                 Some((name.clone(), (shape, radius)))
             })
             .collect();
-        SpecShapes { shapes }
+        let round = world
+            .type_parts
+            .iter()
+            .filter_map(|(name, parts)| Some((name.clone(), lamp_geometry::round_axis(parts)?)))
+            .collect();
+        SpecShapes { shapes, round }
     }
 }
 
@@ -67,6 +74,10 @@ impl ShapeOracle for SpecShapes {
         let (secondary, _) = self.shapes.get(secondary)?;
         Some(distance(primary, &Pose::identity(), secondary, relative))
     }
+
+    fn round_axis(&self, type_name: &str) -> Option<usize> {
+        self.round.get(type_name).copied()
+    }
 }
 
 #[cfg(test)]
@@ -81,7 +92,10 @@ mod tests {
         )];
         let shape = CollisionShape::compound(&parts).expect("a valid cylinder");
         let radius = bounding_radius(&shape);
-        SpecShapes { shapes: BTreeMap::from([("can".to_string(), (shape, radius))]) }
+        SpecShapes {
+            shapes: BTreeMap::from([("can".to_string(), (shape, radius))]),
+            round: BTreeMap::from([("can".to_string(), 2)]),
+        }
     }
 
     #[test]

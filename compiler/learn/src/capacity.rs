@@ -34,6 +34,12 @@ pub trait ShapeOracle {
     /// The distance (m) between a body of type `primary` at the origin and one of type `secondary` at `relative`
     /// in its frame (0 where they overlap); `None` when either type has no known shape.
     fn gap(&self, primary: &str, secondary: &str, relative: &Pose) -> Option<f64>;
+
+    /// The axis (0, 1, 2: x, y, z of its frame) about which a type's shape is round, so that every turn about it
+    /// maps the shape onto itself (a can, a bowl); `None` for any other shape or an unknown one.
+    fn round_axis(&self, _type_name: &str) -> Option<usize> {
+        None
+    }
 }
 
 impl<O: ShapeOracle + ?Sized> ShapeOracle for &O {
@@ -43,6 +49,10 @@ impl<O: ShapeOracle + ?Sized> ShapeOracle for &O {
 
     fn gap(&self, primary: &str, secondary: &str, relative: &Pose) -> Option<f64> {
         (**self).gap(primary, secondary, relative)
+    }
+
+    fn round_axis(&self, type_name: &str) -> Option<usize> {
+        (**self).round_axis(type_name)
     }
 }
 

@@ -18,5 +18,5 @@ pub use error::GeometryError;
 pub use math::{Point3, Pose, Real, Rotation, Vec3};
 pub use shape::Shape;
 pub use support::{ContactPoint, contact_points, drop_distance};
-pub use symmetry::{axis_symmetries, upright_symmetries};
+pub use symmetry::{axis_symmetries, round_axis, upright_symmetries};
 pub use world::{BodyId, CollisionWorld};

@@ -45,6 +45,29 @@ pub fn upright_symmetries(parts: &[(Pose, Shape)]) -> Vec<UnitQuaternion<Real>> 
     axis_symmetries(parts).into_iter().filter(|turn| (turn * up - up).norm() < TOLERANCE).collect()
 }
 
+/// The axis (0, 1, 2: x, y, z of the frame) about which the compound shape is round, so that every
+/// turn about it maps the shape onto itself: every part a sphere centred on that axis, or a
+/// cylinder centred on it and running along it. `None` for any other shape, or no part.
+pub fn round_axis(parts: &[(Pose, Shape)]) -> Option<usize> {
+    (0..3).find(|&axis| {
+        !parts.is_empty()
+            && parts.iter().all(|(pose, shape)| {
+                let centre = pose.translation.vector;
+                let on_axis = (0..3).all(|other| other == axis || centre[other].abs() < TOLERANCE);
+                let along = || {
+                    let own = pose.rotation * nalgebra::Vector3::z();
+                    (own[axis].abs() - 1.0).abs() < TOLERANCE
+                };
+                on_axis
+                    && match shape {
+                        Shape::Sphere { .. } => true,
+                        Shape::Cylinder { .. } => along(),
+                        _ => false,
+                    }
+            })
+    })
+}
+
 /// The 24 proper rotations whose matrices are signed permutations, the identity first.
 fn axis_turns() -> Vec<UnitQuaternion<Real>> {
     let mut turns = Vec::new();
@@ -152,6 +175,32 @@ mod tests {
             (at(-0.05, 0.0, 0.05), box_of(0.01, 0.005, 0.03)),
         ];
         assert_eq!(axis_symmetries(&pot).len(), 2);
+    }
+
+    #[test]
+    fn a_can_is_round_about_its_axis_and_a_box_or_an_off_axis_part_is_not() {
+        let can = [(at(0.0, 0.0, 0.06), Shape::Cylinder { radius: 0.03, half_height: 0.06 })];
+        assert_eq!(round_axis(&can), Some(2));
+        let lying = [(
+            Pose::from_parts(
+                nalgebra::Translation3::new(0.06, 0.0, 0.0),
+                about(Vector3::y(), FRAC_PI_2),
+            ),
+            Shape::Cylinder { radius: 0.03, half_height: 0.06 },
+        )];
+        assert_eq!(round_axis(&lying), Some(0));
+        let knob = [
+            (at(0.0, 0.0, 0.05), Shape::Cylinder { radius: 0.04, half_height: 0.05 }),
+            (at(0.0, 0.0, 0.12), Shape::Sphere { radius: 0.01 }),
+        ];
+        assert_eq!(round_axis(&knob), Some(2));
+        let mug = [
+            (at(0.0, 0.0, 0.05), Shape::Cylinder { radius: 0.04, half_height: 0.05 }),
+            (at(0.05, 0.0, 0.05), box_of(0.01, 0.005, 0.03)),
+        ];
+        assert_eq!(round_axis(&mug), None);
+        assert_eq!(round_axis(&[(at(0.0, 0.0, 0.02), box_of(0.02, 0.02, 0.02))]), None);
+        assert_eq!(round_axis(&[]), None);
     }
 
     #[test]

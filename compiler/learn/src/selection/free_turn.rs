@@ -36,7 +36,7 @@ pub fn free_turn(groups: &[Vec<UnitQuaternion<f64>>]) -> Option<FreeTurn> {
 }
 
 /// The widest gap between consecutive twists around the circle (a full turn when there are none).
-fn widest_gap(
+pub(crate) fn widest_gap(
     rotations: &[UnitQuaternion<f64>],
     reference: &UnitQuaternion<f64>,
     axis: usize,

@@ -102,11 +102,18 @@ fn margin(intervals: &[(f64, f64)], half_range: f64, bins: usize) -> Option<f64>
 
 /// The rotation bins for the clusters' keyframe rotations, each with its demonstration, at most `most`, with
 /// rotation cells taken as `free_turn` says.
+///
+/// With `round` (the axis of its own frame the secondary's shape is round about, `ShapeOracle::round_axis`), a
+/// cluster whose keyframes show the object turned about that axis more than half the way round must keep every
+/// angle of the turn in a cell its demonstrations visit enough: the angle of a round can means nothing, and cells
+/// that hold only the angles a few demonstrations happened to show leave out a can upright at any other (the
+/// `in_box` example of Packing from 20 demonstrations). Clusters that hold the object at one angle are not touched.
 pub fn choose_rotation_bins(
     clusters: &[Vec<(usize, Pose)>],
     rotation_share: f64,
     most: usize,
     free_turn: Option<FreeTurn>,
+    round: Option<usize>,
 ) -> usize {
     let fits = |bins: usize| {
         let grid =
@@ -118,15 +125,37 @@ pub fn choose_rotation_bins(
                 cells.entry(grid.rotation_cell(pose)).or_default().insert(*demonstration);
             }
             let needed = rotation_share * demonstrations.len() as f64;
-            let covered = keyframes
-                .iter()
-                .filter(|(_, pose)| cells[&grid.rotation_cell(pose)].len() as f64 >= needed)
-                .count();
+            let kept = |pose: &Pose| {
+                cells.get(&grid.rotation_cell(pose)).is_some_and(|d| d.len() as f64 >= needed)
+            };
+            let covered = keyframes.iter().filter(|(_, pose)| kept(pose)).count();
             covered == keyframes.len()
+                && round.is_none_or(|axis| whole_turn_kept(keyframes, axis, &kept))
         })
     };
     let largest_odd = if most % 2 == 1 { most } else { most.saturating_sub(1).max(1) };
     (1..=largest_odd).rev().step_by(2).find(|&bins| fits(bins)).unwrap_or(1)
+}
+
+/// Angles of a round object's turn tried for [`choose_rotation_bins`]: every 5°.
+const TURN_STEPS: usize = 72;
+
+/// Whether every angle of the turn about `axis` from the first keyframe's rotation is `kept`, or the keyframes
+/// show the object turned less than half the way round (then its angle is what was demonstrated, not free).
+fn whole_turn_kept(keyframes: &[(usize, Pose)], axis: usize, kept: &dyn Fn(&Pose) -> bool) -> bool {
+    let Some((_, reference)) = keyframes.first() else { return true };
+    let rotations: Vec<_> = keyframes.iter().map(|(_, pose)| pose.rotation).collect();
+    if super::free_turn::widest_gap(&rotations, &reference.rotation, axis) >= std::f64::consts::PI {
+        return true;
+    }
+    let mut unit = nalgebra::Vector3::zeros();
+    unit[axis] = 1.0;
+    let unit = nalgebra::Unit::new_normalize(unit);
+    (0..TURN_STEPS).all(|step| {
+        let angle = std::f64::consts::TAU * step as f64 / TURN_STEPS as f64;
+        let turned = reference.rotation * nalgebra::UnitQuaternion::from_axis_angle(&unit, angle);
+        kept(&Pose::from_parts(reference.translation, turned))
+    })
 }
 
 #[cfg(test)]
@@ -176,11 +205,41 @@ mod tests {
         // One yaw within a degree: the finest count is kept.
         let upright: Vec<(usize, Pose)> =
             (0..40).map(|d| (d, yaw((d as f64 - 20.0) * 0.0008))).collect();
-        assert_eq!(choose_rotation_bins(&[upright], 0.1, 61, None), 61);
+        assert_eq!(choose_rotation_bins(&[upright], 0.1, 61, None, None), 61);
         // Yaws spread over the whole turn: each kept cell must hold a tenth of the demonstrations.
         let any: Vec<(usize, Pose)> =
             (0..90).map(|d| (d, yaw(-PI + (d as f64 + 0.5) * 2.0 * PI / 90.0))).collect();
-        let bins = choose_rotation_bins(&[any], 0.1, 61, None);
+        let bins = choose_rotation_bins(&[any], 0.1, 61, None, None);
         assert_eq!(bins, 9);
+    }
+
+    #[test]
+    fn a_round_object_seen_at_a_few_yaws_keeps_every_yaw() {
+        let yaw = |angle: f64| Pose::rotation(nalgebra::Vector3::z() * angle);
+        // Ten cans set down at yaws a few demonstrations happened to show (as from 20 Packing
+        // demonstrations): alone, each keeps its own fine cell and the yaws between are left out.
+        let few: Vec<(usize, Pose)> = [-2.9, -2.2, -1.1, -0.6, 0.4, 0.9, 1.7, 2.1, 2.6, 3.0]
+            .iter()
+            .copied()
+            .map(yaw)
+            .enumerate()
+            .collect();
+        let alone = choose_rotation_bins(std::slice::from_ref(&few), 0.1, 61, None, None);
+        assert_eq!(alone, 61);
+        // Round about z: cells that hold every yaw, each visited by a tenth of them.
+        let round = choose_rotation_bins(std::slice::from_ref(&few), 0.1, 61, None, Some(2));
+        assert!(round < alone, "{round}");
+        let grid = Grid::new(&PairSettings { rotation_bins: round, ..PairSettings::DEFAULT });
+        let visited: BTreeSet<[usize; 3]> =
+            few.iter().map(|(_, pose)| grid.rotation_cell(pose)).collect();
+        for step in 0..360 {
+            let cell = grid.rotation_cell(&yaw(-PI + step as f64 * PI / 180.0));
+            assert!(visited.contains(&cell), "{round} bins leave out yaw {step}°");
+        }
+        // Held at one yaw (a bowl set on its place as its marker turns), a round object's
+        // angle is what was demonstrated: its cells stay as fine.
+        let upright: Vec<(usize, Pose)> =
+            (0..40).map(|d| (d, yaw((d as f64 - 20.0) * 0.0008))).collect();
+        assert_eq!(choose_rotation_bins(&[upright], 0.1, 61, None, Some(2)), 61);
     }
 }

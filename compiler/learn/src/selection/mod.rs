@@ -136,13 +136,24 @@ impl Selection {
 /// relative pose is where those happen to be: Jenga's spare blocks laid out 10 cm apart, or two cans in a box.
 pub type Contact<'a> = &'a dyn Fn(&crate::demo::Pose) -> bool;
 
+/// What the pair's shapes say where the demonstrations alone cannot.
+#[derive(Clone, Copy, Default)]
+pub struct ShapeFacts<'a> {
+    /// For a pair of two movable objects with known shapes: whether they touch at a relative pose.
+    pub contact: Option<Contact<'a>>,
+    /// The axis of its own frame about which the secondary's shape is round (a can, a bowl).
+    pub round: Option<usize>,
+}
+
 /// Chooses every setting `pinned` leaves out from the pair's tracks over `demonstrations` demonstrations;
 /// the keyframes of a group where the pair's own grasp or release happens stay at least `release_tolerance` (m)
 /// inside its cell ([`LearnConfig`]), those of every other group [`PLACEMENT_TOLERANCE`].
 ///
 /// [`LearnConfig`]: crate::config::LearnConfig
 ///
-/// With `contact` (a pair of two movable objects with known shapes), only keyframes at which the two touch count.
+/// With `shape.contact`, only keyframes at which the two touch count; with `shape.round`, the rotation bins keep
+/// every angle of the secondary's turn where a group shows it turned more than half the way round
+/// ([`grid_choice::choose_rotation_bins`]).
 pub fn select(
     pinned: &PinnedSettings,
     tracks: &[Track],
@@ -150,7 +161,7 @@ pub fn select(
     min_support: usize,
     rotation_share: f64,
     release_tolerance: f64,
-    contact: Option<Contact<'_>>,
+    shape: ShapeFacts<'_>,
 ) -> Selection {
     let chosen = Chosen {
         position_bins: pinned.position_bins.is_none(),
@@ -159,7 +170,7 @@ pub fn select(
         threshold: pinned.threshold.is_none(),
     };
     let stillness = keyframes::stillness(tracks);
-    let (keyframes, apart) = match contact {
+    let (keyframes, apart) = match shape.contact {
         Some(touching) => {
             let mut every = keyframes::keyframes_with_every_partner(tracks, stillness);
             let before = every.len();
@@ -260,7 +271,13 @@ pub fn select(
                 .map(|(_, members, _)| members.iter().map(|k| (k.demonstration, k.pose)).collect())
                 .collect();
             let most = PairSettings::DEFAULT.rotation_bins;
-            let plain = grid_choice::choose_rotation_bins(&rotations, rotation_share, most, None);
+            let plain = grid_choice::choose_rotation_bins(
+                &rotations,
+                rotation_share,
+                most,
+                None,
+                shape.round,
+            );
             // A free turn only where plain cells tell no rotation apart: one bin per component
             // admits an object held on its side as well as upright. Where plain cells keep some
             // rotation (a can on a table at any yaw is a turn about one fixed axis, which a few
@@ -269,7 +286,13 @@ pub fn select(
             let turn = if plain == 1 { free_turn_of(&found) } else { None };
             match turn {
                 Some(turn) => (
-                    grid_choice::choose_rotation_bins(&rotations, rotation_share, most, Some(turn)),
+                    grid_choice::choose_rotation_bins(
+                        &rotations,
+                        rotation_share,
+                        most,
+                        Some(turn),
+                        None,
+                    ),
                     Some(turn),
                 ),
                 None => (plain, None),
@@ -529,7 +552,8 @@ mod tests {
                 Track { demonstration, primary: 0, secondary: 1, frames }
             })
             .collect();
-        let selection = select(&PinnedSettings::default(), &tracks, 30, 3, 0.1, 0.005, None);
+        let selection =
+            select(&PinnedSettings::default(), &tracks, 30, 3, 0.1, 0.005, ShapeFacts::default());
         assert_eq!(selection.fixed_axes, [false, false, true]);
         assert_eq!(selection.groups.len(), 1, "{:?}", selection.groups);
         assert_eq!(selection.groups[0].demonstrations, 30);
@@ -565,7 +589,8 @@ mod tests {
                 Track { demonstration, primary: 0, secondary: 1, frames }
             })
             .collect();
-        let selection = select(&PinnedSettings::default(), &tracks, 33, 3, 0.1, 0.005, None);
+        let selection =
+            select(&PinnedSettings::default(), &tracks, 33, 3, 0.1, 0.005, ShapeFacts::default());
         assert_eq!(selection.groups.len(), 3, "{:?}", selection.groups);
         assert_eq!(selection.boxes.len(), 3, "{:?}", selection.boxes);
         let places: BTreeSet<usize> = selection.cells.values().copied().collect();
@@ -583,7 +608,9 @@ mod tests {
             half_range: Some([0.1, 0.1, 0.1]),
             ..PinnedSettings::default()
         };
-        assert!(select(&pinned, &tracks, 33, 3, 0.1, 0.005, None).boxes.is_empty());
+        assert!(
+            select(&pinned, &tracks, 33, 3, 0.1, 0.005, ShapeFacts::default()).boxes.is_empty()
+        );
     }
 
     #[test]
@@ -607,13 +634,21 @@ mod tests {
                 Track { demonstration, primary: 0, secondary: 1, frames }
             })
             .collect();
-        let anywhere = select(&PinnedSettings::default(), &tracks, 30, 3, 0.1, 0.005, None);
+        let anywhere =
+            select(&PinnedSettings::default(), &tracks, 30, 3, 0.1, 0.005, ShapeFacts::default());
         assert_eq!(anywhere.groups.len(), 2, "{:?}", anywhere.groups);
         assert_eq!(anywhere.apart, None);
         // Blocks 5 cm wide touch when their centres are less than a width apart sideways.
         let touching = |pose: &Pose| pose.translation.vector.x.abs() < 0.05;
-        let by_contact =
-            select(&PinnedSettings::default(), &tracks, 30, 3, 0.1, 0.005, Some(&touching));
+        let by_contact = select(
+            &PinnedSettings::default(),
+            &tracks,
+            30,
+            3,
+            0.1,
+            0.005,
+            ShapeFacts { contact: Some(&touching), round: None },
+        );
         assert_eq!(by_contact.groups.len(), 1, "{:?}", by_contact.groups);
         assert!(by_contact.groups[0].centre[2] > 0.02, "{:?}", by_contact.groups);
         assert!(by_contact.apart.is_some_and(|apart| apart > 0));
