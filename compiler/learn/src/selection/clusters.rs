@@ -21,6 +21,10 @@ use std::collections::BTreeSet;
 pub const FINEST_SCALE: f64 = 0.001;
 /// Scales tried: 1 mm to 128 mm.
 pub const SCALES: usize = 8;
+/// Scales tried beyond [`SCALES`] when no cluster formed up to them: 256 mm and 512 mm. A table top
+/// that forty demonstrations set cans down on anywhere holds them some 12 cm apart, one place only
+/// at these; tried first, they joined the can in a box with the table around it (Packing, 100).
+pub const WIDE_SCALES: usize = 2;
 /// Doublings between a scale and the scale its cluster must survive to.
 pub const STABLE_DOUBLINGS: u32 = 2;
 /// The share of keyframes a cluster may gain over a fourfold coarsening and still be the same cluster.
@@ -52,7 +56,7 @@ pub fn stable_clusters(
         return Vec::new();
     }
     let tree = minimum_spanning_tree(points);
-    let labels: Vec<Vec<usize>> = (0..SCALES + STABLE_DOUBLINGS as usize)
+    let labels: Vec<Vec<usize>> = (0..SCALES + WIDE_SCALES + STABLE_DOUBLINGS as usize)
         .map(|rung| components(points.len(), &tree, scale(rung)))
         .collect();
     let mut taken = vec![false; points.len()];
@@ -61,7 +65,20 @@ pub fn stable_clusters(
     for (doublings, support_needed) in
         [(STABLE_DOUBLINGS as usize, min_support), (1, min_support.max(common))]
     {
-        take_stable(&labels, doublings, support_needed, demonstration, &mut taken, &mut found);
+        let rungs = 0..SCALES;
+        take_stable(
+            &labels,
+            rungs,
+            doublings,
+            support_needed,
+            demonstration,
+            &mut taken,
+            &mut found,
+        );
+    }
+    if found.is_empty() {
+        let (rungs, doublings) = (SCALES..SCALES + WIDE_SCALES, STABLE_DOUBLINGS as usize);
+        take_stable(&labels, rungs, doublings, min_support, demonstration, &mut taken, &mut found);
     }
     found
 }
@@ -69,6 +86,7 @@ pub fn stable_clusters(
 /// Takes, from fine to coarse, the clusters of keyframes not yet taken that stay the same `doublings` coarser.
 fn take_stable(
     labels: &[Vec<usize>],
+    rungs: std::ops::Range<usize>,
     doublings: usize,
     min_support: usize,
     demonstration: &[usize],
@@ -76,7 +94,7 @@ fn take_stable(
     found: &mut Vec<Cluster>,
 ) {
     let n = taken.len();
-    for rung in 0..SCALES {
+    for rung in rungs {
         let fine = &labels[rung];
         let coarse = &labels[rung + doublings];
         let roots: BTreeSet<usize> = (0..n).filter(|&i| !taken[i]).map(|i| fine[i]).collect();
@@ -209,6 +227,32 @@ fn components(n: usize, tree: &[(usize, usize, f64)], scale: f64) -> Vec<usize> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cans_set_down_anywhere_on_a_table_top_by_few_demonstrations_are_one_place() {
+        // Forty demonstrations set a can down somewhere on a 0.7 m square top: some 12 cm apart,
+        // so no cluster forms up to 128 mm, and only a quarter metre or more links them.
+        let mut points = Vec::new();
+        for d in 0..36 {
+            let (row, column) = ((d / 6) as f64, (d % 6) as f64);
+            let jitter = 0.01 * ((d * 7 % 5) as f64 - 2.0);
+            points.push([-0.35 + 0.13 * column + jitter, -0.35 + 0.12 * row - jitter, 0.001]);
+        }
+        let demos: Vec<usize> = (0..36).collect();
+        let found = stable_clusters(&points, &demos, 3, 40);
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!(found[0].members.len(), 36);
+        assert!(found[0].scale > 0.128, "{}", found[0].scale);
+        // With a tight group among them, the wide scales are not tried: the group is the place.
+        let mut with_group = points.clone();
+        let mut group_demos = demos.clone();
+        for d in 0..10 {
+            with_group.push([0.5 + 1e-4 * d as f64, 0.5, 0.001]);
+            group_demos.push(d);
+        }
+        let found = stable_clusters(&with_group, &group_demos, 3, 40);
+        assert!(found.iter().all(|cluster| cluster.scale <= 0.128), "{found:?}");
+    }
 
     #[test]
     fn two_tight_groups_far_apart_are_two_clusters() {
