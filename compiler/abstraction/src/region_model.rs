@@ -50,8 +50,9 @@ pub struct RegionModel {
     /// The turn of the secondary the region leaves free, if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     free_turn: Option<FreeTurn>,
-    /// The shapes' symmetries the region compares relative poses up to, if any: every pose is
-    /// taken to its orbit's representative before it is tested ([`PairSymmetry`]).
+    /// The shapes' symmetries the region compares relative poses up to, if any: the mixture and
+    /// extent are over orbit representatives ([`PairSymmetry`]), a pose's density is summed over
+    /// its orbit, and a draw is turned to a place of the orbit at random.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     symmetry: Option<PairSymmetry>,
 }
@@ -73,6 +74,16 @@ impl RegionModel {
 
     /// The model comparing relative poses up to `symmetry` (its mixture and extent are over
     /// representatives, [`PairSymmetry::canonical`]).
+    ///
+    /// Representatives fold the space of relative poses: a can anywhere on a square box's floor,
+    /// compared up to the box's half turn, is folded onto one side of a line through the floor's
+    /// centre, and the mixture fitted to the folded poses thins out along that line as at any
+    /// edge, though on the floor the line is no edge at all. So a pose's density is summed over
+    /// the members of its orbit (the reflection that corrects a density estimate at a fold): deep
+    /// inside the folded region one member carries it all and nothing changes, and on the line the
+    /// two sides' tails add up to what the floor has elsewhere. The secondary's turns are left
+    /// out where the region leaves the secondary's vertical turn free, as they then change no
+    /// feature and would only count one pose several times.
     pub fn with_symmetry(self, symmetry: Option<PairSymmetry>) -> Self {
         RegionModel { symmetry, ..self }
     }
@@ -94,11 +105,6 @@ impl RegionModel {
     /// position and the 6-D rotation, or the position and the swing's two components.
     pub fn feature_dimension(free_turn: Option<&FreeTurn>) -> usize {
         if free_turn.is_some() { SWING_FEATURE_DIMENSION } else { FEATURE_DIMENSION }
-    }
-
-    /// The features the mixture is over, of `relative`'s representative.
-    pub fn features(&self, relative: &Pose) -> Vec<f64> {
-        Self::features_with(self.free_turn.as_ref(), &self.representative(relative))
     }
 
     /// The features of a pose for a model that leaves `free_turn` free (for fitting one): with a
@@ -155,6 +161,12 @@ impl RegionModel {
         if let Some(turn) = &self.free_turn {
             let angle = rng.random_range(-std::f64::consts::PI..std::f64::consts::PI);
             pose.rotation = turn.turned(&pose.rotation, angle);
+        }
+        // A representative is one place of its orbit: with the primary's frame turned, the same
+        // placement at each of the others (a can in any part of a box, not one side of it).
+        if let Some(symmetry) = self.symmetry.as_ref().filter(|symmetry| symmetry.primary.len() > 1)
+        {
+            pose = symmetry.primary_member(&pose, rng.random_range(0..symmetry.primary.len()));
         }
         pose
     }
@@ -265,15 +277,50 @@ impl RegionModel {
     }
 }
 
+impl RegionModel {
+    /// The log density of `relative` itself, or how far its position is outside the extent.
+    fn own_log_density(&self, relative: &Pose) -> Result<f64, f64> {
+        let outside = self.outside(relative);
+        if outside > 0.0 {
+            return Err(outside);
+        }
+        Ok(self.mixture.log_density(&Self::features_with(self.free_turn.as_ref(), relative)))
+    }
+
+    /// The log of the density summed over `relative`'s orbit (members outside the extent add
+    /// nothing), or, with every member outside, how far the nearest is.
+    fn orbit_log_density(&self, symmetry: &PairSymmetry, relative: &Pose) -> Result<f64, f64> {
+        let secondary_turns = self.free_turn.is_none_or(|turn| turn.axis != 2);
+        // log Σ exp, kept as the largest term and the sum of the others' ratios to it.
+        let mut largest = f64::NEG_INFINITY;
+        let mut ratios = 0.0;
+        let mut nearest_outside = f64::INFINITY;
+        for member in symmetry.members(relative, secondary_turns) {
+            match self.own_log_density(&member) {
+                // A member the mixture gives no density adds nothing.
+                Ok(log_density) if log_density == f64::NEG_INFINITY => {}
+                Ok(log_density) if log_density > largest => {
+                    ratios = ratios * (largest - log_density).exp() + 1.0;
+                    largest = log_density;
+                }
+                Ok(log_density) => ratios += (log_density - largest).exp(),
+                Err(outside) => nearest_outside = nearest_outside.min(outside),
+            }
+        }
+        if ratios == 0.0 { Err(nearest_outside) } else { Ok(largest + ratios.ln()) }
+    }
+}
+
 impl RegionClassifier for RegionModel {
     fn margin(&self, relative: &Pose) -> f64 {
-        let relative = self.representative(relative);
-        let outside = self.outside(&relative);
-        if outside > 0.0 {
+        let log_density = match &self.symmetry {
+            Some(symmetry) => self.orbit_log_density(symmetry, relative),
+            None => self.own_log_density(relative),
+        };
+        match log_density {
+            Ok(log_density) => log_density - self.threshold,
             // Below zero, and lower the further out.
-            return -1.0 - outside;
+            Err(outside) => -1.0 - outside,
         }
-        let features = Self::features_with(self.free_turn.as_ref(), &relative);
-        self.mixture.log_density(&features) - self.threshold
     }
 }

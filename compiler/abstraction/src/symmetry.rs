@@ -63,36 +63,55 @@ impl PairSymmetry {
         (symmetry.primary.len() > 1 || symmetry.secondary.len() > 1).then_some(symmetry)
     }
 
+    /// Every member `a⁻¹ · relative · b` of `relative`'s orbit, with each of the primary's turns
+    /// `a` and each of the secondary's `b` (when `secondary_turns`), the identity pair first.
+    pub fn members<'a>(
+        &'a self,
+        relative: &'a Pose,
+        secondary_turns: bool,
+    ) -> impl Iterator<Item = Pose> + 'a {
+        let secondary = if secondary_turns { &self.secondary[..] } else { &self.secondary[..1] };
+        self.primary.iter().flat_map(move |a| {
+            secondary.iter().map(move |b| turn(a).inverse() * relative * turn(b))
+        })
+    }
+
+    /// `relative` with the primary's frame turned by its `index`-th turn (the identity first): the
+    /// same kind of placement at the place the turn maps it to, for drawing one place of an orbit.
+    pub fn primary_member(&self, relative: &Pose, index: usize) -> Pose {
+        self.primary.get(index).map_or(*relative, |a| turn(a).inverse() * relative)
+    }
+
     /// The representative of `relative`'s orbit.
     pub fn canonical(&self, relative: &Pose) -> Pose {
         let position_key = Vector3::from(POSITION_KEY).normalize();
         let rotation_key = Vector3::from(ROTATION_KEY).normalize();
-        let members: Vec<(Pose, f64, f64, f64)> = self
-            .primary
-            .iter()
-            .flat_map(|a| self.secondary.iter().map(move |b| (a, b)))
-            .map(|(a, b)| {
-                let turn = |rotation: &UnitQuaternion<f64>| {
-                    Isometry3::from_parts(Translation3::identity(), *rotation)
-                };
-                let member = turn(a).inverse() * relative * turn(b);
-                let along = member.translation.vector.dot(&position_key);
-                let x = (member.rotation * Vector3::x()).dot(&rotation_key);
-                let y = (member.rotation * Vector3::y()).dot(&rotation_key);
-                (member, along, x, y)
-            })
-            .collect();
-        let furthest = members.iter().map(|m| m.1).fold(f64::NEG_INFINITY, f64::max);
-        let near: Vec<&(Pose, f64, f64, f64)> =
-            members.iter().filter(|m| m.1 >= furthest - POSITION_BAND).collect();
-        let best_x = near.iter().map(|m| m.2).fold(f64::NEG_INFINITY, f64::max);
-        near.into_iter()
-            .filter(|m| m.2 >= best_x - ROTATION_TIE)
-            .fold(None, |best: Option<&(Pose, f64, f64, f64)>, m| match best {
-                Some(kept) if kept.3 >= m.3 - ROTATION_TIE => Some(kept),
-                _ => Some(m),
-            })
-            .map_or(*relative, |m| m.0)
+        let along = |member: &Pose| member.translation.vector.dot(&position_key);
+        let axis_key =
+            |member: &Pose, axis: Vector3<f64>| (member.rotation * axis).dot(&rotation_key);
+        // Passes over the orbit rather than a list of it, so that the test, on every abstraction
+        // of every state, allocates nothing: the furthest position, the best x axis within its
+        // band, then the best y axis among those.
+        let furthest = self
+            .members(relative, true)
+            .map(|member| along(&member))
+            .fold(f64::NEG_INFINITY, f64::max);
+        let near = || {
+            self.members(relative, true)
+                .filter(move |member| along(member) >= furthest - POSITION_BAND)
+        };
+        let best_x =
+            near().map(|member| axis_key(&member, Vector3::x())).fold(f64::NEG_INFINITY, f64::max);
+        let mut best: Option<(Pose, f64)> = None;
+        for member in
+            near().filter(|member| axis_key(member, Vector3::x()) >= best_x - ROTATION_TIE)
+        {
+            let y = axis_key(&member, Vector3::y());
+            if best.as_ref().is_none_or(|(_, best_y)| y > best_y + ROTATION_TIE) {
+                best = Some((member, y));
+            }
+        }
+        best.map_or(*relative, |(member, _)| member)
     }
 
     /// Checks a deserialised symmetry: finite unit turns, the identity first in each list.
@@ -110,6 +129,10 @@ impl PairSymmetry {
         }
         Ok(())
     }
+}
+
+fn turn(rotation: &UnitQuaternion<f64>) -> Isometry3<f64> {
+    Isometry3::from_parts(Translation3::identity(), *rotation)
 }
 
 /// `{ "primary": [[w, x, y, z], …], "secondary": [[w, x, y, z], …] }`.

@@ -186,6 +186,46 @@ mod tests {
     }
 
     #[test]
+    fn a_region_folded_by_a_half_turn_of_its_primary_is_whole_again() {
+        // A can upright anywhere on a square floor, compared up to the floor's half turn: the
+        // folded poses cover one half of the floor (x from 0 to 75 mm), up to the fold at x = 0.
+        let voxels = (8..11)
+            .flat_map(|x| (6..10).map(move |y| ([x, y, 8], BTreeSet::from([[12, 12, 0]]))))
+            .collect();
+        let mut pair = pair_with(RegionCells { g: 0, voxels });
+        pair.settings.free_turn = Some(crate::discretise::FreeTurn {
+            reference: nalgebra::UnitQuaternion::identity(),
+            axis: 2,
+        });
+        pair.grid = Grid::new(&pair.settings);
+        let folded = fit(&pair, 0, SAMPLES, &mut ChaCha8Rng::seed_from_u64(2)).expect("fits");
+        let half_turn = nalgebra::UnitQuaternion::from_euler_angles(0.0, 0.0, PI);
+        let quarter_turns = (1..4).map(|k| {
+            nalgebra::UnitQuaternion::from_euler_angles(0.0, 0.0, f64::from(k) * PI / 2.0)
+        });
+        let whole = folded.clone().with_symmetry(lamp_abstraction::PairSymmetry::new(
+            vec![half_turn],
+            quarter_turns.collect(),
+        ));
+        let at = |x: f64, y: f64| Pose::translation(x, y, 0.0125);
+        // Deep in the folded half nothing changes: the secondary's turns, which a free turn
+        // makes idle, are not counted again.
+        assert!((whole.margin(&at(0.05, 0.0)) - folded.margin(&at(0.05, 0.0))).abs() < 1e-3);
+        // The other half is the same place seen from the turned frame.
+        assert!(folded.margin(&at(-0.05, 0.0)) < 0.0);
+        assert!(whole.margin(&at(-0.05, 0.0)) >= 0.0);
+        assert!((whole.margin(&at(-0.05, 0.01)) - whole.margin(&at(0.05, -0.01))).abs() < 1e-9);
+        // At the fold both halves' tails add up: the centre gains what its mirror image holds.
+        let centre = whole.margin(&at(0.0, 0.0)) - folded.margin(&at(0.0, 0.0));
+        assert!((centre - 2f64.ln()).abs() < 1e-9, "the centre gains {centre}");
+        // Draws fill the whole floor, not the folded half.
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let xs: Vec<f64> = (0..400).map(|_| whole.sample(&mut rng).translation.vector.x).collect();
+        let negative = xs.iter().filter(|x| **x < 0.0).count();
+        assert!((150..250).contains(&negative), "{negative} of 400 draws on the turned side");
+    }
+
+    #[test]
     fn the_threshold_accepts_the_cover_share_of_uniform_draws() {
         let pair = half_turn_pair();
         let model = fit(&pair, 0, SAMPLES, &mut ChaCha8Rng::seed_from_u64(3)).expect("fits");
