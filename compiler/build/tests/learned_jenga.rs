@@ -31,17 +31,16 @@ const WIDTH: f64 = 0.0508;
 const LAYER: f64 = 0.03048 + 0.001;
 
 /// The spec as it is (`symmetry on`).
-static JENGA_BUILD: LazyLock<(Model, Artifacts)> = LazyLock::new(|| jenga_build(true));
+static JENGA_BUILD: LazyLock<(Model, Artifacts)> =
+    LazyLock::new(|| jenga_build(Some(lamp_spec::Switch::On)));
 
 /// The spec without `symmetry on`: relative poses as the frames show them.
-static JENGA_BUILD_PLAIN: LazyLock<(Model, Artifacts)> = LazyLock::new(|| jenga_build(false));
+static JENGA_BUILD_PLAIN: LazyLock<(Model, Artifacts)> = LazyLock::new(|| jenga_build(None));
 
-fn jenga_build(symmetry: bool) -> (Model, Artifacts) {
+fn jenga_build(symmetry: Option<lamp_spec::Switch>) -> (Model, Artifacts) {
     let (mut spec, world) = lamp_test_support::domain("jenga");
     assert_eq!(spec.learning.symmetry, Some(lamp_spec::Switch::On), "the spec's setting");
-    if !symmetry {
-        spec.learning.symmetry = None;
-    }
+    spec.learning.symmetry = symmetry;
     let demonstrations = support::simulated(&spec, &world, DEMOS);
     let files = support::demo_files("jenga", demonstrations);
     // The domain is what these tests look at; the spec's problems are not.
@@ -69,6 +68,37 @@ fn across_is_the_eight_corners_a_layer_above_and_below_a_block() {
     corners.sort();
     corners.dedup();
     assert_eq!(corners.len(), 8, "{corners:?}");
+}
+
+/// With `symmetry auto`, the demonstrations decide per pair: "across" seen from either block's
+/// frame is folded into its four places, as with `symmetry on`, since folding loses none of the
+/// eight corners and merges them; the top grasp and the marker, which folding merges nothing of,
+/// are compared as recorded. The domain is the one `symmetry on` learns.
+#[test]
+fn symmetry_auto_folds_across_and_nothing_that_gains_nothing() {
+    let (model, artifacts) = jenga_build(Some(lamp_spec::Switch::Auto));
+    let pair = |primary: &str, secondary: &str| {
+        &model
+            .pairs
+            .iter()
+            .find(|pair| pair.pair.pair.primary == primary && pair.pair.pair.secondary == secondary)
+            .unwrap_or_else(|| panic!("a {primary}–{secondary} pair"))
+            .pair
+    };
+    let blocks = pair("block", "block");
+    let choice = blocks.symmetry_choice.as_ref().expect("decided from the demonstrations");
+    assert!(blocks.symmetry.is_some() && choice.folded, "{choice:?}");
+    assert_eq!((choice.places_as_recorded, choice.places_folded), (8, 4), "{choice:?}");
+    for (primary, secondary) in [("gripper", "block"), ("loc", "block")] {
+        let plain = pair(primary, secondary);
+        let choice = plain.symmetry_choice.as_ref().expect("decided from the demonstrations");
+        assert!(plain.symmetry.is_none() && !choice.folded, "{primary}–{secondary}: {choice:?}");
+        assert!(choice.lost.is_none(), "nothing is lost, nothing gained: {choice:?}");
+    }
+    assert_eq!(artifact(&artifacts, "domain.pddl"), artifact(&JENGA_BUILD.1, "domain.pddl"));
+    let vocabulary = artifact(&artifacts, "vocabulary.md");
+    let folded = "`symmetry auto`: folded, the demonstrations' rests make 4 places in place of 8";
+    assert!(vocabulary.contains(folded), "{vocabulary}");
 }
 
 /// With `symmetry on`, a corner and the one opposite it are one place (the block below half

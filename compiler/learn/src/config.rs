@@ -169,6 +169,9 @@ pub struct LearnConfig {
     /// first); a pair of types with any besides the identity compares relative poses up to them
     /// (lamp-abstraction's `PairSymmetry`). Empty: every relative pose as recorded.
     pub symmetries: BTreeMap<String, Vec<nalgebra::UnitQuaternion<f64>>>,
+    /// Whether each pair with a symmetry is compared up to it only where the demonstrations show
+    /// that it pays (`symmetry auto`, [`crate::symmetry_choice`]), rather than always (`on`).
+    pub symmetry_from_data: bool,
 }
 
 impl Default for LearnConfig {
@@ -183,6 +186,7 @@ impl Default for LearnConfig {
             release_tolerance: 0.005,
             seed: 0,
             symmetries: BTreeMap::new(),
+            symmetry_from_data: false,
         }
     }
 }

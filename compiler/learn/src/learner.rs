@@ -24,6 +24,7 @@ use crate::relations::PairVocabulary;
 use crate::resting::{self, UndescribedRest};
 use crate::rigid;
 use crate::selection::{self, Selection, Track, TrackFrame};
+use crate::symmetry_choice::{self, SymmetryChoice};
 
 /// Where a region came from and what it looks like.
 #[derive(Debug, Clone, PartialEq)]
@@ -66,6 +67,9 @@ pub struct PairRegions {
     /// The shapes' symmetry its relative poses are compared up to, if any: every pose it was
     /// learned from is its orbit's representative.
     pub symmetry: Option<lamp_abstraction::PairSymmetry>,
+    /// With `symmetry auto`, how the places found folded compared with those found as recorded
+    /// (whether the symmetry was taken); `None` where it was not in question.
+    pub symmetry_choice: Option<SymmetryChoice>,
 }
 
 impl PairRegions {
@@ -203,9 +207,6 @@ fn find_regions(
 ) -> PairRegions {
     let type_pairs = [pair.clone()];
     let pinned = config.pinned(pair);
-    // One pass over the recordings: the selection and the occupancy both read these tracks.
-    let symmetry = config.pair_symmetry(pair);
-    let tracks = tracks(demonstrations, pauses, &type_pairs, symmetry.as_ref());
     // Two movable objects relate only where they touch (`selection::Contact`); that needs both shapes.
     let release_tolerance = config.release_tolerance;
     let touching = |pose: &Pose| {
@@ -218,18 +219,57 @@ fn find_regions(
     // show them (coarser cells there admit tilted grasps: Dinner's `set_table_8_02` took 1386
     // candidates against 184).
     let round = (!primary_moves).then(|| shapes.round_axis(&pair.secondary)).flatten();
-    let selection = pinned.leaves_a_choice().then(|| {
-        let occurring = tracks.iter().map(|track| track.demonstration).collect::<BTreeSet<_>>();
-        selection::select(
-            &pinned,
-            &tracks,
-            occurring.len(),
-            config.min_support,
-            config.rotation_share,
-            config.release_tolerance,
-            selection::ShapeFacts { contact, round },
-        )
-    });
+    let select = |tracks: &[Track]| {
+        pinned.leaves_a_choice().then(|| {
+            let occurring = tracks.iter().map(|track| track.demonstration).collect::<BTreeSet<_>>();
+            selection::select(
+                &pinned,
+                tracks,
+                occurring.len(),
+                config.min_support,
+                config.rotation_share,
+                config.release_tolerance,
+                selection::ShapeFacts { contact, round },
+            )
+        })
+    };
+    // One pass over the recordings per way of comparing poses: the selection and the occupancy
+    // both read these tracks.
+    let read = |symmetry: Option<&lamp_abstraction::PairSymmetry>| {
+        let tracks = tracks(demonstrations, pauses, &type_pairs, symmetry);
+        let selection = select(&tracks);
+        (tracks, selection)
+    };
+    let (symmetry, symmetry_choice, tracks, selection) = match config.pair_symmetry(pair) {
+        None => {
+            let (tracks, selection) = read(None);
+            (None, None, tracks, selection)
+        }
+        Some(symmetry) if !config.symmetry_from_data => {
+            let (tracks, selection) = read(Some(&symmetry));
+            (Some(symmetry), None, tracks, selection)
+        }
+        Some(symmetry) => {
+            let as_recorded = read(None);
+            let folded = read(Some(&symmetry));
+            let groups = |selection: &Option<Selection>| {
+                selection.as_ref().map(|selection| selection.groups.clone())
+            };
+            let choice = symmetry_choice::choose(
+                groups(&as_recorded.1).as_deref(),
+                groups(&folded.1).as_deref(),
+                |[x, y, z]| {
+                    let canonical = symmetry.canonical(&Pose::translation(x, y, z));
+                    canonical.translation.vector.into()
+                },
+            );
+            if choice.folded {
+                (Some(symmetry), Some(choice), folded.0, folded.1)
+            } else {
+                (None, Some(choice), as_recorded.0, as_recorded.1)
+            }
+        }
+    };
     let settings = match &selection {
         Some(selection) => selection.settings.clone(),
         None => pinned.resolve(&PairSettings::DEFAULT),
@@ -291,6 +331,7 @@ fn find_regions(
         demonstrations: occupancy.demonstrations(),
         regions,
         symmetry,
+        symmetry_choice,
     }
 }
 

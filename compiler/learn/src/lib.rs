@@ -34,6 +34,7 @@ pub use lamp_abstraction::relations;
 pub mod report;
 pub mod resting;
 pub mod selection;
+pub mod symmetry_choice;
 pub mod synthetic;
 
 pub use abstraction::{CellClassifier, GroundAtom, RegionClassifier};

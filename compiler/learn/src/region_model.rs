@@ -104,6 +104,7 @@ mod tests {
             demonstrations: 1,
             regions: vec![summary],
             symmetry: None,
+            symmetry_choice: None,
         }
     }
 

@@ -116,11 +116,44 @@ fn pair_section(out: &mut String, learned: &LearnedPair) {
             1 => format!("the {type_name} has none"),
             count => format!("the {type_name} {} about its vertical axis", plural_turns(count)),
         };
+        let why = match &pair.symmetry_choice {
+            Some(choice) => format!(
+                "`symmetry auto`: folded, the demonstrations' rests make {} in place of {}, with {} keyframes in them against {}",
+                places(choice.places_folded),
+                choice.places_as_recorded,
+                choice.keyframes_folded,
+                choice.keyframes_as_recorded,
+            ),
+            None => "`symmetry on`".to_string(),
+        };
         let _ = writeln!(
             out,
-            "Relative poses are compared up to the shapes' symmetries (`symmetry on`): {}, {}; every pose, centre and representative below is its orbit's representative.\n",
+            "Relative poses are compared up to the shapes' symmetries ({why}): {}, {}; every pose, centre and representative below is its orbit's representative.\n",
             turns(symmetry.primary.len(), &pair.pair.primary),
             turns(symmetry.secondary.len(), &pair.pair.secondary),
+        );
+    } else if let Some(choice) = &pair.symmetry_choice {
+        let why = match choice.lost {
+            Some([x, y, z]) => format!(
+                "folding would lose the place at ({}, {}, {}) m, which no folded place holds",
+                rounded(x, 4),
+                rounded(y, 4),
+                rounded(z, 4),
+            ),
+            None if choice.places_folded == 0 && choice.places_as_recorded == 0 => {
+                "neither way finds a place".to_string()
+            }
+            None => format!(
+                "folded, the demonstrations' rests make {} with {} keyframes in them, as recorded {} with {}: nothing gained",
+                places(choice.places_folded),
+                choice.keyframes_folded,
+                places(choice.places_as_recorded),
+                choice.keyframes_as_recorded,
+            ),
+        };
+        let _ = writeln!(
+            out,
+            "Relative poses are compared as recorded, not up to the shapes' symmetries (`symmetry auto`): {why}.\n",
         );
     }
     if let Some(selection) = &pair.selection {
@@ -358,4 +391,11 @@ fn action_section(out: &mut String, action: &Action) {
         action.distinct_transitions,
         listed.join(", ")
     );
+}
+
+fn places(count: usize) -> String {
+    match count {
+        1 => "1 place".to_string(),
+        count => format!("{count} places"),
+    }
 }

@@ -1,0 +1,161 @@
+//! Whether a pair's relative poses are compared up to its shapes' symmetries, decided from the
+//! demonstrations (`symmetry auto`).
+//!
+//! Comparing up to a symmetry folds the relative poses onto one place of each orbit. That pays
+//! where the demonstrations show one rest at several places of an orbit (a Jenga block across
+//! another at a corner or at the opposite one, from either block's frame): folded, they are one
+//! place, learned from all of their demonstrations together. It costs where folding brings two
+//! different rests within millimetres of each other: a Keva plank's frame sits on its bottom face,
+//! so a lintel resting on a leg whose frame faces it and one on a leg facing away fold to poses
+//! 7 mm apart, and the groups that kept them apart are no longer separated from their
+//! neighbours, so neither is found. And it brings nothing where every place is its own image (a
+//! can anywhere on a square box's floor).
+//!
+//! So the places are found both ways, and the folded ones are taken when no place found as
+//! recorded is lost by folding (its centre, taken to its representative, lies in a folded place
+//! of the same held flag), and folding merges places or finds more of the demonstrations' rests.
+
+use crate::selection::Group;
+
+/// How the folded places compare with those found as recorded.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SymmetryChoice {
+    /// Whether the folded places were taken.
+    pub folded: bool,
+    /// Places found as recorded.
+    pub places_as_recorded: usize,
+    /// Places found folded.
+    pub places_folded: usize,
+    /// Keyframes in places, as recorded.
+    pub keyframes_as_recorded: usize,
+    /// Keyframes in places, folded.
+    pub keyframes_folded: usize,
+    /// The centre (its representative, m) of the first place found as recorded that no folded
+    /// place holds, if any.
+    pub lost: Option<[f64; 3]>,
+}
+
+/// Compares the places (a selection's groups) found as recorded and folded; `representative`
+/// takes a position (with the identity orientation) to its orbit's representative position.
+/// Without a selection on either side (every setting pinned) nothing is folded.
+pub fn choose(
+    as_recorded: Option<&[Group]>,
+    folded: Option<&[Group]>,
+    representative: impl Fn([f64; 3]) -> [f64; 3],
+) -> SymmetryChoice {
+    let (Some(as_recorded), Some(folded)) = (as_recorded, folded) else {
+        return SymmetryChoice {
+            folded: false,
+            places_as_recorded: 0,
+            places_folded: 0,
+            keyframes_as_recorded: 0,
+            keyframes_folded: 0,
+            lost: None,
+        };
+    };
+    let keyframes = |groups: &[Group]| groups.iter().map(|group| group.keyframes).sum::<usize>();
+    let lost = as_recorded.iter().find_map(|place| {
+        let centre = representative(place.centre);
+        let held = folded.iter().any(|group| group.g == place.g && holds(group, centre));
+        (!held).then_some(centre)
+    });
+    let (places_as_recorded, places_folded) = (as_recorded.len(), folded.len());
+    let (keyframes_as_recorded, keyframes_folded) = (keyframes(as_recorded), keyframes(folded));
+    let pays = places_folded < places_as_recorded || keyframes_folded > keyframes_as_recorded;
+    SymmetryChoice {
+        folded: lost.is_none() && pays && places_folded > 0,
+        places_as_recorded,
+        places_folded,
+        keyframes_as_recorded,
+        keyframes_folded,
+        lost,
+    }
+}
+
+/// Whether `centre` lies in the group's box of keyframes, widened by its tolerance.
+fn holds(group: &Group, centre: [f64; 3]) -> bool {
+    (0..3).all(|axis| {
+        centre[axis] >= group.low[axis] - group.tolerance
+            && centre[axis] <= group.high[axis] + group.tolerance
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn group(g: u8, centre: [f64; 3], keyframes: usize) -> Group {
+        Group {
+            g,
+            demonstrations: keyframes,
+            keyframes,
+            scale: 0.001,
+            centre,
+            low: centre.map(|c| c - 0.002),
+            high: centre.map(|c| c + 0.002),
+            share: 1.0,
+            tolerance: 0.002,
+        }
+    }
+
+    fn selection(groups: Vec<Group>) -> Vec<Group> {
+        groups
+    }
+
+    /// The half turn about z: the representative has the larger x.
+    fn half_turn(position: [f64; 3]) -> [f64; 3] {
+        if position[0] >= 0.0 { position } else { [-position[0], -position[1], position[2]] }
+    }
+
+    #[test]
+    fn places_at_both_ends_of_an_orbit_fold_into_one() {
+        let recorded =
+            selection(vec![group(0, [0.05, 0.05, 0.03], 20), group(0, [-0.05, -0.05, 0.03], 18)]);
+        let folded = selection(vec![group(0, [0.05, 0.05, 0.03], 38)]);
+        let choice = choose(Some(&recorded[..]), Some(&folded[..]), half_turn);
+        assert!(choice.folded, "{choice:?}");
+        assert_eq!((choice.places_as_recorded, choice.places_folded), (2, 1));
+    }
+
+    #[test]
+    fn a_place_lost_by_folding_keeps_the_poses_as_recorded() {
+        let recorded = selection(vec![
+            group(0, [0.05, 0.05, 0.03], 20),
+            group(0, [-0.05, -0.05, 0.03], 18),
+            group(0, [0.06, 0.0, 0.04], 8),
+        ]);
+        // The third place's neighbour after folding swallowed it: no folded group holds it.
+        let folded = selection(vec![group(0, [0.05, 0.05, 0.03], 38)]);
+        let choice = choose(Some(&recorded[..]), Some(&folded[..]), half_turn);
+        assert!(!choice.folded);
+        assert_eq!(choice.lost, Some([0.06, 0.0, 0.04]));
+        // A place of another held flag does not hold it either.
+        let other_flag =
+            selection(vec![group(0, [0.05, 0.05, 0.03], 38), group(1, [0.06, 0.0, 0.04], 8)]);
+        assert!(!choose(Some(&recorded[..]), Some(&other_flag[..]), half_turn).folded);
+    }
+
+    #[test]
+    fn folding_that_changes_nothing_is_not_taken() {
+        // A can anywhere on a box's floor: one place either way, the same keyframes in it.
+        let floor = |centre: [f64; 3], low_x: f64| Group {
+            low: [low_x, -0.04, 0.001],
+            high: [0.04, 0.04, 0.001],
+            ..group(0, centre, 40)
+        };
+        let recorded = selection(vec![floor([0.0, 0.0, 0.001], -0.04)]);
+        let folded = selection(vec![floor([0.02, 0.0, 0.001], 0.0)]);
+        let choice = choose(Some(&recorded[..]), Some(&folded[..]), half_turn);
+        assert!(!choice.folded && choice.lost.is_none(), "{choice:?}");
+        // Nor without a selection (every setting pinned).
+        assert!(!choose(None, Some(&folded[..]), half_turn).folded);
+    }
+
+    #[test]
+    fn folding_that_finds_rests_too_sparse_to_be_places_as_recorded_is_taken() {
+        let recorded = selection(vec![group(0, [0.05, 0.05, 0.03], 6)]);
+        let folded =
+            selection(vec![group(0, [0.05, 0.05, 0.03], 12), group(0, [0.05, -0.05, 0.03], 6)]);
+        assert!(choose(Some(&recorded[..]), Some(&folded[..]), half_turn).folded);
+    }
+}
