@@ -13,7 +13,8 @@
 //!
 //! So the places are found both ways, and the folded ones are taken when no place found as
 //! recorded is lost by folding (its centre, taken to its representative, lies in a folded place
-//! of the same held flag), and folding merges places or finds more of the demonstrations' rests.
+//! of the same held flag), and folding merges places or finds a place the recorded poses were
+//! too sparse to show.
 
 use crate::selection::Group;
 
@@ -61,7 +62,14 @@ pub fn choose(
     });
     let (places_as_recorded, places_folded) = (as_recorded.len(), folded.len());
     let (keyframes_as_recorded, keyframes_folded) = (keyframes(as_recorded), keyframes(folded));
-    let pays = places_folded < places_as_recorded || keyframes_folded > keyframes_as_recorded;
+    // A folded place that holds no place found as recorded is a rest the recorded poses were
+    // too sparse to show (a few keyframes more or fewer in the same places are not).
+    let found = folded.iter().any(|group| {
+        !as_recorded
+            .iter()
+            .any(|place| place.g == group.g && holds(group, representative(place.centre)))
+    });
+    let pays = places_folded < places_as_recorded || found;
     SymmetryChoice {
         folded: lost.is_none() && pays && places_folded > 0,
         places_as_recorded,
@@ -145,6 +153,9 @@ mod tests {
         };
         let recorded = selection(vec![floor([0.0, 0.0, 0.001], -0.04)]);
         let folded = selection(vec![floor([0.02, 0.0, 0.001], 0.0)]);
+        // A few keyframes more in the same place are no gain either.
+        let denser = selection(vec![Group { keyframes: 41, ..floor([0.02, 0.0, 0.001], 0.0) }]);
+        assert!(!choose(Some(&recorded[..]), Some(&denser[..]), half_turn).folded);
         let choice = choose(Some(&recorded[..]), Some(&folded[..]), half_turn);
         assert!(!choice.folded && choice.lost.is_none(), "{choice:?}");
         // Nor without a selection (every setting pinned).
