@@ -90,18 +90,18 @@ pub fn learn_model(
 ) -> Result<Model, BuildError> {
     let mut config = learn_config(spec);
     config.symmetries = shape_symmetries(spec, world);
-    config.symmetry_from_data = spec.learning.symmetry == Some(lamp_spec::Switch::Auto);
+    config.symmetry_from_data = spec.learning.symmetry != Some(lamp_spec::Switch::On);
     Ok(lamp_learn::learn(demonstrations, &config, &SpecShapes::new(world))?)
 }
 
-/// With `symmetry on` or `auto`, the turns about each object type's vertical axis (its frame's z,
-/// up as the type is declared) that map its shape onto itself (lamp-geometry's
-/// `upright_symmetries`); none otherwise.
+/// Unless `symmetry off`, the turns about each object type's vertical axis (its frame's z, up as
+/// the type is declared) that map its shape onto itself (lamp-geometry's `upright_symmetries`);
+/// none with it.
 fn shape_symmetries(
     spec: &Spec,
     world: &SpecWorld,
 ) -> std::collections::BTreeMap<String, Vec<nalgebra::UnitQuaternion<f64>>> {
-    if !matches!(spec.learning.symmetry, Some(lamp_spec::Switch::On | lamp_spec::Switch::Auto)) {
+    if spec.learning.symmetry == Some(lamp_spec::Switch::Off) {
         return std::collections::BTreeMap::new();
     }
     world

@@ -211,12 +211,15 @@ fn selection_section(out: &mut String, selection: &Selection) {
     }
     let _ = writeln!(
         out,
-        "{} keyframes (still: under {:.3} mm and {:.4}° a step); {} groups kept, {} left out for too little support; least margin of a group from its cell's edges per axis {:.2}, {:.2}, {:.2} of a cell.
+        "{} keyframes (still: under {:.3} mm and {:.4}° a step); {} kept, {} left out for too little support; least margin of a group from its cell's edges per axis {:.2}, {:.2}, {:.2} of a cell.
 ",
         selection.keyframes,
         selection.stillness.position * 1000.0,
         selection.stillness.rotation.to_degrees(),
-        selection.groups.len(),
+        match selection.groups.len() {
+            1 => "1 group".to_string(),
+            count => format!("{count} groups"),
+        },
         selection.dropped,
         selection.margins[0],
         selection.margins[1],

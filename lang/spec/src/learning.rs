@@ -57,8 +57,8 @@ pub struct Learning {
     /// Pairs excluded from learning, in both orders.
     pub ignored_pairs: BTreeSet<TypePair>,
     /// `symmetry on|off|auto`: whether relative poses are compared up to the turns that map the
-    /// object types' shapes onto themselves. Left out, or `auto`: for now, not (see
-    /// `docs/learning.md`).
+    /// object types' shapes onto themselves. Left out, or `auto`: per pair, where the
+    /// demonstrations show that it pays (see `docs/learning.md`, "Symmetric shapes").
     pub symmetry: Option<Switch>,
 }
 
