@@ -25,8 +25,9 @@ use crate::demo::Pose;
 use crate::discretise::{Bounds, Grid};
 use crate::regions::RegionCells;
 
-/// Geometry the learner does not know: the shapes of the participants' types.
-pub trait ShapeOracle {
+/// Geometry the learner does not know: the shapes of the participants' types. Shared by the
+/// threads that read one pair's demonstrations two ways (`symmetry auto`).
+pub trait ShapeOracle: Sync {
     /// Whether two bodies of the type, at two different poses of `poses` (all in one frame), can stand at once
     /// without overlapping (touching counts as overlapping); `None` when the type has no known shape.
     fn two_fit(&self, type_name: &str, poses: &[Pose]) -> Option<bool>;
@@ -220,19 +221,19 @@ fn corners(bounds: Bounds) -> impl Iterator<Item = nalgebra::Vector3<f64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::cell::RefCell;
     use std::collections::BTreeMap;
     use std::f64::consts::PI;
+    use std::sync::Mutex;
 
     /// Answers from a table by type, and remembers the poses it was asked about.
     struct Table {
         answers: BTreeMap<&'static str, bool>,
-        asked: RefCell<Vec<(String, Vec<Pose>)>>,
+        asked: Mutex<Vec<(String, Vec<Pose>)>>,
     }
 
     impl ShapeOracle for Table {
         fn two_fit(&self, type_name: &str, poses: &[Pose]) -> Option<bool> {
-            self.asked.borrow_mut().push((type_name.to_string(), poses.to_vec()));
+            self.asked.lock().expect("not poisoned").push((type_name.to_string(), poses.to_vec()));
             self.answers.get(type_name).copied()
         }
 
@@ -304,13 +305,13 @@ mod tests {
         let pair = TypePair::new("surface", "can");
         let oracle = Table {
             answers: BTreeMap::from([("can", true), ("surface", false)]),
-            asked: RefCell::new(Vec::new()),
+            asked: Mutex::new(Vec::new()),
         };
         let settings = PairSettings::default();
         let sides = decide(&pair, false, &settings, &grid(), &cells(), &[], &oracle);
         assert_eq!(sides.clear, Side { on: false, reason: SideReason::TwoFit });
         assert_eq!(sides.nowhere, Side { on: true, reason: SideReason::OneAtATime });
-        let asked = oracle.asked.borrow();
+        let asked = oracle.asked.lock().expect("not poisoned");
         // The secondary side asks about the primary's poses in the secondary's frame: the inverses.
         assert_eq!((asked[0].0.as_str(), asked[1].0.as_str()), ("can", "surface"));
         assert_eq!(asked[1].1[5], asked[0].1[5].inverse());
@@ -335,13 +336,13 @@ mod tests {
     #[test]
     fn settings_on_and_off_never_ask_the_oracle() {
         let oracle =
-            Table { answers: BTreeMap::from([("can", true)]), asked: RefCell::new(Vec::new()) };
+            Table { answers: BTreeMap::from([("can", true)]), asked: Mutex::new(Vec::new()) };
         let settings =
             PairSettings { clear: Switch::On, nowhere: Switch::Off, ..PairSettings::default() };
         let pair = TypePair::new("surface", "can");
         let sides = decide(&pair, false, &settings, &grid(), &cells(), &[], &oracle);
         assert_eq!(sides.clear, Side { on: true, reason: SideReason::Setting });
         assert_eq!(sides.nowhere, Side { on: false, reason: SideReason::Setting });
-        assert!(oracle.asked.borrow().is_empty());
+        assert!(oracle.asked.lock().expect("not poisoned").is_empty());
     }
 }

@@ -250,8 +250,14 @@ fn find_regions(
             (Some(symmetry), None, tracks, selection)
         }
         Some(symmetry) => {
-            let as_recorded = read(None);
-            let folded = read(Some(&symmetry));
+            // The two readings are independent: on two cores, the choice costs no more time
+            // than one of them.
+            let (as_recorded, folded) = std::thread::scope(|scope| {
+                let folded = scope.spawn(|| read(Some(&symmetry)));
+                let as_recorded = read(None);
+                let folded = folded.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+                (as_recorded, folded)
+            });
             let groups = |selection: &Option<Selection>| {
                 selection.as_ref().map(|selection| selection.groups.clone())
             };

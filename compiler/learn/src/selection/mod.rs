@@ -134,7 +134,7 @@ impl Selection {
 /// Two movable objects are related through contact, one resting on or against the other. One that comes to rest
 /// near another without touching it was placed by something else (its marker, the table it stands on), and their
 /// relative pose is where those happen to be: Jenga's spare blocks laid out 10 cm apart, or two cans in a box.
-pub type Contact<'a> = &'a dyn Fn(&crate::demo::Pose) -> bool;
+pub type Contact<'a> = &'a (dyn Fn(&crate::demo::Pose) -> bool + Sync);
 
 /// What the pair's shapes say where the demonstrations alone cannot.
 #[derive(Clone, Copy, Default)]
