@@ -258,12 +258,9 @@ fn find_regions(
                 let folded = folded.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
                 (as_recorded, folded)
             });
-            let groups = |selection: &Option<Selection>| {
-                selection.as_ref().map(|selection| selection.groups.clone())
-            };
             let choice = symmetry_choice::choose(
-                groups(&as_recorded.1).as_deref(),
-                groups(&folded.1).as_deref(),
+                as_recorded.1.as_ref().map(|selection| selection.groups.as_slice()),
+                folded.1.as_ref().map(|selection| selection.groups.as_slice()),
                 |[x, y, z]| {
                     let canonical = symmetry.canonical(&Pose::translation(x, y, z));
                     canonical.translation.vector.into()
