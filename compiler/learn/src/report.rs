@@ -119,7 +119,7 @@ fn pair_section(out: &mut String, learned: &LearnedPair) {
         let why = match &pair.symmetry_choice {
             Some(choice) => format!(
                 "`symmetry auto`: folded, the demonstrations' rests make {} in place of {}, with {} keyframes in them against {}",
-                places(choice.places_folded),
+                counted(choice.places_folded, "place"),
                 choice.places_as_recorded,
                 choice.keyframes_folded,
                 choice.keyframes_as_recorded,
@@ -145,9 +145,9 @@ fn pair_section(out: &mut String, learned: &LearnedPair) {
             }
             None => format!(
                 "folded, the demonstrations' rests make {} with {} keyframes in them, as recorded {} with {}: nothing gained",
-                places(choice.places_folded),
+                counted(choice.places_folded, "place"),
                 choice.keyframes_folded,
-                places(choice.places_as_recorded),
+                counted(choice.places_as_recorded, "place"),
                 choice.keyframes_as_recorded,
             ),
         };
@@ -216,10 +216,7 @@ fn selection_section(out: &mut String, selection: &Selection) {
         selection.keyframes,
         selection.stillness.position * 1000.0,
         selection.stillness.rotation.to_degrees(),
-        match selection.groups.len() {
-            1 => "1 group".to_string(),
-            count => format!("{count} groups"),
-        },
+        counted(selection.groups.len(), "group"),
         selection.dropped,
         selection.margins[0],
         selection.margins[1],
@@ -396,9 +393,10 @@ fn action_section(out: &mut String, action: &Action) {
     );
 }
 
-fn places(count: usize) -> String {
+/// `1 place`, `2 places`.
+fn counted(count: usize, noun: &str) -> String {
     match count {
-        1 => "1 place".to_string(),
-        count => format!("{count} places"),
+        1 => format!("1 {noun}"),
+        count => format!("{count} {noun}s"),
     }
 }

@@ -19,7 +19,7 @@
 use crate::selection::Group;
 
 /// How the folded places compare with those found as recorded.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct SymmetryChoice {
     /// Whether the folded places were taken.
     pub folded: bool,
@@ -45,30 +45,22 @@ pub fn choose(
     representative: impl Fn([f64; 3]) -> [f64; 3],
 ) -> SymmetryChoice {
     let (Some(as_recorded), Some(folded)) = (as_recorded, folded) else {
-        return SymmetryChoice {
-            folded: false,
-            places_as_recorded: 0,
-            places_folded: 0,
-            keyframes_as_recorded: 0,
-            keyframes_folded: 0,
-            lost: None,
-        };
+        return SymmetryChoice::default();
     };
     let keyframes = |groups: &[Group]| groups.iter().map(|group| group.keyframes).sum::<usize>();
-    let lost = as_recorded.iter().find_map(|place| {
-        let centre = representative(place.centre);
-        let held = folded.iter().any(|group| group.g == place.g && holds(group, centre));
-        (!held).then_some(centre)
-    });
+    // Each place found as recorded, with its held flag, where folding takes its centre.
+    let recorded: Vec<(u8, [f64; 3])> =
+        as_recorded.iter().map(|place| (place.g, representative(place.centre))).collect();
+    let held =
+        |g: u8, centre: [f64; 3]| folded.iter().any(|group| group.g == g && holds(group, centre));
+    let lost = recorded.iter().find(|(g, centre)| !held(*g, *centre)).map(|(_, centre)| *centre);
     let (places_as_recorded, places_folded) = (as_recorded.len(), folded.len());
     let (keyframes_as_recorded, keyframes_folded) = (keyframes(as_recorded), keyframes(folded));
     // A folded place that holds no place found as recorded is a rest the recorded poses were
     // too sparse to show (a few keyframes more or fewer in the same places are not).
-    let found = folded.iter().any(|group| {
-        !as_recorded
-            .iter()
-            .any(|place| place.g == group.g && holds(group, representative(place.centre)))
-    });
+    let found = folded
+        .iter()
+        .any(|group| !recorded.iter().any(|(g, centre)| *g == group.g && holds(group, *centre)));
     let pays = places_folded < places_as_recorded || found;
     SymmetryChoice {
         folded: lost.is_none() && pays && places_folded > 0,
@@ -106,10 +98,6 @@ mod tests {
         }
     }
 
-    fn selection(groups: Vec<Group>) -> Vec<Group> {
-        groups
-    }
-
     /// The half turn about z: the representative has the larger x.
     fn half_turn(position: [f64; 3]) -> [f64; 3] {
         if position[0] >= 0.0 { position } else { [-position[0], -position[1], position[2]] }
@@ -117,9 +105,8 @@ mod tests {
 
     #[test]
     fn places_at_both_ends_of_an_orbit_fold_into_one() {
-        let recorded =
-            selection(vec![group(0, [0.05, 0.05, 0.03], 20), group(0, [-0.05, -0.05, 0.03], 18)]);
-        let folded = selection(vec![group(0, [0.05, 0.05, 0.03], 38)]);
+        let recorded = [group(0, [0.05, 0.05, 0.03], 20), group(0, [-0.05, -0.05, 0.03], 18)];
+        let folded = [group(0, [0.05, 0.05, 0.03], 38)];
         let choice = choose(Some(&recorded[..]), Some(&folded[..]), half_turn);
         assert!(choice.folded, "{choice:?}");
         assert_eq!((choice.places_as_recorded, choice.places_folded), (2, 1));
@@ -127,19 +114,18 @@ mod tests {
 
     #[test]
     fn a_place_lost_by_folding_keeps_the_poses_as_recorded() {
-        let recorded = selection(vec![
+        let recorded = [
             group(0, [0.05, 0.05, 0.03], 20),
             group(0, [-0.05, -0.05, 0.03], 18),
             group(0, [0.06, 0.0, 0.04], 8),
-        ]);
+        ];
         // The third place's neighbour after folding swallowed it: no folded group holds it.
-        let folded = selection(vec![group(0, [0.05, 0.05, 0.03], 38)]);
+        let folded = [group(0, [0.05, 0.05, 0.03], 38)];
         let choice = choose(Some(&recorded[..]), Some(&folded[..]), half_turn);
         assert!(!choice.folded);
         assert_eq!(choice.lost, Some([0.06, 0.0, 0.04]));
         // A place of another held flag does not hold it either.
-        let other_flag =
-            selection(vec![group(0, [0.05, 0.05, 0.03], 38), group(1, [0.06, 0.0, 0.04], 8)]);
+        let other_flag = [group(0, [0.05, 0.05, 0.03], 38), group(1, [0.06, 0.0, 0.04], 8)];
         assert!(!choose(Some(&recorded[..]), Some(&other_flag[..]), half_turn).folded);
     }
 
@@ -151,10 +137,10 @@ mod tests {
             high: [0.04, 0.04, 0.001],
             ..group(0, centre, 40)
         };
-        let recorded = selection(vec![floor([0.0, 0.0, 0.001], -0.04)]);
-        let folded = selection(vec![floor([0.02, 0.0, 0.001], 0.0)]);
+        let recorded = [floor([0.0, 0.0, 0.001], -0.04)];
+        let folded = [floor([0.02, 0.0, 0.001], 0.0)];
         // A few keyframes more in the same place are no gain either.
-        let denser = selection(vec![Group { keyframes: 41, ..floor([0.02, 0.0, 0.001], 0.0) }]);
+        let denser = [Group { keyframes: 41, ..floor([0.02, 0.0, 0.001], 0.0) }];
         assert!(!choose(Some(&recorded[..]), Some(&denser[..]), half_turn).folded);
         let choice = choose(Some(&recorded[..]), Some(&folded[..]), half_turn);
         assert!(!choice.folded && choice.lost.is_none(), "{choice:?}");
@@ -164,9 +150,8 @@ mod tests {
 
     #[test]
     fn folding_that_finds_rests_too_sparse_to_be_places_as_recorded_is_taken() {
-        let recorded = selection(vec![group(0, [0.05, 0.05, 0.03], 6)]);
-        let folded =
-            selection(vec![group(0, [0.05, 0.05, 0.03], 12), group(0, [0.05, -0.05, 0.03], 6)]);
+        let recorded = [group(0, [0.05, 0.05, 0.03], 6)];
+        let folded = [group(0, [0.05, 0.05, 0.03], 12), group(0, [0.05, -0.05, 0.03], 6)];
         assert!(choose(Some(&recorded[..]), Some(&folded[..]), half_turn).folded);
     }
 }

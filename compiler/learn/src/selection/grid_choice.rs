@@ -148,13 +148,10 @@ fn whole_turn_kept(keyframes: &[(usize, Pose)], axis: usize, kept: &dyn Fn(&Pose
     if super::free_turn::widest_gap(&rotations, &reference.rotation, axis) >= std::f64::consts::PI {
         return true;
     }
-    let mut unit = nalgebra::Vector3::zeros();
-    unit[axis] = 1.0;
-    let unit = nalgebra::Unit::new_normalize(unit);
+    let turn = FreeTurn { reference: reference.rotation, axis };
     (0..TURN_STEPS).all(|step| {
         let angle = std::f64::consts::TAU * step as f64 / TURN_STEPS as f64;
-        let turned = reference.rotation * nalgebra::UnitQuaternion::from_axis_angle(&unit, angle);
-        kept(&Pose::from_parts(reference.translation, turned))
+        kept(&Pose::from_parts(reference.translation, turn.turned(&reference.rotation, angle)))
     })
 }
 
