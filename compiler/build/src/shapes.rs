@@ -78,6 +78,12 @@ impl ShapeOracle for SpecShapes {
     fn round_axis(&self, type_name: &str) -> Option<usize> {
         self.round.get(type_name).copied()
     }
+
+    fn bounding_box(&self, type_name: &str) -> Option<([f64; 3], [f64; 3])> {
+        let (shape, _) = self.shapes.get(type_name)?;
+        let aabb = shape.aabb(&Pose::identity());
+        Some(([0, 1, 2].map(|axis| aabb.mins[axis]), [0, 1, 2].map(|axis| aabb.maxs[axis])))
+    }
 }
 
 #[cfg(test)]

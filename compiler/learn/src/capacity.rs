@@ -41,6 +41,11 @@ pub trait ShapeOracle: Sync {
     fn round_axis(&self, _type_name: &str) -> Option<usize> {
         None
     }
+
+    /// The smallest and largest coordinates of a type's shape in its own frame; `None` for an unknown shape.
+    fn bounding_box(&self, _type_name: &str) -> Option<([f64; 3], [f64; 3])> {
+        None
+    }
 }
 
 impl<O: ShapeOracle + ?Sized> ShapeOracle for &O {
@@ -54,6 +59,10 @@ impl<O: ShapeOracle + ?Sized> ShapeOracle for &O {
 
     fn round_axis(&self, type_name: &str) -> Option<usize> {
         (**self).round_axis(type_name)
+    }
+
+    fn bounding_box(&self, type_name: &str) -> Option<([f64; 3], [f64; 3])> {
+        (**self).bounding_box(type_name)
     }
 }
 

@@ -219,6 +219,13 @@ fn find_regions(
     // show them (coarser cells there admit tilted grasps: Dinner's `set_table_8_02` took 1386
     // candidates against 184).
     let round = (!primary_moves).then(|| shapes.round_axis(&pair.secondary)).flatten();
+    // How one movable object rests against another depends on which faces touch, so their rests are told apart
+    // by pose (`selection::pose_distance`).
+    let probes = contact.and(shapes.bounding_box(&pair.secondary)).map(|(low, high)| {
+        let round = shapes.round_axis(&pair.secondary);
+        let turns = config.symmetries.get(&pair.secondary).map_or(&[][..], Vec::as_slice);
+        selection::pose_distance::Probes::of_box(low, high, round, turns)
+    });
     let select = |tracks: &[Track]| {
         pinned.leaves_a_choice().then(|| {
             let occurring = tracks.iter().map(|track| track.demonstration).collect::<BTreeSet<_>>();
@@ -229,7 +236,7 @@ fn find_regions(
                 config.min_support,
                 config.rotation_share,
                 config.release_tolerance,
-                selection::ShapeFacts { contact, round },
+                selection::ShapeFacts { contact, round, probes: probes.as_ref() },
             )
         })
     };
@@ -264,6 +271,10 @@ fn find_regions(
                 |[x, y, z]| {
                     let canonical = symmetry.canonical(&Pose::translation(x, y, z));
                     canonical.translation.vector.into()
+                },
+                |[x, y, z]| {
+                    let centre = Pose::translation(x, y, z);
+                    symmetry.members(&centre, false).map(|m| m.translation.vector.into()).collect()
                 },
             );
             if choice.folded {

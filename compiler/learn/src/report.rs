@@ -118,11 +118,17 @@ fn pair_section(out: &mut String, learned: &LearnedPair) {
         };
         let why = match &pair.symmetry_choice {
             Some(choice) => format!(
-                "`symmetry auto`: folded, the demonstrations' rests make {} in place of {}, with {} keyframes in them against {}",
+                "`symmetry auto`: folded, the demonstrations' rests make {} in place of {}, with {} keyframes in them against {}{}",
                 counted(choice.places_folded, "place"),
                 choice.places_as_recorded,
                 choice.keyframes_folded,
                 choice.keyframes_as_recorded,
+                choice.uncovered.map_or_else(String::new, |[x, y, z]| format!(
+                    ", and as recorded no place holds the rest a place shows at ({}, {}, {}) m, where a symmetric frame puts it",
+                    rounded(x, 4),
+                    rounded(y, 4),
+                    rounded(z, 4),
+                )),
             ),
             None => "`symmetry on`".to_string(),
         };

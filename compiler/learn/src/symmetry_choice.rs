@@ -13,8 +13,10 @@
 //!
 //! So the places are found both ways, and the folded ones are taken when no place found as
 //! recorded is lost by folding (its centre, taken to its representative, lies in a folded place
-//! of the same held flag), and folding merges places or finds a place the recorded poses were
-//! too sparse to show.
+//! of the same held flag), and folding merges places, finds a place the recorded poses were too
+//! sparse to show, or covers a place's orbit where the recorded places do not: forty Keva
+//! demonstrations show a plank crossed over another at one corner, and as recorded the region
+//! there says nothing of the same rest at the opposite corner, which a structure may ask for.
 
 use crate::selection::Group;
 
@@ -34,15 +36,21 @@ pub struct SymmetryChoice {
     /// The centre (its representative, m) of the first place found as recorded that no folded
     /// place holds, if any.
     pub lost: Option<[f64; 3]>,
+    /// The first position (m, as recorded) of an orbit member of a place found as recorded that
+    /// no place found as recorded holds, if any: a rest the recorded places know at one place of
+    /// its orbit and not at another.
+    pub uncovered: Option<[f64; 3]>,
 }
 
 /// Compares the places (a selection's groups) found as recorded and folded; `representative`
-/// takes a position (with the identity orientation) to its orbit's representative position.
-/// Without a selection on either side (every setting pinned) nothing is folded.
+/// takes a position (with the identity orientation) to its orbit's representative position, and
+/// `orbit` to the positions of its orbit's members. Without a selection on either side (every
+/// setting pinned) nothing is folded.
 pub fn choose(
     as_recorded: Option<&[Group]>,
     folded: Option<&[Group]>,
     representative: impl Fn([f64; 3]) -> [f64; 3],
+    orbit: impl Fn([f64; 3]) -> Vec<[f64; 3]>,
 ) -> SymmetryChoice {
     let (Some(as_recorded), Some(folded)) = (as_recorded, folded) else {
         return SymmetryChoice::default();
@@ -61,7 +69,12 @@ pub fn choose(
     let found = folded
         .iter()
         .any(|group| !recorded.iter().any(|(g, centre)| *g == group.g && holds(group, *centre)));
-    let pays = places_folded < places_as_recorded || found;
+    let uncovered = as_recorded.iter().find_map(|place| {
+        orbit(place.centre).into_iter().find(|member| {
+            !as_recorded.iter().any(|other| other.g == place.g && holds(other, *member))
+        })
+    });
+    let pays = places_folded < places_as_recorded || found || uncovered.is_some();
     SymmetryChoice {
         folded: lost.is_none() && pays && places_folded > 0,
         places_as_recorded,
@@ -69,6 +82,7 @@ pub fn choose(
         keyframes_as_recorded,
         keyframes_folded,
         lost,
+        uncovered,
     }
 }
 
@@ -103,11 +117,16 @@ mod tests {
         if position[0] >= 0.0 { position } else { [-position[0], -position[1], position[2]] }
     }
 
+    /// The positions of the half turn's orbit.
+    fn half_turn_orbit(position: [f64; 3]) -> Vec<[f64; 3]> {
+        vec![position, [-position[0], -position[1], position[2]]]
+    }
+
     #[test]
     fn places_at_both_ends_of_an_orbit_fold_into_one() {
         let recorded = [group(0, [0.05, 0.05, 0.03], 20), group(0, [-0.05, -0.05, 0.03], 18)];
         let folded = [group(0, [0.05, 0.05, 0.03], 38)];
-        let choice = choose(Some(&recorded[..]), Some(&folded[..]), half_turn);
+        let choice = choose(Some(&recorded[..]), Some(&folded[..]), half_turn, half_turn_orbit);
         assert!(choice.folded, "{choice:?}");
         assert_eq!((choice.places_as_recorded, choice.places_folded), (2, 1));
     }
@@ -121,12 +140,14 @@ mod tests {
         ];
         // The third place's neighbour after folding swallowed it: no folded group holds it.
         let folded = [group(0, [0.05, 0.05, 0.03], 38)];
-        let choice = choose(Some(&recorded[..]), Some(&folded[..]), half_turn);
+        let choice = choose(Some(&recorded[..]), Some(&folded[..]), half_turn, half_turn_orbit);
         assert!(!choice.folded);
         assert_eq!(choice.lost, Some([0.06, 0.0, 0.04]));
         // A place of another held flag does not hold it either.
         let other_flag = [group(0, [0.05, 0.05, 0.03], 38), group(1, [0.06, 0.0, 0.04], 8)];
-        assert!(!choose(Some(&recorded[..]), Some(&other_flag[..]), half_turn).folded);
+        assert!(
+            !choose(Some(&recorded[..]), Some(&other_flag[..]), half_turn, half_turn_orbit).folded
+        );
     }
 
     #[test]
@@ -141,17 +162,33 @@ mod tests {
         let folded = [floor([0.02, 0.0, 0.001], 0.0)];
         // A few keyframes more in the same place are no gain either.
         let denser = [Group { keyframes: 41, ..floor([0.02, 0.0, 0.001], 0.0) }];
-        assert!(!choose(Some(&recorded[..]), Some(&denser[..]), half_turn).folded);
-        let choice = choose(Some(&recorded[..]), Some(&folded[..]), half_turn);
+        assert!(!choose(Some(&recorded[..]), Some(&denser[..]), half_turn, half_turn_orbit).folded);
+        let choice = choose(Some(&recorded[..]), Some(&folded[..]), half_turn, half_turn_orbit);
         assert!(!choice.folded && choice.lost.is_none(), "{choice:?}");
         // Nor without a selection (every setting pinned).
-        assert!(!choose(None, Some(&folded[..]), half_turn).folded);
+        assert!(!choose(None, Some(&folded[..]), half_turn, half_turn_orbit).folded);
     }
 
     #[test]
     fn folding_that_finds_rests_too_sparse_to_be_places_as_recorded_is_taken() {
         let recorded = [group(0, [0.05, 0.05, 0.03], 6)];
         let folded = [group(0, [0.05, 0.05, 0.03], 12), group(0, [0.05, -0.05, 0.03], 6)];
-        assert!(choose(Some(&recorded[..]), Some(&folded[..]), half_turn).folded);
+        assert!(choose(Some(&recorded[..]), Some(&folded[..]), half_turn, half_turn_orbit).folded);
+    }
+
+    #[test]
+    fn a_rest_known_at_one_place_of_its_orbit_is_folded() {
+        // Forty demonstrations show a plank crossed over another at one corner only: as recorded,
+        // nothing holds the same rest at the opposite corner; folded, the one place holds both.
+        let recorded = [group(0, [0.045, 0.045, 0.008], 8)];
+        let folded = [group(0, [0.045, 0.045, 0.008], 10)];
+        let choice = choose(Some(&recorded[..]), Some(&folded[..]), half_turn, half_turn_orbit);
+        assert!(choice.folded, "{choice:?}");
+        assert_eq!(choice.uncovered, Some([-0.045, -0.045, 0.008]));
+        // With the opposite corner recorded too, its own place, the places cover their orbits.
+        let both = [group(0, [0.045, 0.045, 0.008], 8), group(0, [-0.045, -0.045, 0.008], 8)];
+        let choice = choose(Some(&both[..]), Some(&folded[..]), half_turn, half_turn_orbit);
+        assert_eq!(choice.uncovered, None);
+        assert!(choice.folded, "two places in one: {choice:?}");
     }
 }

@@ -1,4 +1,5 @@
-//! Clusters of keyframe positions that stay the same over a range of scales.
+//! Clusters of keyframes that stay the same over a range of scales, by the distance of their positions or of
+//! their poses ([`super::pose_distance`]).
 //!
 //! Single-linkage clustering at scales from [`FINEST_SCALE`] up, doubling [`SCALES`] times. A cluster found at
 //! one scale is kept when, two doublings coarser (a fourfold scale change), it has gained at most
@@ -44,22 +45,38 @@ pub struct Cluster {
     pub scale: f64,
 }
 
-/// The stable clusters of `points`; `demonstration[i]` says which of the pair's `demonstrations` point `i` came
-/// from.
+/// The stable clusters of `points` by the distance of positions; `demonstration[i]` says which of the pair's
+/// `demonstrations` point `i` came from.
 pub fn stable_clusters(
     points: &[[f64; 3]],
     demonstration: &[usize],
     min_support: usize,
     demonstrations: usize,
 ) -> Vec<Cluster> {
-    if points.len() < min_support.max(2) {
+    let distance = |i: usize, j: usize| {
+        let (a, b) = (points[i], points[j]);
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+    };
+    stable_clusters_by(points.len(), distance, demonstration, min_support, demonstrations)
+}
+
+/// The stable clusters of `n` points apart by `distance` (m, a metric); `demonstration[i]` says which of the
+/// pair's `demonstrations` point `i` came from.
+pub fn stable_clusters_by(
+    n: usize,
+    distance: impl Fn(usize, usize) -> f64,
+    demonstration: &[usize],
+    min_support: usize,
+    demonstrations: usize,
+) -> Vec<Cluster> {
+    if n < min_support.max(2) {
         return Vec::new();
     }
-    let tree = minimum_spanning_tree(points);
+    let tree = minimum_spanning_tree(n, distance);
     let labels: Vec<Vec<usize>> = (0..SCALES + WIDE_SCALES + STABLE_DOUBLINGS as usize)
-        .map(|rung| components(points.len(), &tree, scale(rung)))
+        .map(|rung| components(n, &tree, scale(rung)))
         .collect();
-    let mut taken = vec![false; points.len()];
+    let mut taken = vec![false; n];
     let mut found = Vec::new();
     let common = (COMMON_SHARE * demonstrations as f64).ceil() as usize;
     for (doublings, support_needed) in
@@ -171,12 +188,12 @@ fn scale(rung: usize) -> f64 {
     FINEST_SCALE * f64::from(1u32 << rung)
 }
 
-/// The edges `(a, b, length)` of a Euclidean minimum spanning tree, by Prim's algorithm (quadratic, no index).
-fn minimum_spanning_tree(points: &[[f64; 3]]) -> Vec<(usize, usize, f64)> {
-    let distance = |a: &[f64; 3], b: &[f64; 3]| {
-        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-    };
-    let n = points.len();
+/// The edges `(a, b, length)` of a minimum spanning tree of `n` points under `distance`, by Prim's algorithm
+/// (quadratic, no index).
+fn minimum_spanning_tree(
+    n: usize,
+    distance: impl Fn(usize, usize) -> f64,
+) -> Vec<(usize, usize, f64)> {
     let mut in_tree = vec![false; n];
     let mut best = vec![(f64::INFINITY, 0usize); n];
     let mut edges = Vec::with_capacity(n.saturating_sub(1));
@@ -188,7 +205,7 @@ fn minimum_spanning_tree(points: &[[f64; 3]]) -> Vec<(usize, usize, f64)> {
             if in_tree[i] {
                 continue;
             }
-            let d = distance(&points[current], &points[i]);
+            let d = distance(current, i);
             if d < best[i].0 {
                 best[i] = (d, current);
             }
@@ -337,7 +354,11 @@ mod tests {
     #[test]
     fn the_tree_joins_every_point_with_the_shortest_links() {
         let points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [1.0, 0.5, 0.0]];
-        let tree = minimum_spanning_tree(&points);
+        let distance = |i: usize, j: usize| {
+            let (a, b): ([f64; 3], [f64; 3]) = (points[i], points[j]);
+            (0..3).map(|axis| (a[axis] - b[axis]).powi(2)).sum::<f64>().sqrt()
+        };
+        let tree = minimum_spanning_tree(points.len(), distance);
         let total: f64 = tree.iter().map(|e| e.2).sum();
         assert!((total - (1.0 + 0.5 + (1.0f64 + 1.5 * 1.5).sqrt())).abs() < 1e-12, "{tree:?}");
         assert_eq!(components(4, &tree, 0.6), [0, 1, 2, 1]);

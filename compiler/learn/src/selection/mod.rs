@@ -5,8 +5,9 @@
 //!    go of; every pose a carry merely passes through is left out;
 //! 2. [`fixed_axes`]: the position axes along which no demonstration moves the pair (a table's height under a
 //!    mobile base) are left out of clustering and get one cell;
-//! 3. [`clusters`]: keyframe positions grouped where they stay the same over a fourfold change of scale, per
-//!    held flag; a group must come from at least the minimum support of demonstrations and from at least
+//! 3. [`clusters`]: keyframes grouped where they stay the same over a fourfold change of scale, per held flag,
+//!    by how far the secondary's shape moves between them ([`pose_distance`]), not by position alone; a group
+//!    must come from at least the minimum support of demonstrations and from at least
 //!    [`MIN_RELATIVE_SUPPORT`] as many as the pair's best-supported group;
 //! 4. [`free_turn`]: whether every group shows the secondary at every angle about one axis of its own frame (a
 //!    round object set down or grasped at any yaw); rotation cells are then taken from a demonstrated rotation,
@@ -28,6 +29,7 @@ pub mod fixed_axes;
 pub mod free_turn;
 pub mod grid_choice;
 pub mod keyframes;
+pub mod pose_distance;
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -143,6 +145,9 @@ pub struct ShapeFacts<'a> {
     pub contact: Option<Contact<'a>>,
     /// The axis of its own frame about which the secondary's shape is round (a can, a bowl).
     pub round: Option<usize>,
+    /// The points of the secondary that tell its keyframe poses apart ([`pose_distance`]); `None`: its position
+    /// alone.
+    pub probes: Option<&'a pose_distance::Probes>,
 }
 
 /// Chooses every setting `pinned` leaves out from the pair's tracks over `demonstrations` demonstrations;
@@ -185,16 +190,20 @@ pub fn select(
     for g in [0u8, 1] {
         let slice: Vec<keyframes::Keyframe> =
             keyframes.iter().filter(|k| k.g == g).copied().collect();
-        let points: Vec<[f64; 3]> = slice
-            .iter()
-            .map(|k| {
-                let v = k.pose.translation.vector;
-                // A fixed axis says which participants these are, not where: groups do not split along it.
-                [0, 1, 2].map(|axis| if fixed_axes[axis] { 0.0 } else { v[axis] })
-            })
-            .collect();
+        // Rests are told apart by pose: the secondary's shape turned another way is another rest.
+        let origin = pose_distance::Probes::origin();
+        let probes = shape.probes.unwrap_or(&origin);
+        let placed: Vec<pose_distance::Placed> =
+            slice.iter().map(|k| probes.placed(&k.pose, fixed_axes)).collect();
+        let distance = |i: usize, j: usize| pose_distance::distance(&placed[i], &placed[j]);
         let sources: Vec<usize> = slice.iter().map(|k| k.demonstration).collect();
-        for cluster in clusters::stable_clusters(&points, &sources, min_support, demonstrations) {
+        for cluster in clusters::stable_clusters_by(
+            slice.len(),
+            distance,
+            &sources,
+            min_support,
+            demonstrations,
+        ) {
             let members = cluster.members.iter().map(|&i| slice[i]).collect();
             found.push((g, members, cluster.scale));
         }
@@ -647,11 +656,58 @@ mod tests {
             3,
             0.1,
             0.005,
-            ShapeFacts { contact: Some(&touching), round: None },
+            ShapeFacts { contact: Some(&touching), round: None, probes: None },
         );
         assert_eq!(by_contact.groups.len(), 1, "{:?}", by_contact.groups);
         assert!(by_contact.groups[0].centre[2] > 0.02, "{:?}", by_contact.groups);
         assert!(by_contact.apart.is_some_and(|apart| apart > 0));
         assert_eq!(by_contact.keyframes + by_contact.apart.unwrap_or(0), anywhere.keyframes);
+    }
+
+    #[test]
+    fn rests_turned_apart_are_two_groups_though_their_positions_are_close() {
+        // A plank comes to rest standing on its end by another, its face one way in half the demonstrations and
+        // the other way in the rest, its origin 2 mm along from where it is in the other rest.
+        let half_pi = std::f64::consts::FRAC_PI_2;
+        let tracks: Vec<Track> = (0..30)
+            .map(|demonstration| {
+                let jitter = 0.0001 * (demonstration % 5) as f64;
+                let (x, pitch) =
+                    if demonstration % 2 == 0 { (0.060, half_pi) } else { (0.062, -half_pi) };
+                let rest = Pose::from_parts(
+                    nalgebra::Translation3::new(x + jitter, 0.0, -0.035),
+                    nalgebra::UnitQuaternion::from_euler_angles(0.0, pitch, 0.0),
+                );
+                let frames = (0..20)
+                    .map(|step| 0.2 - 0.01 * step as f64)
+                    .chain(std::iter::repeat_n(0.0, 10))
+                    .map(|above| {
+                        let mut pose = rest;
+                        pose.translation.vector.z += above;
+                        TrackFrame { g: 0, pose, contact: false, paused: false }
+                    })
+                    .collect();
+                Track { demonstration, primary: 0, secondary: 1, frames }
+            })
+            .collect();
+        let by_position =
+            select(&PinnedSettings::default(), &tracks, 30, 3, 0.1, 0.005, ShapeFacts::default());
+        assert_eq!(by_position.groups.len(), 1, "{:?}", by_position.groups);
+        let plank = pose_distance::Probes::of_box(
+            [-0.0585, -0.0115, 0.0],
+            [0.0585, 0.0115, 0.007],
+            None,
+            &[],
+        );
+        let shape = ShapeFacts { probes: Some(&plank), ..ShapeFacts::default() };
+        let by_pose = select(&PinnedSettings::default(), &tracks, 30, 3, 0.1, 0.005, shape);
+        assert_eq!(by_pose.groups.len(), 2, "{:?}", by_pose.groups);
+        assert!(
+            by_pose.groups.iter().all(|group| group.demonstrations == 15),
+            "{:?}",
+            by_pose.groups
+        );
+        let sides: Vec<f64> = by_pose.groups.iter().map(|group| group.centre[0]).collect();
+        assert!((sides[0] - sides[1]).abs() > 0.0015, "{sides:?}");
     }
 }
