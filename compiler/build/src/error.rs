@@ -170,7 +170,7 @@ pub enum BuildError {
     #[diagnostic(
         code(lamp::build::alias_region),
         help(
-            "Move the example pose into one of the regions (see vocabulary.md for their centres and representative poses), or record demonstrations that visit it."
+            "Move the example pose into one of the regions (`failed/vocabulary.md` in the build folder, which this build wrote, gives their centres and representative poses), or record demonstrations that visit it."
         )
     )]
     AliasRegion { alias: String, primary: String, secondary: String, regions: String },
@@ -182,7 +182,7 @@ pub enum BuildError {
     #[diagnostic(
         code(lamp::build::at_goal),
         help(
-            "An `at` goal is reached through the learned relation of a {object_type} exactly on a {marker_type} marker: record demonstrations that place {object_type}s onto markers (see vocabulary.md for what was learned)."
+            "An `at` goal is reached through the learned relation of a {object_type} exactly on a {marker_type} marker: record demonstrations that place {object_type}s onto markers (`failed/vocabulary.md` in the build folder, which this build wrote, says what was learned)."
         )
     )]
     AtGoal {
@@ -219,7 +219,7 @@ pub enum BuildError {
     #[diagnostic(
         code(lamp::build::goal_relation),
         help(
-            "Learned relations are listed in vocabulary.md; relation numbers change when learning changes, so prefer an alias (`relation NAME(T1, T2) = region of … containing …`)."
+            "Learned relations are listed in `failed/vocabulary.md` in the build folder, which this build wrote; relation numbers change when learning changes, so prefer an alias (`relation NAME(T1, T2) = region of … containing …`)."
         )
     )]
     GoalRelation { problem: String, relation: String },

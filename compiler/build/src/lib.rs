@@ -57,8 +57,9 @@ pub use manifest::{
     ManifestEntry, check_same_demonstrations,
 };
 pub use pipeline::{
-    ArtifactFile, Artifacts, BuildContext, DOMAIN_FILE, MODEL_DIR, MODEL_FILE_LIMIT, PROBLEMS_DIR,
-    SAMPLERS_FILE, Summary, VOCABULARY_FILE, artifacts, build, learn_model,
+    ArtifactFile, Artifacts, BuildContext, DOMAIN_FILE, FAILED_DIR, MODEL_DIR, MODEL_FILE_LIMIT,
+    PROBLEMS_DIR, SAMPLERS_FILE, Summary, VOCABULARY_FILE, artifacts, build, learn_model,
+    learned_vocabulary,
 };
 pub use problems::{ProblemOutcome, problem_pddl};
 pub use provenance::Provenance;

@@ -13,6 +13,10 @@ pub const PROBLEMS_DIR: &str = "problems";
 pub const SAMPLERS_FILE: &str = "samplers.json";
 /// The vocabulary report's path inside the model folder.
 pub const VOCABULARY_FILE: &str = "vocabulary.md";
+/// The folder inside the build folder where a build that learned a model but could not write it
+/// (an alias or a goal the model cannot express) puts the model's vocabulary report, so that the
+/// user can read what was learned; the model folder itself is left as it was.
+pub const FAILED_DIR: &str = "failed";
 /// The largest model file a solve reads, and so the largest a build writes: the bundled models'
 /// are tens of KiB; 256 MiB leaves room for models a thousand times larger without letting a
 /// wrong path fill the memory.

@@ -28,8 +28,8 @@ use crate::shapes::SpecShapes;
 use crate::spec_sources::SpecSources;
 
 pub use crate::model_folder::{
-    ArtifactFile, DOMAIN_FILE, MODEL_DIR, MODEL_FILE_LIMIT, PROBLEMS_DIR, SAMPLERS_FILE,
-    VOCABULARY_FILE,
+    ArtifactFile, DOMAIN_FILE, FAILED_DIR, MODEL_DIR, MODEL_FILE_LIMIT, PROBLEMS_DIR,
+    SAMPLERS_FILE, VOCABULARY_FILE,
 };
 
 /// What a build learned and wrote, for the front end to report.
@@ -192,6 +192,21 @@ pub fn artifacts(
     files.push(ArtifactFile { path: MANIFEST_FILE.into(), contents: manifest.to_json()? });
     files.sort_by(|a, b| a.path.cmp(&b.path));
     Ok(Artifacts { files, summary })
+}
+
+/// The vocabulary report of a learned model, with its provenance, for a build whose artifacts
+/// could not be written ([`artifacts`] failed on an alias or a goal): what the demonstrations
+/// taught, so that the user can see why (region pictures are left out).
+pub fn learned_vocabulary(
+    context: &BuildContext<'_>,
+    model: &Model,
+    demonstrations: &[Demonstration],
+    digest: Digest,
+) -> String {
+    let spec = context.spec;
+    let provenance =
+        Provenance::new(context.spec_file, &spec.domain, spec.seed, demonstrations.len(), digest);
+    vocabulary(&provenance, model, &[])
 }
 
 /// Why a problem of `size` bytes is not written when model files may be `limit` bytes: a solve

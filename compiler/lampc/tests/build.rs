@@ -349,7 +349,8 @@ fn a_model_folder_without_a_manifest_is_not_replaced() {
 }
 
 /// A structure goal whose structure floats is refused after learning, rendered at the object's
-/// line in the structure and at the goal, and nothing is written.
+/// line in the structure and at the goal, and no model is written; what was learned is written
+/// to `failed/vocabulary.md` for the user to read, and removed by the next build that succeeds.
 #[test]
 fn a_floating_structure_is_named_at_its_line_in_the_spec_and_nothing_is_written() {
     let scratch = tempfile::tempdir().expect("scratch");
@@ -390,10 +391,22 @@ problem float_1 {
         "    structure floating at t1",
         "in this goal",
         "lampc build: failed; the model folder was not changed",
+        "lampc build: what was learned is in ",
     ] {
         assert!(stderr.contains(expected), "`{expected}` in:\n{stderr}");
     }
     assert_eq!(tree(&out.join("model")), BTreeMap::new(), "nothing is written");
+    let report = std::fs::read_to_string(out.join("failed/vocabulary.md")).expect("the report");
+    assert!(report.starts_with("# Learned vocabulary"), "{report}");
+    assert!(report.contains("### `surface_can`"), "{report}");
+
+    let bundled = std::fs::read_to_string(fixture::packing_spec_path()).expect("the bundled spec");
+    let without = bundled.replace("\"../robots/", &format!("\"{}/", robots.display()));
+    std::fs::write(&spec, without).expect("writes the spec");
+    let output = build(&spec, &demos, &out);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    assert!(!out.join("failed").exists(), "the failed build's report is removed");
+    assert!(out.join("model/vocabulary.md").is_file());
 }
 
 /// A `grab distance` that no recorded grasp lies in builds (the model is what the demonstrations

@@ -682,3 +682,32 @@ fn kept_models_are_build_folders_the_solver_reads_and_a_resumed_evaluation_write
     let again = std::fs::read(build.join("model/domain.pddl")).expect("written again");
     assert_eq!(again, domain);
 }
+
+/// A run whose model cannot be written (here an alias whose example no learned region holds)
+/// fails its solves as `build_failed`, and `--keep-models` keeps what the run learned, the
+/// vocabulary report, in the run's `failed/` folder.
+#[test]
+fn a_run_whose_build_fails_keeps_what_it_learned() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let text = std::fs::read_to_string(&spec).expect("the spec");
+    let far = "region of can in surface containing (0.5, 0.5, 0.3) m";
+    let moved = text.replace("region of can in surface containing (0, 0, 0.001) m", far);
+    assert_ne!(moved, text, "the spec's `in_box` alias");
+    std::fs::write(&spec, moved).expect("writes the spec");
+    let out = scratch.path().join("eval");
+    let output = quick_eval(&spec, &out, &["--keep-models"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let document = read_json(&out.join("eval.json"));
+    let rows = document["rows"].as_array().expect("rows");
+    assert!(
+        !rows.is_empty() && rows.iter().all(|row| row["outcome"] == "build_failed"),
+        "{rows:?}"
+    );
+    let build = out.join("models/30-1");
+    assert!(!build.join("model").exists(), "no model is written");
+    let report =
+        std::fs::read_to_string(build.join("failed/vocabulary.md")).expect("what the run learned");
+    assert!(report.contains("Learned from 30 demonstrations"), "{report}");
+    assert!(report.contains("### `surface_can`"), "{report}");
+}

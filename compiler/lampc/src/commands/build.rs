@@ -160,6 +160,11 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
     let digest = lamp_build::demonstration_digest(&files);
     let emitted =
         timings.time("emit", || lamp_build::artifacts(&context, &model, &demonstrations, digest));
+    if emitted.is_err() {
+        // The model was learned but cannot be written as it is: what it holds says why.
+        let report = lamp_build::learned_vocabulary(&context, &model, &demonstrations, digest);
+        write_failed_report(&build_dir, &report);
+    }
     let artifacts = match emitted {
         Err(BuildError::Structures { problems, issues }) => {
             eprintln!(
@@ -176,6 +181,7 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
         emitted => emitted?,
     };
     let replaced = timings.time("write", || write_all(&folder, &lock, &artifacts.files))?;
+    remove_failed_report(&build_dir);
     print_summary(&spec_file, folder.path(), &artifacts, &bags.absences(), &timings);
     for warning in &artifacts.summary.grab_warnings {
         eprint!("{}", crate::diagnostics::render_grab_warning(warning, &places, &sources, colour));
@@ -332,6 +338,36 @@ fn replaceable(model: &Path) -> Result<(), OutputError> {
         return Ok(());
     };
     Err(OutputError::Occupied { folder: model.display().to_string(), reason })
+}
+
+/// Writes the vocabulary report of a model that could not be written to `<build>/failed/`, and
+/// says where; a report that cannot be written is only mentioned, as the build's own failure is
+/// what the user needs to read.
+fn write_failed_report(build_dir: &Path, report: &str) {
+    let folder = build_dir.join(lamp_build::FAILED_DIR);
+    let written = OutputFolder::new(&folder).and_then(|output| {
+        let lock = output.lock("build")?;
+        output.replace(&lock, &[(Path::new(lamp_build::VOCABULARY_FILE), report.as_bytes())])
+    });
+    match written {
+        Ok(_) => eprintln!(
+            "lampc build: what was learned is in {}",
+            folder.join(lamp_build::VOCABULARY_FILE).display()
+        ),
+        Err(error) => eprintln!("lampc build: what was learned could not be written: {error}"),
+    }
+}
+
+/// Removes the report of an earlier failed build once a build succeeds, so that it is never read
+/// as the report of the model beside it. Only a folder holding nothing but the report is removed.
+fn remove_failed_report(build_dir: &Path) {
+    let folder = build_dir.join(lamp_build::FAILED_DIR);
+    let only_the_report = std::fs::read_dir(&folder).is_ok_and(|entries| {
+        entries.flatten().all(|entry| entry.file_name() == lamp_build::VOCABULARY_FILE)
+    });
+    if only_the_report {
+        let _ = std::fs::remove_dir_all(&folder);
+    }
 }
 
 /// Replaces the model folder with the artifacts.

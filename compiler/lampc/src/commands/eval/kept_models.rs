@@ -2,7 +2,9 @@
 //!
 //! A run that fails is explained by what it learned: its `vocabulary.md` says which relations and
 //! actions the subset taught, and `lampc solve --build <out>/models/<count>-<run>` solves one
-//! problem with it again, with the solver's own messages. Runs of one count that drew the same
+//! problem with it again, with the solver's own messages. A run whose model could not be written
+//! (an alias or a goal it cannot express) keeps its vocabulary report in the build folder's
+//! `failed/`, as `lampc build` does. Runs of one count that drew the same
 //! subset (a count equal to the pool's size) share a model, written under each run's name.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -56,6 +58,29 @@ impl KeptModels {
                 .and_then(|(folder, lock)| folder.replace(&lock, &files));
             if let Err(error) = written {
                 eprintln!("lampc eval: the model was not kept: {}", render(&error));
+            }
+        }
+        self.written.lock().unwrap_or_else(std::sync::PoisonError::into_inner).insert(digest);
+    }
+
+    /// Writes the vocabulary report of a subset's model that could not be written into the
+    /// `failed/` folder of every run that drew it; as with [`KeptModels::write`], a folder that
+    /// cannot be written is reported and skipped.
+    pub(super) fn write_failed(
+        &self,
+        work: &SubsetWork,
+        report: &str,
+        render: &dyn Fn(&dyn miette::Diagnostic) -> String,
+    ) {
+        let digest = work.digest.to_string();
+        let files = [(Path::new(lamp_build::VOCABULARY_FILE), report.as_bytes())];
+        for build in self.folders.get(&digest).into_iter().flatten() {
+            let failed = build.join(lamp_build::FAILED_DIR);
+            let written = OutputFolder::new(&failed)
+                .and_then(|folder| folder.lock("eval").map(|lock| (folder, lock)))
+                .and_then(|(folder, lock)| folder.replace(&lock, &files));
+            if let Err(error) = written {
+                eprintln!("lampc eval: what the run learned was not kept: {}", render(&error));
             }
         }
         self.written.lock().unwrap_or_else(std::sync::PoisonError::into_inner).insert(digest);

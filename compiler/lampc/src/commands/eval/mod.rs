@@ -649,7 +649,14 @@ fn learn(
     let subset: Vec<lamp_learn::Demonstration> =
         work.indices.iter().map(|&index| demonstrations[index].clone()).collect();
     let model = lamp_build::learn_model(context.spec, context.world, &subset)
-        .and_then(|model| lamp_build::artifacts(context, &model, &subset, work.digest))
+        .and_then(|model| {
+            let emitted = lamp_build::artifacts(context, &model, &subset, work.digest);
+            if let (Err(_), Some(kept_models)) = (&emitted, kept_models) {
+                let report = lamp_build::learned_vocabulary(context, &model, &subset, work.digest);
+                kept_models.write_failed(work, &report, render);
+            }
+            emitted
+        })
         .map_err(|error| {
             let code = error.code().map(|code| format!("{code}: ")).unwrap_or_default();
             one_line(&format!("{code}{error}"))
