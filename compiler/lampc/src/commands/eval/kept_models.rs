@@ -48,39 +48,41 @@ impl KeptModels {
         files: &[ArtifactFile],
         render: &dyn Fn(&dyn miette::Diagnostic) -> String,
     ) {
-        let digest = work.digest.to_string();
         let files: Vec<(&Path, &[u8])> =
             files.iter().map(|file| (file.path.as_path(), file.contents.as_bytes())).collect();
-        for build in self.folders.get(&digest).into_iter().flatten() {
-            let model = build.join(lamp_build::MODEL_DIR);
-            let written = OutputFolder::new(&model)
-                .and_then(|folder| folder.lock("eval").map(|lock| (folder, lock)))
-                .and_then(|(folder, lock)| folder.replace(&lock, &files));
-            if let Err(error) = written {
-                eprintln!("lampc eval: the model was not kept: {}", render(&error));
-            }
-        }
-        self.written.lock().unwrap_or_else(std::sync::PoisonError::into_inner).insert(digest);
+        self.replace_in_each(work, lamp_build::MODEL_DIR, &files, "the model", render);
     }
 
     /// Writes the vocabulary report of a subset's model that could not be written into the
-    /// `failed/` folder of every run that drew it; as with [`KeptModels::write`], a folder that
-    /// cannot be written is reported and skipped.
+    /// `failed/` folder of every run that drew it, as [`KeptModels::write`] writes a model.
     pub(super) fn write_failed(
         &self,
         work: &SubsetWork,
         report: &str,
         render: &dyn Fn(&dyn miette::Diagnostic) -> String,
     ) {
-        let digest = work.digest.to_string();
         let files = [(Path::new(lamp_build::VOCABULARY_FILE), report.as_bytes())];
+        self.replace_in_each(work, lamp_build::FAILED_DIR, &files, "what the run learned", render);
+    }
+
+    /// Replaces the folder `name` of each build folder of the runs that drew the subset with
+    /// `files`, reporting (as `what`) and skipping a folder that cannot be written, and marks the
+    /// subset written.
+    fn replace_in_each(
+        &self,
+        work: &SubsetWork,
+        name: &str,
+        files: &[(&Path, &[u8])],
+        what: &str,
+        render: &dyn Fn(&dyn miette::Diagnostic) -> String,
+    ) {
+        let digest = work.digest.to_string();
         for build in self.folders.get(&digest).into_iter().flatten() {
-            let failed = build.join(lamp_build::FAILED_DIR);
-            let written = OutputFolder::new(&failed)
+            let written = OutputFolder::new(&build.join(name))
                 .and_then(|folder| folder.lock("eval").map(|lock| (folder, lock)))
-                .and_then(|(folder, lock)| folder.replace(&lock, &files));
+                .and_then(|(folder, lock)| folder.replace(&lock, files));
             if let Err(error) = written {
-                eprintln!("lampc eval: what the run learned was not kept: {}", render(&error));
+                eprintln!("lampc eval: {what} was not kept: {}", render(&error));
             }
         }
         self.written.lock().unwrap_or_else(std::sync::PoisonError::into_inner).insert(digest);
