@@ -120,8 +120,7 @@ pub fn artifacts(
     digest: Digest,
 ) -> Result<Artifacts, BuildError> {
     let spec = context.spec;
-    let provenance =
-        Provenance::new(context.spec_file, &spec.domain, spec.seed, demonstrations.len(), digest);
+    let provenance = provenance(context, demonstrations, digest);
     let domain = lamp_learn::domain(model, &spec.domain)?;
     let domain_text = format!("{}{}", provenance.pddl_comment(), lamp_pddl::write_domain(&domain));
     let aliases = resolve_aliases(model, &spec.relation_aliases)?;
@@ -203,10 +202,17 @@ pub fn learned_vocabulary(
     demonstrations: &[Demonstration],
     digest: Digest,
 ) -> String {
+    vocabulary(&provenance(context, demonstrations, digest), model, &[])
+}
+
+/// Where a model comes from: the spec, its domain and seed, and the demonstrations read.
+fn provenance(
+    context: &BuildContext<'_>,
+    demonstrations: &[Demonstration],
+    digest: Digest,
+) -> Provenance {
     let spec = context.spec;
-    let provenance =
-        Provenance::new(context.spec_file, &spec.domain, spec.seed, demonstrations.len(), digest);
-    vocabulary(&provenance, model, &[])
+    Provenance::new(context.spec_file, &spec.domain, spec.seed, demonstrations.len(), digest)
 }
 
 /// Why a problem of `size` bytes is not written when model files may be `limit` bytes: a solve

@@ -45,24 +45,9 @@ pub struct Cluster {
     pub scale: f64,
 }
 
-/// The stable clusters of `points` by the distance of positions; `demonstration[i]` says which of the pair's
-/// `demonstrations` point `i` came from.
-pub fn stable_clusters(
-    points: &[[f64; 3]],
-    demonstration: &[usize],
-    min_support: usize,
-    demonstrations: usize,
-) -> Vec<Cluster> {
-    let distance = |i: usize, j: usize| {
-        let (a, b) = (points[i], points[j]);
-        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-    };
-    stable_clusters_by(points.len(), distance, demonstration, min_support, demonstrations)
-}
-
 /// The stable clusters of `n` points apart by `distance` (m, a metric); `demonstration[i]` says which of the
 /// pair's `demonstrations` point `i` came from.
-pub fn stable_clusters_by(
+pub fn stable_clusters(
     n: usize,
     distance: impl Fn(usize, usize) -> f64,
     demonstration: &[usize],
@@ -245,6 +230,20 @@ fn components(n: usize, tree: &[(usize, usize, f64)], scale: f64) -> Vec<usize> 
 mod tests {
     use super::*;
 
+    fn euclidean(points: &[[f64; 3]]) -> impl Fn(usize, usize) -> f64 + '_ {
+        |i, j| (0..3).map(|axis| (points[i][axis] - points[j][axis]).powi(2)).sum::<f64>().sqrt()
+    }
+
+    /// The stable clusters of `points` by the distance of their positions.
+    fn clusters_of(
+        points: &[[f64; 3]],
+        demonstration: &[usize],
+        min_support: usize,
+        demonstrations: usize,
+    ) -> Vec<Cluster> {
+        stable_clusters(points.len(), euclidean(points), demonstration, min_support, demonstrations)
+    }
+
     #[test]
     fn cans_set_down_anywhere_on_a_table_top_by_few_demonstrations_are_one_place() {
         // Forty demonstrations set a can down somewhere on a 0.7 m square top: some 12 cm apart,
@@ -256,7 +255,7 @@ mod tests {
             points.push([-0.35 + 0.13 * column + jitter, -0.35 + 0.12 * row - jitter, 0.001]);
         }
         let demos: Vec<usize> = (0..36).collect();
-        let found = stable_clusters(&points, &demos, 3, 40);
+        let found = clusters_of(&points, &demos, 3, 40);
         assert_eq!(found.len(), 1, "{found:?}");
         assert_eq!(found[0].members.len(), 36);
         assert!(found[0].scale > 0.128, "{}", found[0].scale);
@@ -267,7 +266,7 @@ mod tests {
             with_group.push([0.5 + 1e-4 * d as f64, 0.5, 0.001]);
             group_demos.push(d);
         }
-        let found = stable_clusters(&with_group, &group_demos, 3, 40);
+        let found = clusters_of(&with_group, &group_demos, 3, 40);
         assert!(found.iter().all(|cluster| cluster.scale <= 0.128), "{found:?}");
     }
 
@@ -281,7 +280,7 @@ mod tests {
             points.push([0.3 + jitter, 0.0, 0.0]);
             demos.extend([d, d]);
         }
-        let found = stable_clusters(&points, &demos, 3, 100);
+        let found = clusters_of(&points, &demos, 3, 100);
         assert_eq!(found.len(), 2);
         assert_eq!(found[0].members, (0..20).step_by(2).collect::<Vec<_>>());
         assert_eq!(found[0].scale, FINEST_SCALE);
@@ -294,7 +293,7 @@ mod tests {
         let mut points: Vec<[f64; 3]> = (0..10).map(|i| [i as f64 * 5e-5, 0.0, 0.0]).collect();
         points.extend((1..=4).map(|i| [i as f64 * 0.0025, 0.0, 0.0]));
         let demos: Vec<usize> = (0..14).collect();
-        let found = stable_clusters(&points, &demos, 3, 100);
+        let found = clusters_of(&points, &demos, 3, 100);
         assert_eq!(found.len(), 1);
         assert_eq!((found[0].members.len(), found[0].scale), (14, 0.004));
     }
@@ -306,7 +305,7 @@ mod tests {
         let mut points: Vec<[f64; 3]> = (0..40).map(|i| [i as f64 * 0.03, 0.0, 0.0]).collect();
         points.extend((0..3).map(|i| [-0.02 + i as f64 * 5e-5, 0.0, 0.0]));
         let demos: Vec<usize> = (0..43).collect();
-        let found = stable_clusters(&points, &demos, 3, 43);
+        let found = clusters_of(&points, &demos, 3, 43);
         assert_eq!(found.len(), 1, "{found:?}");
         assert_eq!((found[0].members.len(), found[0].scale), (43, 0.032));
     }
@@ -326,7 +325,7 @@ mod tests {
                 demos.push(group * 8 + k);
             }
         }
-        let found = stable_clusters(&points, &demos, 3, 60);
+        let found = clusters_of(&points, &demos, 3, 60);
         let groups: Vec<(usize, f64)> = found.iter().map(|c| (c.members.len(), c.scale)).collect();
         assert_eq!(groups, [(8, FINEST_SCALE); 4]);
         assert!(found.iter().all(|c| c.members.iter().all(|&i| i >= 60)), "{found:?}");
@@ -339,7 +338,7 @@ mod tests {
         let mut points: Vec<[f64; 3]> = (0..40).map(|i| [i as f64 * 0.02, 0.0, 0.0]).collect();
         points.extend([[0.83, 0.0, 0.0], [0.88, 0.0, 0.0]]);
         let demos: Vec<usize> = (0..42).collect();
-        let found = stable_clusters(&points, &demos, 3, 42);
+        let found = clusters_of(&points, &demos, 3, 42);
         assert_eq!(found.len(), 1, "{found:?}");
         assert_eq!((found[0].members.len(), found[0].scale), (42, 0.032));
     }
@@ -347,18 +346,14 @@ mod tests {
     #[test]
     fn a_group_from_too_few_demonstrations_is_no_cluster() {
         let points = vec![[0.0; 3], [0.0001, 0.0, 0.0], [0.0002, 0.0, 0.0]];
-        assert!(stable_clusters(&points, &[0, 0, 1], 3, 3).is_empty());
-        assert_eq!(stable_clusters(&points, &[0, 1, 2], 3, 3).len(), 1);
+        assert!(clusters_of(&points, &[0, 0, 1], 3, 3).is_empty());
+        assert_eq!(clusters_of(&points, &[0, 1, 2], 3, 3).len(), 1);
     }
 
     #[test]
     fn the_tree_joins_every_point_with_the_shortest_links() {
         let points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [1.0, 0.5, 0.0]];
-        let distance = |i: usize, j: usize| {
-            let (a, b): ([f64; 3], [f64; 3]) = (points[i], points[j]);
-            (0..3).map(|axis| (a[axis] - b[axis]).powi(2)).sum::<f64>().sqrt()
-        };
-        let tree = minimum_spanning_tree(points.len(), distance);
+        let tree = minimum_spanning_tree(points.len(), euclidean(&points));
         let total: f64 = tree.iter().map(|e| e.2).sum();
         assert!((total - (1.0 + 0.5 + (1.0f64 + 1.5 * 1.5).sqrt())).abs() < 1e-12, "{tree:?}");
         assert_eq!(components(4, &tree, 0.6), [0, 1, 2, 1]);

@@ -187,23 +187,19 @@ pub fn select(
     };
     let fixed_axes = fixed_axes::fixed_axes(tracks, stillness);
     let mut found: Vec<(u8, Vec<keyframes::Keyframe>, f64)> = Vec::new();
+    // Rests are told apart by pose: the secondary's shape turned another way is another rest.
+    let origin = pose_distance::Probes::origin();
+    let probes = shape.probes.unwrap_or(&origin);
     for g in [0u8, 1] {
         let slice: Vec<keyframes::Keyframe> =
             keyframes.iter().filter(|k| k.g == g).copied().collect();
-        // Rests are told apart by pose: the secondary's shape turned another way is another rest.
-        let origin = pose_distance::Probes::origin();
-        let probes = shape.probes.unwrap_or(&origin);
         let placed: Vec<pose_distance::Placed> =
             slice.iter().map(|k| probes.placed(&k.pose, fixed_axes)).collect();
         let distance = |i: usize, j: usize| pose_distance::distance(&placed[i], &placed[j]);
         let sources: Vec<usize> = slice.iter().map(|k| k.demonstration).collect();
-        for cluster in clusters::stable_clusters_by(
-            slice.len(),
-            distance,
-            &sources,
-            min_support,
-            demonstrations,
-        ) {
+        for cluster in
+            clusters::stable_clusters(slice.len(), distance, &sources, min_support, demonstrations)
+        {
             let members = cluster.members.iter().map(|&i| slice[i]).collect();
             found.push((g, members, cluster.scale));
         }
