@@ -268,10 +268,7 @@ fn find_regions(
             let choice = symmetry_choice::choose(
                 as_recorded.1.as_ref().map(|selection| selection.groups.as_slice()),
                 folded.1.as_ref().map(|selection| selection.groups.as_slice()),
-                |[x, y, z]| {
-                    let canonical = symmetry.canonical(&Pose::translation(x, y, z));
-                    canonical.translation.vector.into()
-                },
+                |pose| symmetry.canonical(pose).translation.vector.into(),
                 |[x, y, z]| {
                     let centre = Pose::translation(x, y, z);
                     symmetry.members(&centre, false).map(|m| m.translation.vector.into()).collect()

@@ -112,6 +112,8 @@ pub struct Group {
     /// The least distance (m) its keyframes keep from its cell's edges: the release tolerance where the pair's
     /// own grasp or release happens in it, else the placement tolerance.
     pub tolerance: f64,
+    /// Its keyframes' relative poses.
+    pub poses: Vec<crate::demo::Pose>,
 }
 
 impl Selection {
@@ -339,6 +341,7 @@ pub fn select(
             high: *high,
             share: *share,
             tolerance: *tolerance,
+            poses: members.iter().map(|k| k.pose).collect(),
         })
         .collect();
     Selection {
