@@ -20,6 +20,9 @@ use crate::settings::SolveSettings;
 pub enum Rejection {
     /// Try the next candidate; the message says why this one failed.
     Candidate(String),
+    /// The candidate lets go of `object` where nothing holds it up yet (`reason`). Every candidate
+    /// of the step does the same, since the object is let go of before anything moves.
+    Unsupported { object: String, reason: String },
     /// Stop solving.
     Fatal(SolveError),
 }
@@ -84,7 +87,12 @@ pub fn execute(
         if opening.len() > 1 {
             recorder.follow(scene, robot, &opening);
         }
-        scene.release_at_rest(robot).map_err(|error| Rejection::Candidate(error.to_string()))?;
+        scene.release_at_rest(robot).map_err(|error| match error.lacks_support() {
+            Some(object) => {
+                Rejection::Unsupported { object: object.to_string(), reason: error.to_string() }
+            }
+            None => Rejection::Candidate(error.to_string()),
+        })?;
         recorder.record(scene);
     }
     for (offset, target) in candidate.targets.iter().enumerate() {

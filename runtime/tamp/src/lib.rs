@@ -20,6 +20,7 @@ pub mod ground;
 pub mod host;
 pub mod plugins;
 pub mod poses;
+pub mod postpone;
 pub mod refine;
 pub mod settings;
 pub mod state;

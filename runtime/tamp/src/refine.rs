@@ -19,6 +19,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+use lamp_geometry::Pose;
 use lamp_learn::{GroundAtom, SamplerArtifact};
 use lamp_participants::ParticipantMap;
 use lamp_pddl::{Domain, Problem};
@@ -31,6 +32,7 @@ use crate::ground::{Broken, Unmet, first_broken, progress, unmet_effects};
 use crate::host::SceneHost;
 use crate::planning::{Rest, plan_from};
 use crate::plugins::Plugins;
+use crate::postpone::{self, Order};
 use crate::settings::SolveSettings;
 use crate::state::{abstraction, world_state};
 use crate::summary::{ObjectPose, ReplanPoint};
@@ -89,6 +91,9 @@ pub struct RefineCounts {
     pub candidates: usize,
     pub backtracks: usize,
     pub replans: usize,
+    /// Carries moved later in their plan because their release found nothing to hold the object
+    /// up ([`postpone`]).
+    pub postponements: usize,
     /// The deepest step reached (1-based), and the length of the plan it was reached in.
     pub deepest: usize,
     pub deepest_of: usize,
@@ -137,7 +142,14 @@ pub fn refine_plan(
 ) -> Result<Refined, SolveError> {
     let PlanToRefine { initial, actions, goal, seed } = *plan;
     let start_len = recorder.len();
-    let mut search = Search { actions: actions.to_vec(), levels: Vec::new(), refused: 0, seed };
+    let mut search = Search {
+        actions: actions.to_vec(),
+        levels: Vec::new(),
+        refused: 0,
+        seed,
+        tried: BTreeSet::new(),
+        unsupported: BTreeMap::new(),
+    };
     let mut rests = Rests::default();
     let mut scene = initial.clone();
     let mut state = abstraction(context.artifact, context.participants, &scene)?;
@@ -154,6 +166,10 @@ pub fn refine_plan(
         }
         if (context.settings.cancelled)() {
             return Err(SolveError::cancelled());
+        }
+        if search.postpone_unrefined(&scene, &state, goal) {
+            counts.postponements += 1;
+            continue;
         }
         let before = std::mem::take(&mut state);
         let before_predicted = std::mem::take(&mut predicted);
@@ -191,6 +207,9 @@ pub fn refine_plan(
                     judge.judge(&trial, &search.actions, at, counts)?
                 }
                 Err(Rejection::Candidate(reason)) => Verdict::Refused(reason),
+                Err(Rejection::Unsupported { object, reason }) => {
+                    Verdict::Unsupported { object, reason }
+                }
                 Err(Rejection::Fatal(error)) => return Err(error),
             };
             let why = match verdict {
@@ -213,14 +232,46 @@ pub fn refine_plan(
                     break;
                 }
                 Verdict::Refused(why) => why,
+                Verdict::Unsupported { object, reason } => {
+                    let action = search.actions[at].name.clone();
+                    let level = &search.levels[at].scene;
+                    if let Some(body) = level.body_index(&object) {
+                        search.unsupported.insert(object.clone(), level.body_pose(body));
+                    }
+                    if let Some(from) = search.postpone(at, &object, goal) {
+                        note_refusal(counts, at, &action, &reason);
+                        counts.postponements += 1;
+                        let level = &search.levels[from];
+                        recorder.steps.truncate(level.recorded);
+                        scene = level.scene.clone();
+                        state = level.state.clone();
+                        predicted = level.predicted.clone();
+                        search.levels.truncate(from);
+                        break;
+                    }
+                    reason
+                }
             };
-            if at + 1 >= counts.deepest_failed {
-                counts.deepest_failed = at + 1;
-                counts.deepest_failure =
-                    format!("step {} ({}): {why}", at + 1, search.actions[at].name);
-            }
+            note_refusal(counts, at, &search.actions[at].name, &why);
             recorder.steps.truncate(recorded);
         }
+    }
+}
+
+/// Whether `object`, let go of at `released` in `scene`, would find something to hold it up
+/// (it may still be refused for another reason, which refining it will tell).
+fn supported(scene: &Scene, object: &str, released: &Pose) -> bool {
+    let Some(body) = scene.body_index(object) else { return true };
+    let mut probe = scene.clone();
+    probe.set_body_pose(body, *released);
+    probe.resting_pose(body).err().is_none_or(|refusal| refusal.lacks_support().is_none())
+}
+
+/// Keeps `why` as the deepest refusal when step `at` (0-based) is at least as deep as the last.
+fn note_refusal(counts: &mut RefineCounts, at: usize, action: &str, why: &str) {
+    if at + 1 >= counts.deepest_failed {
+        counts.deepest_failed = at + 1;
+        counts.deepest_failure = format!("step {} ({action}): {why}", at + 1);
     }
 }
 
@@ -233,6 +284,11 @@ struct Search {
     /// Wasted candidates (see [`wasted_budget`]).
     refused: usize,
     seed: u64,
+    /// The orders refined from each step on, where a carry was postponed ([`postpone`]).
+    tried: BTreeSet<(usize, Order)>,
+    /// The objects whose release found nothing to hold them up, with the pose they were let go
+    /// of at the last time.
+    unsupported: BTreeMap<String, Pose>,
 }
 
 impl Search {
@@ -273,6 +329,50 @@ impl Search {
             counts.deepest_of = self.actions.len();
         }
         Ok(())
+    }
+
+    /// Postpones the carry of `object`, whose release at step `at` (the last level) found nothing
+    /// to hold it up ([`postpone`]): the steps from where the carry began are reordered and the
+    /// levels from there dropped, so that the search goes on from that level's state. Returns
+    /// where the carry began, or `None` when no reordering runs to the goal. The levels dropped
+    /// count as wasted, as backtracking over them would.
+    fn postpone(&mut self, at: usize, object: &str, goal: &BTreeSet<GroundAtom>) -> Option<usize> {
+        let carry = postpone::carry(&self.actions, at, object)?;
+        let state = &self.levels[*carry.start()].state;
+        let postponed = postpone::postpone(&self.actions, carry, state, goal, &self.tried)?;
+        let from = postponed.from;
+        self.tried.insert((from, postpone::order(&self.actions[from..])));
+        self.tried.insert((from, postpone::order(&postponed.actions[from..])));
+        self.refused += at - from;
+        self.actions = postponed.actions;
+        Some(from)
+    }
+
+    /// Postpones, before any of it is refined, the carry that begins at the next step when its
+    /// object's release found nothing to hold it up before and would find nothing in `scene`
+    /// either, at the pose it was let go of at then: refining the carry again could only end in
+    /// the same refusal. `state` is the abstract state of `scene`. Counts as a wasted candidate.
+    fn postpone_unrefined(
+        &mut self,
+        scene: &Scene,
+        state: &BTreeSet<GroundAtom>,
+        goal: &BTreeSet<GroundAtom>,
+    ) -> bool {
+        let at = self.levels.len();
+        let waiting = self.unsupported.iter().find_map(|(object, released)| {
+            let carry = postpone::carry(&self.actions, at, object)?;
+            (*carry.start() == at && !supported(scene, object, released)).then_some(carry)
+        });
+        let Some(carry) = waiting else { return false };
+        let Some(postponed) = postpone::postpone(&self.actions, carry, state, goal, &self.tried)
+        else {
+            return false;
+        };
+        self.tried.insert((at, postpone::order(&self.actions[at..])));
+        self.tried.insert((at, postpone::order(&postponed.actions[at..])));
+        self.refused += 1;
+        self.actions = postponed.actions;
+        true
     }
 
     /// The next candidate of the last level, backtracking while levels run dry: the level's
@@ -327,6 +427,8 @@ enum Verdict {
     Replanned(BTreeSet<GroundAtom>, Vec<GroundedAction>),
     /// Refused, and why.
     Refused(String),
+    /// Refused because it lets go of `object` where nothing holds it up yet.
+    Unsupported { object: String, reason: String },
 }
 
 /// Judges the state a candidate reached (execution monitoring), replanning the rest of the plan

@@ -232,5 +232,6 @@ fn fill(summary: &mut Summary, counts: &RefineCounts, steps: usize) {
     summary.motion_calls = counts.motion.calls;
     summary.motion_failures = counts.motion.failures;
     summary.replans = counts.replans;
+    summary.postponements = counts.postponements;
     summary.trajectory_steps = steps;
 }

@@ -37,6 +37,9 @@ pub struct Summary {
     /// Times a step's side effect broke the rest of the plan and the planner was asked again
     /// from the reached state.
     pub replans: usize,
+    /// Times a step let go of an object where nothing held it up yet, and the steps that carry it
+    /// were moved later in the plan (`lamp_tamp::postpone`).
+    pub postponements: usize,
     /// Motion-planner calls, and how many found no path.
     pub motion_calls: usize,
     pub motion_failures: usize,

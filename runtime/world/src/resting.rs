@@ -118,6 +118,23 @@ pub enum RestError {
     Unsupported { object: String, outside: Real, supports: Vec<String> },
 }
 
+impl RestError {
+    /// The released object, where the refusal says that nothing holds it up where it was let go
+    /// of: nothing below it, its support too far down, or its centre of mass beyond its contacts.
+    /// Something set down later may hold it up there; a body in the way or a lean is another
+    /// matter.
+    pub fn lacks_support(&self) -> Option<&str> {
+        match self {
+            RestError::NothingBelow { object }
+            | RestError::TooHigh { object, .. }
+            | RestError::Unsupported { object, .. } => Some(object),
+            RestError::Touching { .. }
+            | RestError::TouchingRobot { .. }
+            | RestError::TipsOver { .. } => None,
+        }
+    }
+}
+
 /// An object that would no longer rest once what it rested on is taken away
 /// ([`Scene::rests_without`]).
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
