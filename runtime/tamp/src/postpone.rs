@@ -20,7 +20,7 @@ use std::ops::RangeInclusive;
 use lamp_learn::GroundAtom;
 use lamp_plugin_api::GroundedAction;
 
-use crate::ground::first_broken;
+use crate::ground::step_if_runs;
 
 /// A plan's steps from some point on, as tried: the step texts, `(name args…)`.
 pub type Order = Vec<String>;
@@ -49,6 +49,10 @@ pub fn carry(actions: &[GroundedAction], at: usize, object: &str) -> Option<Rang
 /// Moves `carry` (steps of `actions`) past the fewest steps after it such that the plan from
 /// the carry's first step runs from `state`, the abstract state before it, to `goal`, and the
 /// order from there is not in `tried`. `None` when no such point exists.
+///
+/// The steps the carry moves past run from `state` in their own order whatever the point, so
+/// their state grows one step at a time, and a step that cannot run before the carry ends the
+/// search: it cannot run there for any later point either.
 pub fn postpone(
     actions: &[GroundedAction],
     carry: RangeInclusive<usize>,
@@ -57,15 +61,31 @@ pub fn postpone(
     tried: &BTreeSet<(usize, Order)>,
 ) -> Option<Postponed> {
     let (from, to) = carry.into_inner();
-    (to + 1..actions.len()).find_map(|past| {
-        let mut reordered = actions[..from].to_vec();
+    let carried = &actions[from..=to];
+    let mut passed = state.clone();
+    for past in to + 1..actions.len() {
+        if !step_if_runs(&mut passed, &actions[past]) {
+            return None;
+        }
+        let mut after = passed.clone();
+        let runs = carried
+            .iter()
+            .chain(&actions[past + 1..])
+            .all(|action| step_if_runs(&mut after, action))
+            && goal.is_subset(&after);
+        if !runs {
+            continue;
+        }
+        let mut reordered = Vec::with_capacity(actions.len());
+        reordered.extend_from_slice(&actions[..from]);
         reordered.extend_from_slice(&actions[to + 1..=past]);
-        reordered.extend_from_slice(&actions[from..=to]);
+        reordered.extend_from_slice(carried);
         reordered.extend_from_slice(&actions[past + 1..]);
-        let runs = first_broken(state, &reordered[from..], goal).is_none();
-        (runs && !tried.contains(&(from, order(&reordered[from..]))))
-            .then_some(Postponed { from, actions: reordered })
-    })
+        if !tried.contains(&(from, order(&reordered[from..]))) {
+            return Some(Postponed { from, actions: reordered });
+        }
+    }
+    None
 }
 
 /// The order of `actions`, for [`postpone`]'s `tried`.
