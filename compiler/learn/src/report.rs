@@ -265,7 +265,7 @@ fn selection_section(out: &mut String, selection: &Selection) {
             index + 1,
             group.g,
             group.demonstrations,
-            group.keyframes,
+            group.keyframes(),
             group.scale * 1000.0,
             vector(&group.centre),
             extent.join(", "),

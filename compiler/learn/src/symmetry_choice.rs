@@ -62,7 +62,7 @@ pub fn choose(
     let (Some(as_recorded), Some(folded)) = (as_recorded, folded) else {
         return SymmetryChoice::default();
     };
-    let keyframes = |groups: &[Group]| groups.iter().map(|group| group.keyframes).sum::<usize>();
+    let keyframes = |groups: &[Group]| groups.iter().map(Group::keyframes).sum::<usize>();
     // Where folding takes each keyframe of each place found as recorded: the first folded place
     // of the same held flag that holds its representative, if any.
     let landings: Vec<Vec<Option<usize>>> = as_recorded
@@ -126,7 +126,6 @@ mod tests {
         Group {
             g,
             demonstrations: keyframes,
-            keyframes,
             scale: 0.001,
             centre,
             low: centre.map(|c| c - 0.002),
@@ -215,7 +214,8 @@ mod tests {
         let recorded = [floor([0.0, 0.0, 0.001], -0.04)];
         let folded = [floor([0.02, 0.0, 0.001], 0.0)];
         // A few keyframes more in the same place are no gain either.
-        let denser = [Group { keyframes: 41, ..floor([0.02, 0.0, 0.001], 0.0) }];
+        let more = vec![Pose::translation(0.02, 0.0, 0.001); 41];
+        let denser = [Group { poses: more, ..floor([0.02, 0.0, 0.001], 0.0) }];
         assert!(!choose(Some(&recorded[..]), Some(&denser[..]), half_turn, half_turn_orbit).folded);
         let choice = choose(Some(&recorded[..]), Some(&folded[..]), half_turn, half_turn_orbit);
         assert!(!choice.folded && choice.lost.is_none(), "{choice:?}");

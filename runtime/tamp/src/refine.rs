@@ -32,7 +32,7 @@ use crate::ground::{Broken, Unmet, first_broken, progress, unmet_effects};
 use crate::host::SceneHost;
 use crate::planning::{Rest, plan_from};
 use crate::plugins::Plugins;
-use crate::postpone::{self, Order};
+use crate::postpone::{self, Order, Postponed};
 use crate::settings::SolveSettings;
 use crate::state::{abstraction, world_state};
 use crate::summary::{ObjectPose, ReplanPoint};
@@ -238,15 +238,12 @@ pub fn refine_plan(
                     if let Some(body) = level.body_index(&object) {
                         search.unsupported.insert(object.clone(), level.body_pose(body));
                     }
-                    if let Some(from) = search.postpone(at, &object, goal) {
+                    if let Some(carry_start) = search.postpone(at, &object, goal) {
                         note_refusal(counts, at, &action, &reason);
                         counts.postponements += 1;
-                        let level = &search.levels[from];
-                        recorder.steps.truncate(level.recorded);
-                        scene = level.scene.clone();
-                        state = level.state.clone();
-                        predicted = level.predicted.clone();
-                        search.levels.truncate(from);
+                        recorder.steps.truncate(carry_start.recorded);
+                        (scene, state, predicted) =
+                            (carry_start.scene, carry_start.state, carry_start.predicted);
                         break;
                     }
                     reason
@@ -333,19 +330,16 @@ impl Search {
 
     /// Postpones the carry of `object`, whose release at step `at` (the last level) found nothing
     /// to hold it up ([`postpone`]): the steps from where the carry began are reordered and the
-    /// levels from there dropped, so that the search goes on from that level's state. Returns
-    /// where the carry began, or `None` when no reordering runs to the goal. The levels dropped
+    /// levels from there dropped, so that the search goes on from the state of the carry's first
+    /// level, which is returned. `None` when no reordering runs to the goal. The levels dropped
     /// count as wasted, as backtracking over them would.
-    fn postpone(&mut self, at: usize, object: &str, goal: &BTreeSet<GroundAtom>) -> Option<usize> {
+    fn postpone(&mut self, at: usize, object: &str, goal: &BTreeSet<GroundAtom>) -> Option<Level> {
         let carry = postpone::carry(&self.actions, at, object)?;
         let state = &self.levels[*carry.start()].state;
         let postponed = postpone::postpone(&self.actions, carry, state, goal, &self.tried)?;
         let from = postponed.from;
-        self.tried.insert((from, postpone::order(&self.actions[from..])));
-        self.tried.insert((from, postpone::order(&postponed.actions[from..])));
-        self.refused += at - from;
-        self.actions = postponed.actions;
-        Some(from)
+        self.reorder(postponed, at - from);
+        self.levels.drain(from..).next()
     }
 
     /// Postpones, before any of it is refined, the carry that begins at the next step when its
@@ -364,15 +358,23 @@ impl Search {
             (*carry.start() == at && !supported(scene, object, released)).then_some(carry)
         });
         let Some(carry) = waiting else { return false };
-        let Some(postponed) = postpone::postpone(&self.actions, carry, state, goal, &self.tried)
-        else {
-            return false;
-        };
-        self.tried.insert((at, postpone::order(&self.actions[at..])));
-        self.tried.insert((at, postpone::order(&postponed.actions[at..])));
-        self.refused += 1;
+        match postpone::postpone(&self.actions, carry, state, goal, &self.tried) {
+            Some(postponed) => {
+                self.reorder(postponed, 1);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Takes the reordered plan, remembering the order it replaces and its own as tried from
+    /// where they part, and counts `wasted` candidates.
+    fn reorder(&mut self, postponed: Postponed, wasted: usize) {
+        let from = postponed.from;
+        self.tried.insert((from, postpone::order(&self.actions[from..])));
+        self.tried.insert((from, postpone::order(&postponed.actions[from..])));
+        self.refused += wasted;
         self.actions = postponed.actions;
-        true
     }
 
     /// The next candidate of the last level, backtracking while levels run dry: the level's

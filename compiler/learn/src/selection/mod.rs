@@ -97,8 +97,6 @@ pub struct Group {
     pub g: u8,
     /// Demonstrations with a keyframe in it.
     pub demonstrations: usize,
-    /// Its keyframes.
-    pub keyframes: usize,
     /// The scale (m) at which it separated from the rest.
     pub scale: f64,
     /// The mean position (m).
@@ -114,6 +112,13 @@ pub struct Group {
     pub tolerance: f64,
     /// Its keyframes' relative poses.
     pub poses: Vec<crate::demo::Pose>,
+}
+
+impl Group {
+    /// Its keyframes.
+    pub fn keyframes(&self) -> usize {
+        self.poses.len()
+    }
 }
 
 impl Selection {
@@ -334,7 +339,6 @@ pub fn select(
         .map(|((((g, members, scale), (low, high)), share), tolerance)| Group {
             g: *g,
             demonstrations: support(members),
-            keyframes: members.len(),
             scale: *scale,
             centre: centre(members),
             low: *low,
