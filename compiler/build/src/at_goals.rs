@@ -46,7 +46,8 @@ pub fn at_goal_atoms(
             secondary: object.type_name.clone(),
             example: Pose::identity(),
         };
-        let relation = resolve_alias(model, &on_marker)
+        // Without the shapes' turns: an AtGoal's target is the object's own pose, turn and all.
+        let relation = resolve_alias(model, &on_marker, &lamp_learn::LearnConfig::default())
             .map_err(|error| BuildError::AtGoal {
                 problem: problem.name.clone(),
                 object: goal.object.clone(),

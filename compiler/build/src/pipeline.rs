@@ -88,10 +88,15 @@ pub fn learn_model(
     world: &SpecWorld,
     demonstrations: &[Demonstration],
 ) -> Result<Model, BuildError> {
+    Ok(lamp_learn::learn(demonstrations, &learning(spec, world), &SpecShapes::new(world))?)
+}
+
+/// The learning configuration of a spec: its settings, and its shapes' turns.
+fn learning(spec: &Spec, world: &SpecWorld) -> lamp_learn::LearnConfig {
     let mut config = learn_config(spec);
     config.symmetries = shape_symmetries(spec, world);
     config.symmetry_from_data = spec.learning.symmetry != Some(lamp_spec::Switch::On);
-    Ok(lamp_learn::learn(demonstrations, &config, &SpecShapes::new(world))?)
+    config
 }
 
 /// Unless `symmetry off`, the turns about each object type's vertical axis (its frame's z, up as
@@ -123,7 +128,7 @@ pub fn artifacts(
     let provenance = provenance(context, demonstrations, digest);
     let domain = lamp_learn::domain(model, &spec.domain)?;
     let domain_text = format!("{}{}", provenance.pddl_comment(), lamp_pddl::write_domain(&domain));
-    let aliases = resolve_aliases(model, &spec.relation_aliases)?;
+    let aliases = resolve_aliases(model, &spec.relation_aliases, &learning(spec, context.world))?;
     let header = provenance.lines();
     let problem_context = ProblemContext {
         model,
