@@ -118,17 +118,6 @@ fn apply(state: &mut BTreeSet<GroundAtom>, action: &GroundedAction) {
     state.extend(action.add_effects.iter().map(learned_atom));
 }
 
-/// Applies `action` to `state` in place when its preconditions hold there (its negated ones
-/// false), and says whether they did; `state` is unchanged when they do not.
-pub fn step_if_runs(state: &mut BTreeSet<GroundAtom>, action: &GroundedAction) -> bool {
-    let holds = |atom: &WireAtom| state.contains(&learned_atom(atom));
-    if !action.preconditions.iter().all(holds) || action.negative_preconditions.iter().any(holds) {
-        return false;
-    }
-    apply(state, action);
-    true
-}
-
 /// The effects of an action a state does not show: the adds that are false and the deletes that
 /// still hold, each in effect order.
 #[derive(Clone, Debug, PartialEq)]
