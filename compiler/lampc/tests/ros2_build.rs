@@ -1,9 +1,9 @@
 //! `lampc build` of a spec whose demonstrations are ROS 2 bags read through a frame mapping
 //! (`files "…" as ros2 { … }`): the files `lampc demos` writes, read only through their standard
 //! channels, learn the domain the same files learn read natively, also from `--demos DIR` when
-//! the bags hold only standard messages, and `lampc eval` reads them too; a mapping that names a
-//! frame no bag records is a diagnostic naming the frame at its line in the spec, and an object
-//! that only some bags record is absent from the others' demonstrations.
+//! the bags hold only standard messages, and `lampc eval` and `lampc render` read them too; a
+//! mapping that names a frame no bag records is a diagnostic naming the frame at its line in the
+//! spec, and an object that only some bags record is absent from the others' demonstrations.
 
 mod common;
 
@@ -129,6 +129,29 @@ fn bags_read_through_their_standard_channels_learn_the_native_domain() {
         "--out".as_ref(),
         scratch.path().join("unmapped").as_os_str(),
     ]);
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("lamp::trajectory::schema"));
+
+    // lampc render draws such a bag through the spec's mapping too, and without one refuses it.
+    let bag =
+        std::fs::read_dir(&plain).expect("the bags").next().expect("a bag").expect("an entry");
+    let drawing = scratch.path().join("bag.svg");
+    let render = |spec: &Path| {
+        lampc([
+            "render".as_ref(),
+            bag.path().as_os_str(),
+            "--spec".as_ref(),
+            spec.as_os_str(),
+            "--out".as_ref(),
+            drawing.as_os_str(),
+        ])
+    };
+    let output = render(&bags);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(String::from_utf8_lossy(&output.stdout).contains("drew step"));
+    let svg = std::fs::read_to_string(&drawing).expect("the drawing");
+    assert!(svg.starts_with("<svg") && svg.contains("</svg>"), "{svg}");
+    let output = render(&native);
     assert!(!output.status.success());
     assert!(String::from_utf8_lossy(&output.stderr).contains("lamp::trajectory::schema"));
 

@@ -91,7 +91,7 @@ fn render(args: &Args, colour: bool) -> Result<(String, PathBuf), Failure> {
                 },
             )?;
             let name = args.file.display().to_string();
-            let trajectory = lamp_trajectory::Trajectory::from_bytes(&bytes, name)?;
+            let trajectory = read_trajectory(&world, &spec, bytes, name)?;
             let svg = render_trajectory(&world, &trajectory, args.step, &RenderOptions::default())?;
             let shown = args.step.unwrap_or(trajectory.steps.len().saturating_sub(1));
             (svg, format!("step {shown} of {} steps", trajectory.steps.len()))
@@ -106,6 +106,33 @@ fn render(args: &Args, colour: bool) -> Result<(String, PathBuf), Failure> {
         )
     })?;
     Ok((what, out))
+}
+
+/// The file as a lamp trajectory; a ROS 2 bag of standard messages (no `lamp` record) is read
+/// through the spec's `files … as ros2 { … }` mapping, as `lampc build` learns from it (the
+/// first such source when the spec has several).
+fn read_trajectory(
+    world: &SpecWorld,
+    spec: &lamp_spec::Spec,
+    bytes: Vec<u8>,
+    name: String,
+) -> Result<lamp_trajectory::Trajectory, Failure> {
+    let error = match lamp_trajectory::Trajectory::from_bytes(&bytes, name.clone()) {
+        Ok(trajectory) => return Ok(trajectory),
+        Err(error) => error,
+    };
+    let mapping = spec.demonstrations.iter().find_map(|source| match source {
+        lamp_spec::DemoSource::Files { ros2: Some(mapping), .. } => Some(mapping),
+        _ => None,
+    });
+    match (&error, mapping) {
+        (lamp_trajectory::TrajectoryError::Schema { .. }, Some(mapping)) => {
+            let bag = lamp_build::DemoFile { name, bytes };
+            let (file, _absent) = lamp_build::ros2_demo_file(world, mapping, &bag)?;
+            Ok(lamp_trajectory::Trajectory::from_bytes(&file.bytes, file.name)?)
+        }
+        _ => Err(error.into()),
+    }
 }
 
 fn input_kind(file: &Path) -> Result<Input, Failure> {
