@@ -103,9 +103,11 @@ def read_solution(path):
               "/lamp/joint_trajectory", "/lamp/base_trajectory", "/lamp/gripper_command"]
     with open(path, "rb") as stream:
         reader = make_reader(stream, decoder_factories=[DecoderFactory()])
-        out["header"] = next(r.metadata for r in reader.iter_metadata() if r.name == "lamp")
+        out["header"] = next((r.metadata for r in reader.iter_metadata() if r.name == "lamp"), None)
+        if out["header"] is None:
+            raise ValueError("not a lamp solution (no `lamp` metadata record)")
         if len(out["header"]["robots"].split("\n")) != 1:
-            raise SystemExit("error: only solutions with one robot are executed")
+            raise ValueError("only solutions with one robot are executed")
         for _, channel, message, decoded in reader.iter_decoded_messages(topics=topics):
             time = message.log_time * 1e-9
             topic = channel.topic
@@ -124,7 +126,7 @@ def read_solution(path):
         for _, channel, message in reader.iter_messages(topics=["/lamp/scene"]):
             out["scene"] = json.loads(message.data)
     if not out["world"] or "urdf" not in out or "scene" not in out:
-        raise SystemExit("error: not a lamp solution (no /lamp/world, /robot_description or /lamp/scene)")
+        raise ValueError("not a lamp solution (no /lamp/world, /robot_description or /lamp/scene)")
     return out
 
 

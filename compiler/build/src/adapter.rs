@@ -19,7 +19,7 @@ use lamp_trajectory::{RobotDescription, TrajectoryHeader, TrajectoryReader};
 
 use crate::error::BuildError;
 use crate::input::DemoFile;
-use crate::ros2::{Ros2Error, Ros2Mapping, mapped_robot, ros2_bag};
+use crate::ros2::{Ros2Bag, Ros2Error, Ros2Mapping, mapped_robot, ros2_bag};
 
 /// Turns demonstration files into demonstrations, checking them against the spec.
 #[derive(Debug, Clone)]
@@ -191,19 +191,27 @@ impl Adapter {
     }
 }
 
-/// A demonstration file of a `files … as ros2 { … }` source as the lamp trajectory file the
-/// adapter reads: the bag read with `mapping` against `world`'s robot, written back in lamp's
-/// format (its name unchanged), with the indices of the mapped objects the bag lacks
+/// A demonstration file of a `files … as ros2 { … }` source read with `mapping` against
+/// `world`'s robot: its trajectory, and the indices of the mapped objects the bag lacks
 /// ([`crate::ros2::Ros2Bag::absent`]).
+pub fn ros2_demonstration(
+    world: &lamp_world::SpecWorld,
+    mapping: &Ros2Mapping,
+    file: &DemoFile,
+) -> Result<Ros2Bag, BuildError> {
+    let robot = mapped_robot(world, mapping)?;
+    Ok(ros2_bag(&file.bytes, &file.name, &world.spec().domain, mapping, robot.as_ref())
+        .map_err(Box::new)?)
+}
+
+/// [`ros2_demonstration`] as the lamp trajectory file the adapter reads (its name unchanged),
+/// with the indices of the mapped objects the bag lacks.
 pub fn ros2_demo_file(
     world: &lamp_world::SpecWorld,
     mapping: &Ros2Mapping,
     file: &DemoFile,
 ) -> Result<(DemoFile, Vec<usize>), BuildError> {
-    let spec = world.spec();
-    let robot = mapped_robot(world, mapping)?;
-    let bag = ros2_bag(&file.bytes, &file.name, &spec.domain, mapping, robot.as_ref())
-        .map_err(Box::new)?;
+    let bag = ros2_demonstration(world, mapping, file)?;
     let bytes = bag.trajectory.to_bytes().map_err(|error| Box::new(Ros2Error::Read(error)))?;
     Ok((DemoFile { name: file.name.clone(), bytes }, bag.absent))
 }

@@ -39,7 +39,7 @@ pub mod spec_sources;
 pub mod structure_goals;
 pub mod structure_issue;
 
-pub use adapter::{Adapter, ros2_demo_file};
+pub use adapter::{Adapter, ros2_demo_file, ros2_demonstration};
 pub use aliases::{ResolvedAlias, resolve_alias, resolve_aliases};
 pub use at_goals::at_goal_atoms;
 pub use config::learn_config;

@@ -62,16 +62,17 @@ pub fn postpone(
     let table = AtomTable::new(state, goal, &actions[from..]);
     // Indexed from `from`: the steps the search moves and runs.
     let steps: Vec<IndexedStep> = actions[from..].iter().map(|a| table.step(a)).collect();
-    let reached = |bits: &[bool]| goal.iter().all(|atom| bits[table.index_of(atom)]);
-    let (first, last) = (0, to - from);
+    let goal: Vec<usize> = goal.iter().map(|atom| table.index_of(atom)).collect();
+    // The carry is steps 0..=last of `steps`.
+    let last = to - from;
     let mut passed = table.bits(state);
     for past in last + 1..steps.len() {
         if !steps[past].run(&mut passed) {
             return None;
         }
         let mut after = passed.clone();
-        let runs = (first..=last).chain(past + 1..steps.len()).all(|i| steps[i].run(&mut after))
-            && reached(&after);
+        let runs = (0..=last).chain(past + 1..steps.len()).all(|i| steps[i].run(&mut after))
+            && goal.iter().all(|&atom| after[atom]);
         if !runs {
             continue;
         }

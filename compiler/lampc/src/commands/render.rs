@@ -128,8 +128,7 @@ fn read_trajectory(
     match (&error, mapping) {
         (lamp_trajectory::TrajectoryError::Schema { .. }, Some(mapping)) => {
             let bag = lamp_build::DemoFile { name, bytes };
-            let (file, _absent) = lamp_build::ros2_demo_file(world, mapping, &bag)?;
-            Ok(lamp_trajectory::Trajectory::from_bytes(&file.bytes, file.name)?)
+            Ok(lamp_build::ros2_demonstration(world, mapping, &bag)?.trajectory)
         }
         _ => Err(error.into()),
     }
