@@ -429,6 +429,11 @@ fn a_time_limit_stops_the_search_reports_how_far_it_got_and_writes_nothing() {
 /// plans (the learned model does not count) but never refines, so its search runs its full
 /// budget — many seconds — unless it is stopped.
 fn overfull_spec(scratch: &Path) -> PathBuf {
+    overfull_spec_with(scratch, |text| text)
+}
+
+/// [`overfull_spec`] with the bundled spec's text changed by `edit` first.
+fn overfull_spec_with(scratch: &Path, edit: impl Fn(String) -> String) -> PathBuf {
     let robots = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains/robots/");
     let mut text = std::fs::read_to_string(spec())
         .expect("the bundled spec")
@@ -448,6 +453,7 @@ fn overfull_spec(scratch: &Path) -> PathBuf {
         text.push_str(&format!("    in_box(can{index}, box1)\n"));
     }
     text.push_str("  }\n}\n");
+    let text = edit(text);
     let path = scratch.join("overfull.lamp");
     std::fs::write(&path, text).expect("writes the spec");
     let demos = built().parent().expect("the scratch folder").join("demos");
@@ -510,6 +516,77 @@ fn a_time_limit_stops_a_long_search_soon_after_it_runs_out() {
     // before the clock starts, and the search stops within milliseconds of the limit.
     assert!(elapsed < limit + 2.0, "stopped {:.2} s after the start", elapsed);
     assert!(!out.exists(), "nothing is written");
+}
+
+/// A solve that fails says where its plans ended and what stopped them there, in the scene's
+/// names, and writes the whole account beside the solution folder; the next solve that succeeds
+/// into that folder removes it. Six cans for a box that holds four: every plan ends placing the
+/// fifth can, which touches the cans already in the box.
+#[test]
+fn a_failed_solve_says_where_its_plans_ended_and_writes_why() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    // Few draws per step, so that the search runs out of its budget in seconds.
+    let spec = overfull_spec_with(scratch.path(), |text| {
+        assert!(text.contains("draws 2000"), "the spec sets the refiner's draws");
+        text.replace("draws 2000", "draws 100")
+    });
+    let out = scratch.path().join("solution");
+    let failed = scratch.path().join("solution.failed").join("failure.json");
+    let solve = |problem: &str| {
+        lampc()
+            .arg("solve")
+            .arg(&spec)
+            .args(["--problem", problem, "--plans", "1", "--out"])
+            .arg(&out)
+            .env("NO_COLOR", "1")
+            .env("COLUMNS", "10000")
+            .output()
+            .expect("runs")
+    };
+    let output = solve("pack6");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("lamp::solve::refinement_failed"), "{stderr}");
+    assert!(stderr.contains(&failed.display().to_string()), "{stderr}");
+    assert!(!out.exists(), "no solution is written");
+
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&failed).expect("the report is written"))
+            .expect("the report is JSON");
+    assert_eq!(report["format"], "lamp-failure-report");
+    assert_eq!(report["version"], 1);
+    assert_eq!(report["problem"], "pack6");
+    assert_eq!(report["code"], "lamp::solve::refinement_failed");
+    let refinement = &report["refinement"];
+    let plans = refinement["plans"].as_u64().expect("a count");
+    assert_eq!(refinement["report"]["plans"].as_array().map(Vec::len), Some(plans as usize));
+    let ended = &refinement["report"]["deciding"][0];
+    let action = ended["action"].as_str().expect("an action");
+    assert!(action.contains("box1"), "the plans end placing a can into the box: {action}");
+    assert_eq!(ended["plans"].as_u64(), Some(plans), "every plan ends there: {ended}");
+    let placed = ["can1", "can2", "can3", "can4", "can5", "can6"]
+        .into_iter()
+        .find(|can| action.contains(can))
+        .expect("a can is placed");
+    let causes = ended["causes"].as_array().expect("causes");
+    let in_the_way: Vec<&str> = causes
+        .iter()
+        .filter(|cause| cause["cause"] == "collision" && cause["moving"] == placed)
+        .filter_map(|cause| cause["other"].as_str())
+        .filter(|other| other.starts_with("can"))
+        .collect();
+    assert!(in_the_way.len() >= 2, "the held can touches the cans already in the box: {causes:?}");
+    let said = format!("held `{placed}` touches `{}`", in_the_way[0]);
+    assert!(stderr.contains(&said), "the message names what is in the way ({said}): {stderr}");
+    // The help follows from the cause: a full box is no sampling problem.
+    assert!(stderr.contains("are in the way of"), "{stderr}");
+    assert!(stderr.contains("drawing more samples will not make room"), "{stderr}");
+    assert!(!stderr.contains("raise the refiner's `samples`"), "{stderr}");
+
+    let solved = solve("pack4_01");
+    assert!(solved.status.success(), "{}", String::from_utf8_lossy(&solved.stderr));
+    assert!(out.join("trajectory.mcap").is_file());
+    assert!(!failed.exists(), "a success removes the earlier failure's report");
 }
 
 /// The model's domain and the problem pack4_03, parsed.

@@ -5,6 +5,8 @@ use lamp_plugin_api::PluginError;
 use miette::{Diagnostic, NamedSource};
 use thiserror::Error;
 
+use crate::failures::{FailureReport, NAMED_CAUSES};
+
 /// A solve failure, with a stable code.
 #[derive(Debug, Error, Diagnostic)]
 pub enum SolveError {
@@ -89,10 +91,7 @@ pub enum SolveError {
     },
     /// Plans exist but none could be refined into motion within the budget.
     #[error("no plan could be refined into motion ({0})")]
-    #[diagnostic(
-        code(lamp::solve::refinement_failed),
-        help("raise the refiner's `samples` or the motion budget, or try `--planner topk`")
-    )]
+    #[diagnostic(code(lamp::solve::refinement_failed), help("{}", .0.advice()))]
     RefinementFailed(Progress),
     /// The final trajectory leaves an object outside the tolerance of its `at` goal or structure
     /// pose: the learned region of the object on its marker let a placement through that the goal
@@ -181,7 +180,7 @@ impl SolveError {
 }
 
 /// How far the refinement got before it failed or was cancelled.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Progress {
     /// Plans tried (every round counts every plan it tries).
     pub plans: usize,
@@ -192,6 +191,19 @@ pub struct Progress {
     pub length: usize,
     /// The deepest step that refused a candidate, and why.
     pub failure: String,
+    /// Every refusal by cause, and the causes that ended the plans.
+    pub report: FailureReport,
+}
+
+impl Progress {
+    /// What to do about it: from where the plans ended and why ([`FailureReport::advice`]), or,
+    /// when no cause stands out, more samples, a larger motion budget or more plans.
+    pub fn advice(&self) -> String {
+        self.report.advice().unwrap_or_else(|| {
+            "raise the refiner's `samples` or the motion budget, or try `--planner topk`"
+                .to_string()
+        })
+    }
 }
 
 impl std::fmt::Display for Progress {
@@ -204,7 +216,12 @@ impl std::fmt::Display for Progress {
             "{} plan(s) tried, {} candidates, deepest step {} of {}",
             self.plans, self.candidates, self.deepest, self.length
         )?;
-        if !self.failure.is_empty() {
+        let deciding = &self.report.deciding;
+        if !deciding.is_empty() {
+            let named: Vec<String> =
+                deciding.iter().take(NAMED_CAUSES).map(ToString::to_string).collect();
+            write!(f, "; {}", named.join("; "))?;
+        } else if !self.failure.is_empty() {
             write!(f, "; the deepest refusal: {}", self.failure)?;
         }
         Ok(())

@@ -13,18 +13,26 @@ use lamp_world::{
 use nalgebra::Translation3;
 
 use crate::error::SolveError;
+use crate::failures::Cause;
 use crate::host::GroupHost;
 use crate::settings::SolveSettings;
 
 /// Why a candidate was rejected (the search tries another), or a hard error.
 pub enum Rejection {
-    /// Try the next candidate; the message says why this one failed.
-    Candidate(String),
+    /// Try the next candidate; why this one failed.
+    Candidate(Cause),
     /// The candidate lets go of `object` where nothing holds it up yet (`reason`). Every candidate
     /// of the step does the same, since the object is let go of before anything moves.
     Unsupported { object: String, reason: String },
     /// Stop solving.
     Fatal(SolveError),
+}
+
+impl Rejection {
+    /// A refusal for an error whose message says it all.
+    fn candidate(error: &dyn std::fmt::Display) -> Self {
+        Rejection::Candidate(Cause::Other { reason: error.to_string() })
+    }
 }
 
 impl From<SolveError> for Rejection {
@@ -75,15 +83,14 @@ pub fn execute(
         let robot = robot_index(scene, &change.robot)?;
         let held = scene.held(robot).map(|held| scene.bodies()[held.body].name.clone());
         if held.as_deref() != Some(change.object.as_str()) {
-            return Err(Rejection::Candidate(format!(
-                "`{}` does not hold `{}`",
-                change.robot, change.object
-            )));
+            return Err(Rejection::Candidate(Cause::Other {
+                reason: format!("`{}` does not hold `{}`", change.robot, change.object),
+            }));
         }
         // The fingers open while they still hold the object (they may touch it, nothing else),
         // then it is let go.
         let opening = finger_path(scene, robot, FingerMove::Open, &settings.motion.config)
-            .map_err(|error| Rejection::Candidate(error.to_string()))?;
+            .map_err(|error| Rejection::candidate(&error))?;
         if opening.len() > 1 {
             recorder.follow(scene, robot, &opening);
         }
@@ -91,7 +98,7 @@ pub fn execute(
             Some(object) => {
                 Rejection::Unsupported { object: object.to_string(), reason: error.to_string() }
             }
-            None => Rejection::Candidate(error.to_string()),
+            None => Rejection::candidate(&error),
         })?;
         recorder.record(scene);
     }
@@ -124,13 +131,13 @@ pub fn execute(
             straight_first(scene, robot, group, &start, goal, &settings.motion.config)
         {
             let states = densify(&model, &path, &settings.motion.config)
-                .map_err(|error| Rejection::Candidate(error.to_string()))?;
+                .map_err(|error| Rejection::candidate(&error))?;
             recorder.follow(scene, robot, &states);
             scene.set_configuration(robot, states.last().unwrap_or(&start));
             continue;
         }
         let space = RobotSpace::new(scene, robot, group, &start, goal, &settings.motion.config)
-            .map_err(|error| Rejection::Candidate(error.to_string()))?;
+            .map_err(|error| Rejection::candidate(&error))?;
         let host = GroupHost::new(&target.robot, &model, space, settings.cancelled);
         let request = MotionRequest {
             robot: target.robot.clone(),
@@ -142,7 +149,7 @@ pub fn execute(
         counts.calls += 1;
         let waypoints = match motion.plan_path(&request, &host) {
             Ok(MotionOutcome::Path(waypoints)) => waypoints,
-            Ok(MotionOutcome::NoPath { reason, message }) => {
+            Ok(MotionOutcome::NoPath { reason, .. }) => {
                 counts.failures += 1;
                 let lifted = if reason == NoPathReason::BudgetExhausted {
                     let ends = Lifted { scene, robot, group, start: &start, goal };
@@ -151,11 +158,18 @@ pub fn execute(
                     None
                 };
                 let Some(waypoints) = lifted else {
-                    return Err(Rejection::Candidate(format!(
-                        "no {group} path for `{}` ({reason:?}{}{message})",
-                        target.robot,
-                        if message.is_empty() { "" } else { ": " }
-                    )));
+                    let blocked = match reason {
+                        NoPathReason::StartInvalid => scene.first_contact(robot, &start),
+                        NoPathReason::GoalInvalid => scene.first_contact(robot, goal),
+                        NoPathReason::BudgetExhausted | NoPathReason::Other => None,
+                    };
+                    let cause = match blocked {
+                        Some(contact) => Cause::of_contact(&target.robot, contact, scene),
+                        None => {
+                            Cause::NoPath { robot: target.robot.clone(), group: group.to_string() }
+                        }
+                    };
+                    return Err(Rejection::Candidate(cause));
                 };
                 waypoints
             }
@@ -165,7 +179,7 @@ pub fn execute(
             return Err(bad_path(&reason));
         }
         let states = densify(&model, &waypoints, &settings.motion.config)
-            .map_err(|error| Rejection::Candidate(error.to_string()))?;
+            .map_err(|error| Rejection::candidate(&error))?;
         let joins = |a: &[f64], b: &[f64]| model.distance(a, b) < PATH_END_TOLERANCE;
         let (Some(first), Some(last)) = (states.first(), states.last().cloned()) else {
             return Err(bad_path("it is empty"));
@@ -190,7 +204,9 @@ pub fn execute(
     for change in &candidate.grabs {
         let robot = robot_index(scene, &change.robot)?;
         let Some(body) = scene.body_index(&change.object) else {
-            return Err(Rejection::Candidate(format!("no body `{}`", change.object)));
+            return Err(Rejection::Candidate(Cause::Other {
+                reason: format!("no body `{}`", change.object),
+            }));
         };
         let reach =
             scene.gripper_pose(robot, scene.robots()[robot].configuration()).map(|gripper| {
@@ -200,20 +216,21 @@ pub fn execute(
             (reach, settings.motion.grab_ranges.iter().find(|(name, _)| name == &change.robot))
             && !(*low..=*high).contains(&distance)
         {
-            return Err(Rejection::Candidate(format!(
-                "`{}` is {distance:.3} m from the gripper, outside the grab range {low:.3}–{high:.3} m",
-                change.object
-            )));
+            return Err(Rejection::Candidate(Cause::OutOfGrabRange {
+                object: change.object.clone(),
+            }));
         }
-        scene.grab(robot, body).map_err(|error| Rejection::Candidate(error.to_string()))?;
+        scene.grab(robot, body).map_err(|error| Rejection::candidate(&error))?;
         // Lifted, the object would leave what rests on it hanging in the air.
         if let Err(left) = scene.rests_without(body) {
-            return Err(Rejection::Candidate(format!("taking `{}`: {left}", change.object)));
+            return Err(Rejection::Candidate(Cause::Other {
+                reason: format!("taking `{}`: {left}", change.object),
+            }));
         }
         recorder.record(scene);
         // Held first, so that the fingers may touch the object as they close onto it.
         let closing = finger_path(scene, robot, FingerMove::Close, &settings.motion.config)
-            .map_err(|error| Rejection::Candidate(error.to_string()))?;
+            .map_err(|error| Rejection::candidate(&error))?;
         if closing.len() > 1 {
             recorder.follow(scene, robot, &closing);
         }

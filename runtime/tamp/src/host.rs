@@ -12,14 +12,16 @@
 use std::cell::RefCell;
 
 use lamp_plugin_api::{HostError, HostServices, Pose as WirePose};
+use lamp_robot::IkError;
 use lamp_robot::{ALL_GROUP, ARM_GROUP, IkConfig, LinkId, Robot};
 use lamp_world::{
     DEFAULT_ANGULAR_RESOLUTION, DEFAULT_LINEAR_RESOLUTION, LinkGoal, MAX_EDGE_STEPS, ReachError,
-    RobotSpace, Scene, Space, edge_steps, reach,
+    RobotSpace, Scene, Space, edge_steps, reach_observed,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use crate::failures::{Cause, Tally};
 use crate::poses::{from_wire, to_wire};
 
 /// Random restarts of one IK call a refiner makes, after the attempt from the current
@@ -34,18 +36,41 @@ use crate::poses::{from_wire, to_wire};
 /// solution from a random restart also lies far from the current configuration, a long motion.
 pub const REFINEMENT_IK_RESTARTS: usize = 2;
 
-/// Refiner services over a scene.
+/// Refiner services over a scene, which tally what the refiner's attempts run into (for the
+/// failure report): the refiner only says that a draw failed, the host sees why.
 pub struct SceneHost<'a> {
     scene: &'a Scene,
     rng: RefCell<ChaCha8Rng>,
     cancelled: &'a dyn Fn() -> bool,
+    seen: RefCell<Tally>,
 }
 
 impl<'a> SceneHost<'a> {
     /// Services over `scene`; IK restarts draw from a generator seeded with `seed`; the refiner
     /// polls `cancelled` between its draws.
     pub fn new(scene: &'a Scene, seed: u64, cancelled: &'a dyn Fn() -> bool) -> Self {
-        SceneHost { scene, rng: RefCell::new(ChaCha8Rng::seed_from_u64(seed)), cancelled }
+        SceneHost {
+            scene,
+            rng: RefCell::new(ChaCha8Rng::seed_from_u64(seed)),
+            cancelled,
+            seen: RefCell::default(),
+        }
+    }
+
+    /// What the refiner's attempts ran into since the last call.
+    pub fn take_seen(&self) -> Tally {
+        self.seen.take()
+    }
+
+    /// Whether `robot` (index `index`) is valid at `q`, tallying why not.
+    fn valid(&self, robot: &str, index: usize, q: &[f64]) -> bool {
+        match self.scene.first_contact(index, q) {
+            None => true,
+            Some(contact) => {
+                self.seen.borrow_mut().note(Cause::of_contact(robot, contact, self.scene), None);
+                false
+            }
+        }
     }
 
     fn robot(&self, name: &str) -> Result<(usize, &Robot), HostError> {
@@ -92,7 +117,7 @@ impl HostServices for SceneHost<'_> {
 
     fn configuration_is_valid(&self, robot: &str, q: &[f64]) -> Result<bool, HostError> {
         let (index, model) = self.robot(robot)?;
-        Ok(self.scene.is_valid(index, self.checked(model, q)?))
+        Ok(self.valid(robot, index, self.checked(model, q)?))
     }
 
     fn edge_is_valid(&self, robot: &str, a: &[f64], b: &[f64]) -> Result<bool, HostError> {
@@ -106,7 +131,7 @@ impl HostServices for SceneHost<'_> {
         let mut q = a.to_vec();
         Ok((0..=steps).all(|i| {
             model.interpolate(a, b, i as f64 / steps as f64, &mut q);
-            self.scene.is_valid(index, &q)
+            self.valid(robot, index, &q)
         }))
     }
 
@@ -127,17 +152,41 @@ impl HostServices for SceneHost<'_> {
                 model.link_pose(seed_q, link).inv_mul(&model.mount().root_pose(seed_q));
             let mut q = seed_q.to_vec();
             model.mount().write_coordinates(&(target * root_in_link), &mut q);
-            return Ok(self.scene.is_valid(index, &q).then_some(q));
+            return Ok(self.valid(robot, index, &q).then_some(q));
         }
         let group = if model.group(ARM_GROUP).is_some() { ARM_GROUP } else { ALL_GROUP };
         let mut rng = self.rng.borrow_mut();
-        match reach(
+        // A call is one attempt at the target: the first thing in its way is what it met,
+        // however many restarts met something.
+        let mut refused = None;
+        let reached = reach_observed(
             self.scene,
             &LinkGoal { robot: index, group, link: Some(link), target: &target, start: seed_q },
             &IkConfig { restarts: REFINEMENT_IK_RESTARTS, ..IkConfig::default() },
             &mut rng,
-        ) {
+            &mut |contact| {
+                refused.get_or_insert_with(|| Cause::of_contact(robot, contact, self.scene));
+            },
+        );
+        let mut seen = self.seen.borrow_mut();
+        if let Some(cause) = refused {
+            seen.note(cause, None);
+        }
+        let placing = || (robot.to_string(), model.link_name(link).to_string());
+        match reached {
             Ok(q) => Ok(Some(q)),
+            Err(ReachError::Ik(IkError::OutOfReach { distance, reach, .. })) => {
+                let (robot, link) = placing();
+                seen.note(Cause::OutOfReach { robot, link }, Some(distance - reach));
+                Ok(None)
+            }
+            Err(ReachError::Ik(IkError::NoSolution {
+                rejected: 0, best_position_error, ..
+            })) => {
+                let (robot, link) = placing();
+                seen.note(Cause::NoIkSolution { robot, link }, Some(best_position_error));
+                Ok(None)
+            }
             Err(ReachError::Ik(_)) => Ok(None),
             Err(error) => Err(HostError::failed(error.to_string())),
         }

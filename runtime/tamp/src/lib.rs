@@ -16,6 +16,7 @@
 pub mod at_rest;
 pub mod error;
 pub mod execute;
+pub mod failures;
 pub mod ground;
 pub mod host;
 pub mod plugins;

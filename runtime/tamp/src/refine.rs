@@ -28,7 +28,8 @@ use lamp_world::{Recorder, Scene};
 
 use crate::error::SolveError;
 use crate::execute::{MotionCounts, Rejection, execute};
-use crate::ground::{Broken, Unmet, first_broken, progress, unmet_effects};
+use crate::failures::{Cause, FailureLog};
+use crate::ground::{Broken, call_text, first_broken, progress, unmet_effects};
 use crate::host::SceneHost;
 use crate::planning::{Rest, plan_from};
 use crate::plugins::Plugins;
@@ -75,6 +76,8 @@ struct Level {
     predicted: BTreeSet<GroundAtom>,
     recorded: usize,
     stream: Box<dyn CandidateStream>,
+    /// Candidates its stream has offered.
+    offered: usize,
     /// Set while a candidate of this level has replaced the steps after it by a replan.
     replaced: Option<Replaced>,
 }
@@ -101,6 +104,8 @@ pub struct RefineCounts {
     /// Why a candidate of the deepest step that failed was refused (the latest such).
     pub deepest_failure: String,
     deepest_failed: usize,
+    /// Every refusal, by plan and step, for the failure report.
+    pub failures: FailureLog,
 }
 
 /// How one plan's refinement ended.
@@ -142,6 +147,7 @@ pub fn refine_plan(
 ) -> Result<Refined, SolveError> {
     let PlanToRefine { initial, actions, goal, seed } = *plan;
     let start_len = recorder.len();
+    counts.failures.start_plan(actions.len());
     let mut search = Search {
         actions: actions.to_vec(),
         levels: Vec::new(),
@@ -206,13 +212,13 @@ pub fn refine_plan(
                     let mut judge = Judge { context, plugins, goal, rests: &mut rests, path };
                     judge.judge(&trial, &search.actions, at, counts)?
                 }
-                Err(Rejection::Candidate(reason)) => Verdict::Refused(reason),
+                Err(Rejection::Candidate(cause)) => Verdict::refused(cause),
                 Err(Rejection::Unsupported { object, reason }) => {
                     Verdict::Unsupported { object, reason }
                 }
                 Err(Rejection::Fatal(error)) => return Err(error),
             };
-            let why = match verdict {
+            let (cause, why) = match verdict {
                 Verdict::Accepted(reached) => {
                     search.refused -= 1;
                     predicted = progress(&search.levels[at].predicted, &search.actions[at]);
@@ -231,25 +237,26 @@ pub fn refine_plan(
                     state = reached;
                     break;
                 }
-                Verdict::Refused(why) => why,
+                Verdict::Refused(cause, why) => (cause, why),
                 Verdict::Unsupported { object, reason } => {
-                    let action = search.actions[at].name.clone();
+                    let action = search.actions[at].clone();
                     let level = &search.levels[at].scene;
                     if let Some(body) = level.body_index(&object) {
                         search.unsupported.insert(object.clone(), level.body_pose(body));
                     }
+                    let cause = Cause::NotAtRest { object: object.clone() };
                     if let Some(carry_start) = search.postpone(at, &object, goal) {
-                        note_refusal(counts, at, &action, &reason);
+                        note_refusal(counts, at, &action, cause, &reason);
                         counts.postponements += 1;
                         recorder.steps.truncate(carry_start.recorded);
                         (scene, state, predicted) =
                             (carry_start.scene, carry_start.state, carry_start.predicted);
                         break;
                     }
-                    reason
+                    (cause, reason)
                 }
             };
-            note_refusal(counts, at, &search.actions[at].name, &why);
+            note_refusal(counts, at, &search.actions[at], cause, &why);
             recorder.steps.truncate(recorded);
         }
     }
@@ -264,11 +271,19 @@ fn supported(scene: &Scene, object: &str, released: &Pose) -> bool {
     probe.resting_pose(body).err().is_none_or(|refusal| refusal.lacks_support().is_none())
 }
 
-/// Keeps `why` as the deepest refusal when step `at` (0-based) is at least as deep as the last.
-fn note_refusal(counts: &mut RefineCounts, at: usize, action: &str, why: &str) {
+/// Tallies the refusal of a candidate of step `at` (0-based), `action`, for `cause`, and keeps
+/// `why` as the deepest refusal when the step is at least as deep as the last.
+fn note_refusal(
+    counts: &mut RefineCounts,
+    at: usize,
+    action: &GroundedAction,
+    cause: Cause,
+    why: &str,
+) {
+    counts.failures.note(at, &call_text(&action.name, &action.arguments), cause, None);
     if at + 1 >= counts.deepest_failed {
         counts.deepest_failed = at + 1;
-        counts.deepest_failure = format!("step {} ({action}): {why}", at + 1);
+        counts.deepest_failure = format!("step {} ({}): {why}", at + 1, action.name);
     }
 }
 
@@ -312,6 +327,10 @@ impl Search {
             .refiner
             .refine(&request, &host)
             .map_err(|error| SolveError::from_plugin("refiner", error))?;
+        let action = &self.actions[index];
+        let action_text = call_text(&action.name, &action.arguments);
+        counts.failures.reached(index, self.actions.len());
+        counts.failures.merge(index, &action_text, host.take_seen());
         let (state, predicted) = states;
         self.levels.push(Level {
             scene: scene.clone(),
@@ -319,6 +338,7 @@ impl Search {
             predicted,
             recorded,
             stream,
+            offered: 0,
             replaced: None,
         });
         if index + 1 > counts.deepest {
@@ -402,6 +422,15 @@ impl Search {
                 .stream
                 .next(&host)
                 .map_err(|error| SolveError::from_plugin("refiner", error))?;
+            let action = &self.actions[at];
+            let action_text = call_text(&action.name, &action.arguments);
+            counts.failures.merge(at, &action_text, host.take_seen());
+            if next.is_some() {
+                level.offered += 1;
+                counts.failures.offered(at, &action_text);
+            } else if level.offered == 0 {
+                counts.failures.note(at, &action_text, Cause::NoCandidate, None);
+            }
             let Some(candidate) = next else {
                 // The step below gives up its accepted candidate: that one is wasted too.
                 self.levels.pop();
@@ -427,10 +456,18 @@ enum Verdict {
     /// Its effects hold but a side effect broke the rest of the plan; this new rest, planned from
     /// the state reached, replaces it.
     Replanned(BTreeSet<GroundAtom>, Vec<GroundedAction>),
-    /// Refused, and why.
-    Refused(String),
+    /// Refused: why, and the message that says it best.
+    Refused(Cause, String),
     /// Refused because it lets go of `object` where nothing holds it up yet.
     Unsupported { object: String, reason: String },
+}
+
+impl Verdict {
+    /// Refused for `cause`, which says it best.
+    fn refused(cause: Cause) -> Verdict {
+        let why = cause.to_string();
+        Verdict::Refused(cause, why)
+    }
 }
 
 /// Judges the state a candidate reached (execution monitoring), replanning the rest of the plan
@@ -456,19 +493,27 @@ impl Judge<'_, '_, '_> {
         let context = self.context;
         let reached = abstraction(context.artifact, context.participants, trial)?;
         if let Some(unmet) = unmet_effects(&reached, &actions[at]) {
-            return Ok(Verdict::Refused(unmet_text(&unmet)));
+            let texts = |atoms: &[GroundAtom]| atoms.iter().map(ToString::to_string).collect();
+            let cause = Cause::EffectsUnmet {
+                missing: texts(&unmet.missing),
+                unwanted: texts(&unmet.unwanted),
+            };
+            return Ok(Verdict::refused(cause));
         }
         if let Some(miss) = first_miss_where_reached(context.targets, self.goal, &reached, trial) {
-            return Ok(Verdict::Refused(miss.to_string()));
+            let why = miss.to_string();
+            return Ok(Verdict::Refused(Cause::TargetMissed { object: miss.object }, why));
         }
         let Some(broken) = first_broken(&reached, &actions[at + 1..], self.goal) else {
             return Ok(Verdict::Accepted(reached));
         };
         let broken = broken_text(&broken, actions, at);
         if self.path.contains(&&reached) {
-            return Ok(Verdict::Refused(format!(
-                "{broken}, and the state reached is one this plan was already in (a loop)"
-            )));
+            return Ok(Verdict::refused(Cause::RestBroken {
+                reason: format!(
+                    "{broken}, and the state reached is one this plan was already in (a loop)"
+                ),
+            }));
         }
         let rest = match self.rests.get(&reached) {
             Some(rest) => rest.clone(),
@@ -483,12 +528,14 @@ impl Judge<'_, '_, '_> {
         };
         Ok(match rest {
             Rest::Plan(rest) => Verdict::Replanned(reached, rest),
-            Rest::Unreachable => {
-                Verdict::Refused(format!("{broken}, and no plan reaches the goal from there"))
-            }
-            Rest::OutOfBudget => Verdict::Refused(format!(
-                "{broken}, and the planner's budget ran out before it found a plan from there"
-            )),
+            Rest::Unreachable => Verdict::refused(Cause::RestBroken {
+                reason: format!("{broken}, and no plan reaches the goal from there"),
+            }),
+            Rest::OutOfBudget => Verdict::refused(Cause::RestBroken {
+                reason: format!(
+                    "{broken}, and the planner's budget ran out before it found a plan from there"
+                ),
+            }),
         })
     }
 }
@@ -544,18 +591,6 @@ fn broken_text(broken: &Broken, actions: &[GroundedAction], at: usize) -> String
         needs.push(format!("the absence of {}", atom_list(&broken.unwanted)));
     }
     format!("the state reached breaks {what}, which needs {}", needs.join(" and "))
-}
-
-/// Which effects the state reached lacks, for messages.
-fn unmet_text(unmet: &Unmet) -> String {
-    let mut lacks = Vec::new();
-    if !unmet.missing.is_empty() {
-        lacks.push(format!("{} false", atom_list(&unmet.missing)));
-    }
-    if !unmet.unwanted.is_empty() {
-        lacks.push(format!("{} still true", atom_list(&unmet.unwanted)));
-    }
-    format!("its effects do not hold in the state reached ({})", lacks.join("; "))
 }
 
 /// Atoms in one state and not the other, for messages.

@@ -223,6 +223,7 @@ fn progress_of(summary: &Summary, counts: &RefineCounts) -> Progress {
         deepest: counts.deepest,
         length: counts.deepest_of,
         failure: counts.deepest_failure.clone(),
+        report: counts.failures.report(),
     }
 }
 

@@ -5,6 +5,7 @@ use lamp_geometry::Pose;
 use lamp_robot::{IkConfig, IkError, IkGoal, LinkId, solve_ik};
 use rand_chacha::ChaCha8Rng;
 
+use crate::checking::Contact;
 use crate::motion::MotionError;
 use crate::scene::Scene;
 
@@ -42,6 +43,18 @@ pub fn reach(
     config: &IkConfig,
     rng: &mut ChaCha8Rng,
 ) -> Result<Vec<f64>, ReachError> {
+    reach_observed(scene, goal, config, rng, &mut |_| {})
+}
+
+/// [`reach`], telling `refused` why each configuration that met the target was refused (the
+/// first contact the scene finds), so that a caller can say what stood in the way.
+pub fn reach_observed(
+    scene: &Scene,
+    goal: &LinkGoal<'_>,
+    config: &IkConfig,
+    rng: &mut ChaCha8Rng,
+    refused: &mut dyn FnMut(Contact),
+) -> Result<Vec<f64>, ReachError> {
     let LinkGoal { robot, group, link, target, start: seed } = *goal;
     let state = scene.robots.get(robot).ok_or(MotionError::UnknownRobot { robot })?;
     let model = &state.robot;
@@ -53,7 +66,13 @@ pub fn reach(
         Some(link) => link,
         None => return Err(ReachError::NoGripper { robot: state.name.clone() }),
     };
-    let mut accept = |q: &[f64]| scene.is_valid(robot, q);
+    let mut accept = |q: &[f64]| match scene.first_contact(robot, q) {
+        None => true,
+        Some(contact) => {
+            refused(contact);
+            false
+        }
+    };
     let goal = IkGoal { robot: model, group: joint_group, link, target, seed };
     Ok(solve_ik(&goal, config, rng, &mut accept)?)
 }

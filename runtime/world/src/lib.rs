@@ -30,7 +30,7 @@ pub use from_spec::{
     STRUCTURE_ANGLE_TOLERANCE, STRUCTURE_POSITION_TOLERANCE, SpecWorld, load_robot, mount_of,
     robot_names, type_parts_of,
 };
-pub use ik::{LinkGoal, ReachError, reach};
+pub use ik::{LinkGoal, ReachError, reach, reach_observed};
 pub use lamp_rrt::{MAX_EDGE_STEPS, RrtConfig, RrtError, RrtStats, Space, rrt_connect, shortcut};
 pub use motion::{
     DEFAULT_ANGULAR_RESOLUTION, DEFAULT_LINEAR_RESOLUTION, FREE_SAMPLING_MARGIN, MotionConfig,

@@ -273,6 +273,10 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
     let outcome = lamp_tamp::solve(&input, &mut plugins.as_plugins(), &settings, &report);
     finished.store(true, Ordering::Relaxed);
     spinner.finish_and_clear();
+    let failed_folder = failed_folder(&out);
+    if let Err(error) = &outcome {
+        write_failure_report(&failed_folder, &problem.name, error);
+    }
     let solution = outcome.map_err(|error| {
         let model = crate::build_folder::model_dir(&build_dir);
         let problem_file =
@@ -312,6 +316,7 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
         }
         rendered(error)
     })?;
+    remove_failure_report(&failed_folder);
     print_summary(summary, &out);
     if let Some((kept, reason)) = replaced.kept {
         eprintln!(
@@ -320,6 +325,84 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
         );
     }
     Ok(solution.summary)
+}
+
+/// The folder of a failed solve's report, beside the solution folder `out`:
+/// `<build>/solutions/<problem>.failed/`.
+fn failed_folder(out: &Path) -> PathBuf {
+    let name = out
+        .file_name()
+        .map_or_else(|| "solution".to_string(), |name| name.to_string_lossy().into_owned());
+    out.with_file_name(format!("{name}.{FAILED_SUFFIX}"))
+}
+
+/// The suffix of the failure report's folder, after the solution folder's name.
+const FAILED_SUFFIX: &str = "failed";
+/// The failure report's file in its folder.
+const FAILURE_FILE: &str = "failure.json";
+/// The `format` and `version` of the failure report (`docs/solving.md`).
+const FAILURE_FORMAT: &str = "lamp-failure-report";
+const FAILURE_VERSION: u32 = 1;
+
+/// The failure report written when a solve fails.
+#[derive(serde::Serialize)]
+struct FailureFile<'a> {
+    format: &'static str,
+    version: u32,
+    problem: &'a str,
+    /// The error's code and its message.
+    code: String,
+    message: String,
+    /// How far the refinement got, when it got anywhere.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    refinement: Option<&'a lamp_tamp::Progress>,
+}
+
+/// Writes why the solve failed to `folder` (replacing an earlier report), and says where; a
+/// report that cannot be written is only mentioned, as the failure itself is what the user needs
+/// to read.
+fn write_failure_report(folder: &Path, problem: &str, error: &SolveError) {
+    use miette::Diagnostic;
+    let refinement = match error {
+        SolveError::RefinementFailed(progress) | SolveError::Cancelled(progress) => Some(progress),
+        _ => None,
+    };
+    let file = FailureFile {
+        format: FAILURE_FORMAT,
+        version: FAILURE_VERSION,
+        problem,
+        code: error.code().map(|code| code.to_string()).unwrap_or_default(),
+        message: error.to_string(),
+        refinement,
+    };
+    let written = serde_json::to_string_pretty(&file).map_err(|error| error.to_string()).and_then(
+        |mut json| {
+            json.push('\n');
+            let output = OutputFolder::new(folder).map_err(|error| error.to_string())?;
+            let lock = output.lock("solve").map_err(|error| error.to_string())?;
+            output
+                .replace(&lock, &[(Path::new(FAILURE_FILE), json.as_bytes())])
+                .map_err(|error| error.to_string())
+        },
+    );
+    match written {
+        Ok(_) => eprintln!(
+            "lampc solve: why it failed, step by step, is in {}",
+            folder.join(FAILURE_FILE).display()
+        ),
+        Err(reason) => eprintln!("lampc solve: the failure report could not be written: {reason}"),
+    }
+}
+
+/// Removes the report of an earlier failed solve once the problem is solved, so that it is never
+/// read as the report of the solution beside it. Only a folder holding nothing but the report
+/// is removed.
+fn remove_failure_report(folder: &Path) {
+    let only_the_report = std::fs::read_dir(folder)
+        .is_ok_and(|entries| entries.flatten().all(|entry| entry.file_name() == FAILURE_FILE));
+    if only_the_report {
+        let _ = std::fs::remove_dir_all(folder);
+    }
 }
 
 /// Refuses to replace `out` unless it is missing or a folder of solution files only, so that no
