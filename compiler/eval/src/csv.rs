@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use crate::row::Row;
 
 /// The header line's columns.
-pub const CSV_COLUMNS: [&str; 20] = [
+pub const CSV_COLUMNS: [&str; 21] = [
     "demos",
     "run",
     "problem",
@@ -14,6 +14,7 @@ pub const CSV_COLUMNS: [&str; 20] = [
     "solved",
     "outcome",
     "reason",
+    "stopped_by",
     "relaxed",
     "plan_length",
     "plans_tried",
@@ -62,6 +63,7 @@ pub fn csv(rows: &[Row]) -> String {
             row.solved.to_string(),
             result.outcome.name().to_string(),
             field(&result.reason),
+            field(result.stopped_by.as_deref().unwrap_or_default()),
             field(&result.relaxed.join("; ")),
             count(result.plan_length),
             count(result.plans_tried),
@@ -89,18 +91,19 @@ mod tests {
     fn one_line_per_row_with_quoted_fields_and_empty_unmeasured_values() {
         let mut rows = rows();
         rows[6].result.reason = "no plan could be refined (3 plans, \"deepest\" step 2)".into();
+        rows[6].result.stopped_by = Some("in_the_way".into());
         let text = csv(&rows);
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), 1 + rows.len());
         assert_eq!(
             lines[1],
-            "40,1,pack2,2,fnv1a64:a,true,solved,,,10,1,20,0,12,0.100,2.500,0.200,3.000,50000000,1.000"
+            "40,1,pack2,2,fnv1a64:a,true,solved,,,,10,1,20,0,12,0.100,2.500,0.200,3.000,50000000,1.000"
         );
         assert!(lines[6].contains(",false,relaxed_goal,"), "{}", lines[6]);
         assert!(lines[6].contains(",(surface_can_1 box1 can4),"), "{}", lines[6]);
         assert_eq!(
             lines[7],
-            "20,2,pack2,2,fnv1a64:d,false,refinement_budget,\"no plan could be refined (3 plans, \"\"deepest\"\" step 2)\",,,,,,,,,,,,0.500"
+            "20,2,pack2,2,fnv1a64:d,false,refinement_budget,\"no plan could be refined (3 plans, \"\"deepest\"\" step 2)\",in_the_way,,,,,,,,,,,,0.500"
         );
     }
 }

@@ -180,7 +180,34 @@ pub fn report(info: &EvalInfo, rows: &[Row]) -> String {
         }
         out.push('\n');
     }
+    stopped_table(&mut out, info, rows);
     out
+}
+
+/// The table of what stopped the failed solves that refined plans, by kind and demonstration
+/// count; nothing when no row says.
+fn stopped_table(out: &mut String, info: &EvalInfo, rows: &[Row]) {
+    let mut kinds: Vec<&str> =
+        rows.iter().filter_map(|row| row.result.stopped_by.as_deref()).collect();
+    kinds.sort_unstable();
+    kinds.dedup();
+    if kinds.is_empty() {
+        return;
+    }
+    out.push_str("\n## What stopped the failed solves\n\n");
+    out.push_str("For the failed solves that refined plans, what kind of cause was refused most where most of their plans ended (`docs/solving.md`, \"When a solve fails\"; the reason in `eval.csv` names the step and the objects).\n\n");
+    table_header(out, &["stopped by"], &info.counts);
+    for kind in kinds {
+        let _ = write!(out, "| `{kind}` |");
+        for &count in &info.counts {
+            let n = rows
+                .iter()
+                .filter(|row| row.demos == count && row.result.stopped_by.as_deref() == Some(kind))
+                .count();
+            let _ = write!(out, " {n} |");
+        }
+        out.push('\n');
+    }
 }
 
 #[cfg(test)]
@@ -208,6 +235,17 @@ mod tests {
         assert!(text.contains("![Success per problem](success.svg)"));
         assert!(text.contains("No solve had a time limit"));
         assert_eq!(text, report(&info(), &rows()), "deterministic");
+    }
+
+    #[test]
+    fn failed_solves_are_counted_by_what_stopped_them() {
+        assert!(!report(&info(), &rows()).contains("What stopped"), "no row says");
+        let mut rows = rows();
+        let failed = rows.iter_mut().find(|row| row.result.outcome == Outcome::RefinementBudget);
+        failed.expect("a refinement failure").result.stopped_by = Some("in_the_way".into());
+        let text = report(&info(), &rows);
+        assert!(text.contains("## What stopped the failed solves"), "{text}");
+        assert!(text.contains("| `in_the_way` | 0 | 1 |"), "{text}");
     }
 
     #[test]

@@ -75,6 +75,12 @@ pub struct SolveResult {
     pub outcome: Outcome,
     /// Why it is not solved, in one line (empty when solved).
     pub reason: String,
+    /// What kind of cause stopped the plans where most of them ended, when plans were refined
+    /// and one kind stood out: `in_the_way`, `out_of_reach`, `no_path`, `not_at_rest`,
+    /// `target_missed`, `effects_unmet`, `rest_broken` or `fixed_bodies` (`docs/solving.md`,
+    /// "When a solve fails"). Absent from rows written before it was recorded.
+    #[serde(default)]
+    pub stopped_by: Option<String>,
     /// Goal atoms dropped by relaxation.
     pub relaxed: Vec<String>,
     /// Steps of the refined plan (when a trajectory was found).
@@ -102,6 +108,7 @@ impl SolveResult {
         SolveResult {
             outcome,
             reason: reason.into(),
+            stopped_by: None,
             relaxed: Vec::new(),
             plan_length: None,
             plans_tried: None,
@@ -292,6 +299,7 @@ pub(crate) mod tests {
         SolveResult {
             outcome: Outcome::Solved,
             reason: String::new(),
+            stopped_by: None,
             relaxed: Vec::new(),
             plan_length: Some(plan_length),
             plans_tried: Some(1),

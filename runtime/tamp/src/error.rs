@@ -199,7 +199,7 @@ impl Progress {
     /// What to do about it: from where the plans ended and why ([`FailureReport::advice`]), or,
     /// when no cause stands out, more samples, a larger motion budget or more plans.
     pub fn advice(&self) -> String {
-        self.report.advice().unwrap_or_else(|| {
+        self.report.advice().map(|advice| advice.text).unwrap_or_else(|| {
             "raise the refiner's `samples` or the motion budget, or try `--planner topk`"
                 .to_string()
         })

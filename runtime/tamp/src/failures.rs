@@ -382,7 +382,7 @@ impl FailureReport {
     /// of each kind of cause among its refusals decides (a place full of movable objects is no
     /// sampling problem, an unreachable target no motion-budget problem). `None` when no kind
     /// stands out, or nothing was refused.
-    pub fn advice(&self) -> Option<String> {
+    pub fn advice(&self) -> Option<Advice> {
         let ended = self.deciding.first()?;
         let causes: Vec<&CauseCount> =
             ended.causes.iter().filter(|count| count.cause != Cause::NoCandidate).collect();
@@ -416,14 +416,17 @@ impl FailureReport {
                     }
                 }
             }
-            return Some(format!(
-                "{at}, {} {} in the way of {:.0} % of the attempts refused there: drawing more \
+            return Some(Advice::new(
+                Stop::InTheWay,
+                format!(
+                    "{at}, {} {} in the way of {:.0} % of the attempts refused there: drawing more \
                  samples will not make room. If the place is full, ask for fewer objects in it \
                  or give it more room; if something should be moved out of the way first, the \
                  demonstrations must show such a move.",
-                and_list(&blockers),
-                if blockers.len() == 1 { "is" } else { "are" },
-                (share(&in_the_way) * 100.0).round()
+                    and_list(&blockers),
+                    if blockers.len() == 1 { "is" } else { "are" },
+                    (share(&in_the_way) * 100.0).round()
+                ),
             ));
         }
         let reach =
@@ -439,63 +442,135 @@ impl FailureReport {
             let short = nearest
                 .map(|value| format!(" (short by at least {:.0} mm)", value * 1000.0))
                 .unwrap_or_default();
-            return Some(format!(
-                "{at}, `{robot}` cannot reach where the step puts `{link}`{short}: drawing more \
+            return Some(Advice::new(
+                Stop::OutOfReach,
+                format!(
+                    "{at}, `{robot}` cannot reach where the step puts `{link}`{short}: drawing more \
                  samples or a larger motion budget will not help; start the robot nearer, or \
                  place the objects within its reach."
+                ),
             ));
         }
         if let Some(Cause::NoPath { robot, group }) =
             leading(&|cause| matches!(cause, Cause::NoPath { .. }), DOMINANT)
         {
-            return Some(format!(
-                "{at}, the motion planner found no {group} path for `{robot}` within its budget: \
+            return Some(Advice::new(
+                Stop::NoPath,
+                format!(
+                    "{at}, the motion planner found no {group} path for `{robot}` within its budget: \
                  give it more (`iterations` or `timeout` of the spec's `motion` plugin), or look \
                  at the scene for what crowds the way."
+                ),
             ));
         }
         if let Some(Cause::NotAtRest { object }) =
             leading(&|cause| matches!(cause, Cause::NotAtRest { .. }), DOMINANT)
         {
-            return Some(format!(
-                "{at}, `{object}` would be let go of where nothing holds it up, and no order of \
+            return Some(Advice::new(
+                Stop::NotAtRest,
+                format!(
+                    "{at}, `{object}` would be let go of where nothing holds it up, and no order of \
                  the plans tried puts its supports first: check that the goal gives it something \
                  to rest on, and that the demonstrations show such a support (`vocabulary.md`)."
+                ),
             ));
         }
         if let Some(Cause::TargetMissed { object }) =
             leading(&|cause| matches!(cause, Cause::TargetMissed { .. }), DOMINANT)
         {
-            return Some(format!(
-                "{at}, `{object}` lands outside its target's tolerance: loosen the goal's \
+            return Some(Advice::new(
+                Stop::TargetMissed,
+                format!(
+                    "{at}, `{object}` lands outside its target's tolerance: loosen the goal's \
                  tolerance to what the demonstrations place (`lampc build` warns when the learned \
                  region is wider), or record more precise demonstrations."
+                ),
             ));
         }
         if leading(&|cause| matches!(cause, Cause::EffectsUnmet { .. }), DOMINANT).is_some() {
-            return Some(format!(
-                "{at}, the step's effects do not hold where its candidates end: the learned \
+            return Some(Advice::new(
+                Stop::EffectsUnmet,
+                format!(
+                    "{at}, the step's effects do not hold where its candidates end: the learned \
                  region the refiner draws from and the relation the step should make disagree. \
                  Look at both in `vocabulary.md` and the region pictures; more demonstrations \
                  usually make them agree."
+                ),
             ));
         }
         if leading(&|cause| matches!(cause, Cause::RestBroken { .. }), DOMINANT).is_some() {
-            return Some(format!(
-                "{at}, every candidate undoes something a later step or the goal needs, and no \
+            return Some(Advice::new(
+                Stop::RestBroken,
+                format!(
+                    "{at}, every candidate undoes something a later step or the goal needs, and no \
                  plan reaches the goal from where it ends: a side effect the learned actions do \
                  not state. More demonstrations of the task may teach it."
+                ),
             ));
         }
         let fixed = |cause: &Cause| matches!(cause, Cause::Collision { other_movable: false, .. });
         if let Some(Cause::Collision { moving, other, .. }) = leading(&fixed, DOMINANT) {
-            return Some(format!(
-                "{at}, `{moving}` touches `{other}` in most attempts: the place the learned region \
+            return Some(Advice::new(
+                Stop::FixedBodies,
+                format!(
+                    "{at}, `{moving}` touches `{other}` in most attempts: the place the learned region \
                  offers is mostly taken by bodies that do not move. The region may be wider than \
                  the place (see `regions/` in the build), or the place too small."
+                ),
             ));
         }
         None
+    }
+}
+
+/// What kind of cause stopped the plans where most of them ended: what [`FailureReport::advice`]
+/// is chosen by, and what `lampc eval` counts failed solves by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Stop {
+    /// Objects a robot may carry are in the way.
+    InTheWay,
+    /// IK targets out of reach, or IK finding nothing.
+    OutOfReach,
+    /// No motion path within the budget.
+    NoPath,
+    /// Releases where nothing holds the object up.
+    NotAtRest,
+    /// Targets missed by more than their tolerance.
+    TargetMissed,
+    /// The step's effects do not hold where its candidates end.
+    EffectsUnmet,
+    /// Candidates break the rest of the plan.
+    RestBroken,
+    /// Bodies that do not move take the place.
+    FixedBodies,
+}
+
+impl Stop {
+    /// Its name in `lampc eval`'s rows.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stop::InTheWay => "in_the_way",
+            Stop::OutOfReach => "out_of_reach",
+            Stop::NoPath => "no_path",
+            Stop::NotAtRest => "not_at_rest",
+            Stop::TargetMissed => "target_missed",
+            Stop::EffectsUnmet => "effects_unmet",
+            Stop::RestBroken => "rest_broken",
+            Stop::FixedBodies => "fixed_bodies",
+        }
+    }
+}
+
+/// What stopped the plans, and what to do about it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Advice {
+    pub stop: Stop,
+    pub text: String,
+}
+
+impl Advice {
+    fn new(stop: Stop, text: String) -> Advice {
+        Advice { stop, text }
     }
 }
 
@@ -603,6 +678,8 @@ mod tests {
             (collision("can2"), 20),
         ]);
         let advice = full.advice().expect("advice");
+        assert_eq!(advice.stop, Stop::InTheWay);
+        let advice = advice.text;
         assert!(
             advice.starts_with(
                 "At step 4 (put can5 box1), `can1` and `can2` are in the way of 50 % of the \
@@ -614,6 +691,8 @@ mod tests {
         let reach = Cause::OutOfReach { robot: "fetch".into(), link: "gripper_link".into() };
         let far = report_of(&[(reach, 8), (collision("table1"), 2)]);
         let advice = far.advice().expect("advice");
+        assert_eq!(advice.stop, Stop::OutOfReach);
+        let advice = advice.text;
         assert!(
             advice.contains(
                 "`fetch` cannot reach where the step puts `gripper_link` (short by at least 40 mm)"

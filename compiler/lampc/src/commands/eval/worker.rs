@@ -207,6 +207,7 @@ fn failure_result(failure: &SolveError) -> SolveResult {
     if let SolveError::RefinementFailed(progress) | SolveError::Cancelled(progress) = failure {
         result.plans_tried = Some(progress.plans);
         result.candidates = Some(progress.candidates);
+        result.stopped_by = progress.report.advice().map(|advice| advice.stop.name().to_string());
     }
     result
 }
@@ -237,6 +238,21 @@ mod tests {
             "{}",
             budget.reason
         );
+        assert_eq!(budget.stopped_by, None, "nothing was refused: no kind stands out");
+        // Plans that ended where other cans are in the way say so in the row.
+        let mut log = lamp_tamp::failures::FailureLog::default();
+        log.start_plan(19);
+        log.reached(7, 19);
+        let in_the_way = lamp_tamp::failures::Cause::Collision {
+            moving: "can4".into(),
+            held: true,
+            other: "can1".into(),
+            other_movable: true,
+        };
+        log.note(7, "(a2 gripper can4 box1)", in_the_way, None);
+        let blocked = Progress { report: log.report(), ..progress.clone() };
+        let blocked = failure_result(&SolveError::RefinementFailed(blocked));
+        assert_eq!(blocked.stopped_by.as_deref(), Some("in_the_way"));
         let timeout = failure_result(&SolveError::Cancelled(progress));
         assert_eq!((timeout.outcome, timeout.plans_tried), (Outcome::Timeout, Some(20)));
         let no_plan =
