@@ -576,6 +576,10 @@ fn a_failed_solve_says_where_its_plans_ended_and_writes_why() {
         .filter(|other| other.starts_with("can"))
         .collect();
     assert!(in_the_way.len() >= 2, "the held can touches the cans already in the box: {causes:?}");
+    // The deepest state reached is drawn, the cans in the way outlined.
+    let picture = std::fs::read_to_string(failed.with_file_name("deepest.svg")).expect("drawn");
+    assert!(picture.contains("the deepest state reached, before step"), "titled");
+    assert!(picture.contains("stroke=\"#d62728\" stroke-width=\"2.4\""), "something is marked");
     let said = format!("held `{placed}` touches `{}`", in_the_way[0]);
     assert!(stderr.contains(&said), "the message names what is in the way ({said}): {stderr}");
     // The help follows from the cause: a full box is no sampling problem.
@@ -587,6 +591,7 @@ fn a_failed_solve_says_where_its_plans_ended_and_writes_why() {
     assert!(solved.status.success(), "{}", String::from_utf8_lossy(&solved.stderr));
     assert!(out.join("trajectory.mcap").is_file());
     assert!(!failed.exists(), "a success removes the earlier failure's report");
+    assert!(!failed.parent().expect("a folder").exists(), "and its picture");
 }
 
 /// The model's domain and the problem pack4_03, parsed.

@@ -10,6 +10,8 @@ pub(crate) struct Style {
     pub(crate) opacity: f64,
     /// Dashed outlines mark faded copies, so they read as "earlier" even in grey print.
     pub(crate) dashed: bool,
+    /// A thick outline in [`MARK_COLOUR`]: a body the drawing points at (one in the way).
+    pub(crate) marked: bool,
 }
 
 /// What a body is, which decides its colour.
@@ -30,6 +32,8 @@ pub(crate) const FADED_OPACITY: f64 = 0.35;
 
 /// The colour of the gripper path.
 pub(crate) const PATH_COLOUR: &str = "#d62728";
+/// The outline of a marked body: the path's red, which nothing else is filled with.
+pub(crate) const MARK_COLOUR: &str = PATH_COLOUR;
 
 /// The style of a body with this role and name.
 pub(crate) fn style_for(role: Role, name: &str, faded: bool) -> Style {
@@ -42,7 +46,13 @@ pub(crate) fn style_for(role: Role, name: &str, faded: bool) -> Style {
             (hsl_to_hex(hue, 0.62, 0.55), hsl_to_hex(hue, 0.62, 0.30))
         }
     };
-    Style { fill, stroke, opacity: if faded { FADED_OPACITY } else { 1.0 }, dashed: faded }
+    Style {
+        fill,
+        stroke,
+        opacity: if faded { FADED_OPACITY } else { 1.0 },
+        dashed: faded,
+        marked: false,
+    }
 }
 
 /// The colour of the `index`-th sample set of a region plot (a fixed qualitative palette).

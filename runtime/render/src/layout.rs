@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 
 use lamp_geometry::Point3;
 
+use crate::colour::MARK_COLOUR;
 use crate::figure::{Figure, Label, Solid, bounding_box};
 use crate::outline::convex_hull;
 use crate::svg::{Svg, escape, num, points};
@@ -19,11 +20,13 @@ pub struct RenderOptions {
     pub labels: bool,
     /// A title over both views, replacing the default one.
     pub title: Option<String>,
+    /// Bodies drawn with a thick red outline, by name: what a failed solve found in the way.
+    pub marked: Vec<String>,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { view_size: 480.0, labels: true, title: None }
+        RenderOptions { view_size: 480.0, labels: true, title: None, marked: Vec::new() }
     }
 }
 
@@ -350,11 +353,12 @@ fn draw_solid(svg: &mut Svg, panel: &Panel, solid: &Solid) {
         return;
     }
     let style = &solid.style;
+    let (stroke, width) =
+        if style.marked { (MARK_COLOUR, "2.4") } else { (style.stroke.as_str(), "0.8") };
     let mut markup = format!(
-        "<polygon points=\"{}\" fill=\"{}\" stroke=\"{}\" stroke-width=\"0.8\" stroke-linejoin=\"round\"",
+        "<polygon points=\"{}\" fill=\"{}\" stroke=\"{stroke}\" stroke-width=\"{width}\" stroke-linejoin=\"round\"",
         points(&hull),
         style.fill,
-        style.stroke
     );
     if style.opacity < 1.0 {
         let _ = write!(markup, " opacity=\"{}\"", num(style.opacity));

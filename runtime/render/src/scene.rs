@@ -11,7 +11,7 @@ use crate::outline::world_points;
 /// Draws a scene in a top and a side view; the title defaults to "scene".
 pub fn render_scene(scene: &Scene, options: &RenderOptions) -> String {
     let mut figure = Figure { title: "scene".to_string(), ..Figure::default() };
-    add_scene(&mut figure, scene, Layer::Shown);
+    add_scene(&mut figure, scene, Layer::Shown, &options.marked);
     render(&figure, options)
 }
 
@@ -24,15 +24,16 @@ pub(crate) enum Layer {
     Faded,
 }
 
-/// Adds the scene's bodies and robots to the figure.
-pub(crate) fn add_scene(figure: &mut Figure, scene: &Scene, layer: Layer) {
+/// Adds the scene's bodies and robots to the figure, the bodies named in `marked` outlined.
+pub(crate) fn add_scene(figure: &mut Figure, scene: &Scene, layer: Layer, marked: &[String]) {
     let faded = layer == Layer::Faded;
     for (index, body) in scene.bodies().iter().enumerate() {
         if faded && !body.movable {
             continue;
         }
         let role = role_of(body);
-        let style = style_for(role, &body.name, faded);
+        let mut style = style_for(role, &body.name, faded);
+        style.marked = !faded && marked.contains(&body.name);
         let pose = scene.body_pose(index);
         let placement = if body.movable { Placement::Middle } else { Placement::Corner };
         let label = (!faded).then_some(placement);

@@ -24,9 +24,9 @@ pub fn render_motion(
 ) -> String {
     let mut figure = Figure { title: "trajectory".to_string(), ..Figure::default() };
     if let Some(start) = start {
-        add_scene(&mut figure, start, Layer::Faded);
+        add_scene(&mut figure, start, Layer::Faded, &options.marked);
     }
-    add_scene(&mut figure, shown, Layer::Shown);
+    add_scene(&mut figure, shown, Layer::Shown, &options.marked);
     for path in paths {
         figure.paths.push(Path { points: path.points.clone(), colour: PATH_COLOUR.to_string() });
         figure.legend.push(LegendEntry {

@@ -123,6 +123,21 @@ fn the_packing_scene_shows_every_body_and_the_robot() {
     assert_eq!(svg, render_scene(&scene, &options), "deterministic");
 }
 
+/// Marked bodies (what a failed solve found in the way) get a thick red outline in both views,
+/// and nothing else does.
+#[test]
+fn marked_bodies_are_outlined() {
+    let (spec, world) = bundled("packing");
+    let scene = world.problem_scene(&spec.problems[0]).unwrap();
+    let mark = "stroke=\"#d62728\" stroke-width=\"2.4\"";
+    assert!(!render_scene(&scene, &RenderOptions::default()).contains(mark));
+    let options =
+        RenderOptions { marked: vec!["can2".into(), "box1".into()], ..RenderOptions::default() };
+    let svg = render_scene(&scene, &options);
+    // The can is one part, the box five, in each view.
+    assert_eq!(svg.matches(mark).count(), 2 * (1 + 5), "{svg}");
+}
+
 #[test]
 fn the_cafe_scene_draws_the_fetch_links() {
     let (spec, world) = bundled("cafe");

@@ -6,6 +6,7 @@ use miette::{Diagnostic, NamedSource};
 use thiserror::Error;
 
 use crate::failures::{FailureReport, NAMED_CAUSES};
+use crate::refine::DeepestState;
 
 /// A solve failure, with a stable code.
 #[derive(Debug, Error, Diagnostic)]
@@ -180,7 +181,7 @@ impl SolveError {
 }
 
 /// How far the refinement got before it failed or was cancelled.
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct Progress {
     /// Plans tried (every round counts every plan it tries).
     pub plans: usize,
@@ -193,6 +194,9 @@ pub struct Progress {
     pub failure: String,
     /// Every refusal by cause, and the causes that ended the plans.
     pub report: FailureReport,
+    /// Where the search got furthest, for a picture.
+    #[serde(skip)]
+    pub deepest_state: Option<Box<DeepestState>>,
 }
 
 impl Progress {

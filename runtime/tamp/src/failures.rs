@@ -407,15 +407,8 @@ impl FailureReport {
         let in_the_way =
             |cause: &Cause| matches!(cause, Cause::Collision { other_movable: true, .. });
         if leading(&in_the_way, MOVABLE_BLOCKERS).is_some() {
-            let mut blockers: Vec<String> = Vec::new();
-            for count in &causes {
-                if let Cause::Collision { other, other_movable: true, .. } = &count.cause {
-                    let named = format!("`{other}`");
-                    if !blockers.contains(&named) {
-                        blockers.push(named);
-                    }
-                }
-            }
+            let blockers: Vec<String> =
+                hit(&ended.causes, true).iter().map(|name| format!("`{name}`")).collect();
             return Some(Advice::new(
                 Stop::InTheWay,
                 format!(
@@ -572,6 +565,38 @@ impl Advice {
     fn new(stop: Stop, text: String) -> Advice {
         Advice { stop, text }
     }
+}
+
+impl FailureReport {
+    /// The bodies the advice points at, for a picture: those in the way where most plans ended
+    /// ([`Stop::InTheWay`]: the movable ones; [`Stop::FixedBodies`]: the others), most often
+    /// met first; none for any other advice.
+    pub fn blockers(&self) -> Vec<String> {
+        let (Some(advice), Some(ended)) = (self.advice(), self.deciding.first()) else {
+            return Vec::new();
+        };
+        let movable = match advice.stop {
+            Stop::InTheWay => true,
+            Stop::FixedBodies => false,
+            _ => return Vec::new(),
+        };
+        hit(&ended.causes, movable)
+    }
+}
+
+/// The bodies `causes` collide with that a robot may carry (`movable`) or not, most often met
+/// first.
+fn hit(causes: &[CauseCount], movable: bool) -> Vec<String> {
+    let mut bodies: Vec<String> = Vec::new();
+    for count in causes {
+        if let Cause::Collision { other, other_movable, .. } = &count.cause
+            && *other_movable == movable
+            && !bodies.contains(other)
+        {
+            bodies.push(other.clone());
+        }
+    }
+    bodies
 }
 
 /// `a`, `a and b`, `a, b and c`.

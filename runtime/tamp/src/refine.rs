@@ -106,6 +106,18 @@ pub struct RefineCounts {
     deepest_failed: usize,
     /// Every refusal, by plan and step, for the failure report.
     pub failures: FailureLog,
+    /// The scene the deepest step reached started from, with the step.
+    pub deepest_state: Option<Box<DeepestState>>,
+}
+
+/// The scene before the deepest step any refinement reached: where the search got furthest.
+#[derive(Clone, Debug)]
+pub struct DeepestState {
+    pub scene: Scene,
+    /// The step (1-based), the length of its plan, and its grounded action.
+    pub step: usize,
+    pub length: usize,
+    pub action: String,
 }
 
 /// How one plan's refinement ended.
@@ -344,6 +356,13 @@ impl Search {
         if index + 1 > counts.deepest {
             counts.deepest = index + 1;
             counts.deepest_of = self.actions.len();
+            // Cloned only when the search gets deeper than ever: at most once per step.
+            counts.deepest_state = Some(Box::new(DeepestState {
+                scene: scene.clone(),
+                step: index + 1,
+                length: self.actions.len(),
+                action: action_text.clone(),
+            }));
         }
         Ok(())
     }

@@ -224,6 +224,7 @@ fn progress_of(summary: &Summary, counts: &RefineCounts) -> Progress {
         length: counts.deepest_of,
         failure: counts.deepest_failure.clone(),
         report: counts.failures.report(),
+        deepest_state: counts.deepest_state.clone(),
     }
 }
 

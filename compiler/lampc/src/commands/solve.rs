@@ -338,8 +338,9 @@ fn failed_folder(out: &Path) -> PathBuf {
 
 /// The suffix of the failure report's folder, after the solution folder's name.
 const FAILED_SUFFIX: &str = "failed";
-/// The failure report's file in its folder.
+/// The failure report's file in its folder, and the picture of the deepest state reached.
 const FAILURE_FILE: &str = "failure.json";
+const DEEPEST_FILE: &str = "deepest.svg";
 /// The `format` and `version` of the failure report (`docs/solving.md`).
 const FAILURE_FORMAT: &str = "lamp-failure-report";
 const FAILURE_VERSION: u32 = 1;
@@ -375,21 +376,43 @@ fn write_failure_report(folder: &Path, problem: &str, error: &SolveError) {
         message: error.to_string(),
         refinement,
     };
+    let picture = refinement.and_then(|progress| {
+        let state = progress.deepest_state.as_ref()?;
+        let options = lamp_render::RenderOptions {
+            title: Some(format!(
+                "{problem}: the deepest state reached, before step {} of {} {}",
+                state.step, state.length, state.action
+            )),
+            marked: progress.report.blockers(),
+            ..lamp_render::RenderOptions::default()
+        };
+        Some(lamp_render::render_scene(&state.scene, &options))
+    });
     let written = serde_json::to_string_pretty(&file).map_err(|error| error.to_string()).and_then(
         |mut json| {
             json.push('\n');
+            let mut files = vec![(Path::new(FAILURE_FILE), json.as_bytes())];
+            if let Some(picture) = &picture {
+                files.push((Path::new(DEEPEST_FILE), picture.as_bytes()));
+            }
             let output = OutputFolder::new(folder).map_err(|error| error.to_string())?;
             let lock = output.lock("solve").map_err(|error| error.to_string())?;
-            output
-                .replace(&lock, &[(Path::new(FAILURE_FILE), json.as_bytes())])
-                .map_err(|error| error.to_string())
+            output.replace(&lock, &files).map_err(|error| error.to_string())
         },
     );
     match written {
-        Ok(_) => eprintln!(
-            "lampc solve: why it failed, step by step, is in {}",
-            folder.join(FAILURE_FILE).display()
-        ),
+        Ok(_) => {
+            eprintln!(
+                "lampc solve: why it failed, step by step, is in {}",
+                folder.join(FAILURE_FILE).display()
+            );
+            if picture.is_some() {
+                eprintln!(
+                    "lampc solve: the deepest state reached is drawn in {}, what is in the way outlined in red",
+                    folder.join(DEEPEST_FILE).display()
+                );
+            }
+        }
         Err(reason) => eprintln!("lampc solve: the failure report could not be written: {reason}"),
     }
 }
@@ -398,8 +421,11 @@ fn write_failure_report(folder: &Path, problem: &str, error: &SolveError) {
 /// read as the report of the solution beside it. Only a folder holding nothing but the report
 /// is removed.
 fn remove_failure_report(folder: &Path) {
-    let only_the_report = std::fs::read_dir(folder)
-        .is_ok_and(|entries| entries.flatten().all(|entry| entry.file_name() == FAILURE_FILE));
+    let only_the_report = std::fs::read_dir(folder).is_ok_and(|entries| {
+        entries.flatten().all(|entry| {
+            [FAILURE_FILE, DEEPEST_FILE].contains(&&*entry.file_name().to_string_lossy())
+        })
+    });
     if only_the_report {
         let _ = std::fs::remove_dir_all(folder);
     }
