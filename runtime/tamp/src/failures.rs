@@ -322,6 +322,14 @@ pub struct DecidingStep {
     pub causes: Vec<CauseCount>,
 }
 
+impl DecidingStep {
+    /// The objects the step's action names (its arguments).
+    fn arguments(&self) -> Vec<&str> {
+        let call = self.action.trim_start_matches('(').trim_end_matches(')');
+        call.split_whitespace().skip(1).collect()
+    }
+}
+
 impl std::fmt::Display for DecidingStep {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let steps: Vec<String> = self.steps.iter().map(ToString::to_string).collect();
@@ -384,8 +392,14 @@ impl FailureReport {
     /// stands out, or nothing was refused.
     pub fn advice(&self) -> Option<Advice> {
         let ended = self.deciding.first()?;
-        let causes: Vec<&CauseCount> =
-            ended.causes.iter().filter(|count| count.cause != Cause::NoCandidate).collect();
+        // An IK call that did not converge near its target says nothing of what is in the way
+        // or out of reach (draws the solver finds awkward are common in every step), so the
+        // shares are of the attempts that say something.
+        let causes: Vec<&CauseCount> = ended
+            .causes
+            .iter()
+            .filter(|count| !matches!(count.cause, Cause::NoCandidate | Cause::NoIkSolution { .. }))
+            .collect();
         let total: usize = causes.iter().map(|count| count.count).sum();
         if total == 0 {
             return None;
@@ -404,29 +418,43 @@ impl FailureReport {
         let plural = if ended.steps.len() == 1 { "" } else { "s" };
         let at = format!("At step{plural} {} {}", steps.join(", "), ended.action);
 
-        let in_the_way =
-            |cause: &Cause| matches!(cause, Cause::Collision { other_movable: true, .. });
+        let arguments = ended.arguments();
+        let in_the_way = |cause: &Cause| match cause {
+            Cause::Collision { other, other_movable: true, .. } => {
+                !arguments.contains(&other.as_str())
+            }
+            _ => false,
+        };
         if leading(&in_the_way, MOVABLE_BLOCKERS).is_some() {
             let blockers: Vec<String> =
-                hit(&ended.causes, true).iter().map(|name| format!("`{name}`")).collect();
+                hit(ended, true).iter().map(|name| format!("`{name}`")).collect();
+            let blocked = share(&in_the_way);
+            // A carried object meeting them is a place that is taken; the robot's own links
+            // meeting them, objects crowding what it reaches for.
+            let carried = |cause: &Cause| {
+                in_the_way(cause) && matches!(cause, Cause::Collision { held: true, .. })
+            };
+            let what = if share(&carried) * 2.0 >= blocked {
+                "If the place is full, ask for fewer objects in it or give it more room; if \
+                 something should be moved out of the way first, the demonstrations must show \
+                 such a move."
+            } else {
+                "They crowd what the robot reaches for: set them farther apart in the scene, or \
+                 demonstrate moving such objects out of the way, so that the model learns it."
+            };
             return Some(Advice::new(
                 Stop::InTheWay,
                 format!(
                     "{at}, {} {} in the way of {:.0} % of the attempts refused there: drawing more \
-                 samples will not make room. If the place is full, ask for fewer objects in it \
-                 or give it more room; if something should be moved out of the way first, the \
-                 demonstrations must show such a move.",
+                     samples will not make room. {what}",
                     and_list(&blockers),
                     if blockers.len() == 1 { "is" } else { "are" },
-                    (share(&in_the_way) * 100.0).round()
+                    (blocked * 100.0).round()
                 ),
             ));
         }
-        let reach =
-            |cause: &Cause| matches!(cause, Cause::OutOfReach { .. } | Cause::NoIkSolution { .. });
-        if let Some(Cause::OutOfReach { robot, link } | Cause::NoIkSolution { robot, link }) =
-            leading(&reach, DOMINANT)
-        {
+        let reach = |cause: &Cause| matches!(cause, Cause::OutOfReach { .. });
+        if let Some(Cause::OutOfReach { robot, link }) = leading(&reach, DOMINANT) {
             let nearest = causes
                 .iter()
                 .filter(|count| matches!(count.cause, Cause::OutOfReach { .. }))
@@ -580,17 +608,20 @@ impl FailureReport {
             Stop::FixedBodies => false,
             _ => return Vec::new(),
         };
-        hit(&ended.causes, movable)
+        hit(ended, movable)
     }
 }
 
-/// The bodies `causes` collide with that a robot may carry (`movable`) or not, most often met
-/// first.
-fn hit(causes: &[CauseCount], movable: bool) -> Vec<String> {
+/// The bodies met at `ended` that a robot may carry (`movable`) or not, other than the step's
+/// own arguments (a gripper touching the can it is to take is a draw that missed, not a
+/// blocker), most often met first.
+fn hit(ended: &DecidingStep, movable: bool) -> Vec<String> {
+    let arguments = ended.arguments();
     let mut bodies: Vec<String> = Vec::new();
-    for count in causes {
+    for count in &ended.causes {
         if let Cause::Collision { other, other_movable, .. } = &count.cause
             && *other_movable == movable
+            && !arguments.contains(&other.as_str())
             && !bodies.contains(other)
         {
             bodies.push(other.clone());
@@ -712,6 +743,28 @@ mod tests {
             ),
             "{advice}"
         );
+        // The object the step acts on, and IK calls that did not converge, say nothing of what
+        // is in the way.
+        let touched = Cause::Collision {
+            moving: "gripper_link".into(),
+            held: false,
+            other: "can5".into(),
+            other_movable: true,
+        };
+        let awkward = Cause::NoIkSolution { robot: "fetch".into(), link: "gripper_link".into() };
+        let one = report_of(&[
+            (touched, 60),
+            (awkward, 500),
+            (collision("can1"), 25),
+            (collision("table1"), 15),
+        ]);
+        let advice = one.advice().expect("advice");
+        assert_eq!(advice.stop, Stop::InTheWay);
+        assert!(
+            advice.text.contains(", `can1` is in the way of 25 % of the attempts"),
+            "{advice:?}"
+        );
+        assert_eq!(one.blockers(), ["can1"]);
         // Out of reach, with the least shortfall.
         let reach = Cause::OutOfReach { robot: "fetch".into(), link: "gripper_link".into() };
         let far = report_of(&[(reach, 8), (collision("table1"), 2)]);

@@ -126,6 +126,60 @@ pub fn relax(domain: &Domain, problem: &mut Problem) -> Option<String> {
     Some(pddl_atom(&dropped.atom).to_string())
 }
 
+/// Goals of more literals than this are not taken apart when no plan reaches them: each
+/// literal costs a planner call, and a proof that none exists can take as long as the first.
+pub const MAX_EXPLAINED_GOAL: usize = 16;
+
+/// Why no plan reaches `problem`'s goal, in the goal's own atoms, when the planner proved that
+/// none does: the literals without any one of which a plan exists (they cannot all hold
+/// together in the learned model), or else those that no plan reaches even alone. `None` when
+/// the goal has one literal, more than [`MAX_EXPLAINED_GOAL`], or the planner could not tell
+/// (its budget ran out).
+pub fn explain_no_plan(
+    plugins: &mut Plugins<'_>,
+    domain: &Domain,
+    problem: &Problem,
+    settings: &SolveSettings<'_>,
+) -> Result<Option<String>, SolveError> {
+    let goal = &problem.goal;
+    if goal.len() <= 1 || goal.len() > MAX_EXPLAINED_GOAL {
+        return Ok(None);
+    }
+    let text = |literal: &lamp_pddl::Literal| {
+        let atom = pddl_atom(&literal.atom).to_string();
+        if literal.positive { atom } else { format!("(not {atom})") }
+    };
+    let mut in_conflict = Vec::new();
+    for (index, literal) in goal.iter().enumerate() {
+        let mut without = problem.clone();
+        without.goal.remove(index);
+        match plans(plugins, domain, &without, 1, settings)? {
+            Planned::Plans(_) => in_conflict.push(text(literal)),
+            Planned::NoPlan(_) => {}
+            Planned::OutOfBudget => return Ok(None),
+        }
+    }
+    if !in_conflict.is_empty() {
+        return Ok(Some(format!(
+            "the goal's {} cannot all hold together in the learned model: without any one of them \
+             a plan exists",
+            in_conflict.join(", ")
+        )));
+    }
+    let mut unreachable = Vec::new();
+    for literal in goal {
+        let mut alone = problem.clone();
+        alone.goal = vec![literal.clone()];
+        match plans(plugins, domain, &alone, 1, settings)? {
+            Planned::Plans(_) => {}
+            Planned::NoPlan(_) => unreachable.push(text(literal)),
+            Planned::OutOfBudget => return Ok(None),
+        }
+    }
+    Ok((!unreachable.is_empty())
+        .then(|| format!("no plan reaches {} even alone", unreachable.join(", "))))
+}
+
 /// Whether every goal literal of `problem` already holds in its initial state, so that a plan has
 /// nothing to achieve (what is left of a goal relaxed too far).
 pub fn goal_holds_initially(problem: &Problem) -> bool {

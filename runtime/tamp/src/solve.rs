@@ -16,7 +16,7 @@ use lamp_world::{Recorder, Scene, WorldError, time_steps};
 
 use crate::error::{Progress, SolveError};
 use crate::ground::{call_text, ground_step, pddl_atom};
-use crate::planning::{Planned, goal_holds_initially, plans, relax};
+use crate::planning::{Planned, explain_no_plan, goal_holds_initially, plans, relax};
 use crate::plugins::Plugins;
 use crate::refine::{Context, PlanToRefine, RefineCounts, Refined, difference, mix, refine_plan};
 use crate::settings::SolveSettings;
@@ -117,12 +117,15 @@ fn solve_with(
             Planned::NoPlan(reason) => {
                 let relaxed = if settings.relax_goal { relax(domain, problem) } else { None };
                 let Some(dropped) = relaxed else {
-                    let reason = match summary.relaxed_goal.is_empty() {
+                    let mut reason = match summary.relaxed_goal.is_empty() {
                         true => reason,
                         false => {
                             format!("{reason} (after dropping {})", summary.relaxed_goal.join(", "))
                         }
                     };
+                    if let Some(why) = explain_no_plan(plugins, domain, problem, settings)? {
+                        reason = format!("{reason}; {why}");
+                    }
                     return Err(SolveError::NoPlan { reason });
                 };
                 summary.relaxed_goal.push(dropped);
