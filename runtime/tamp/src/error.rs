@@ -5,8 +5,7 @@ use lamp_plugin_api::PluginError;
 use miette::{Diagnostic, NamedSource};
 use thiserror::Error;
 
-use crate::failures::{FailureReport, NAMED_CAUSES};
-use crate::refine::DeepestState;
+use crate::failures::{DeepestState, FailureReport, NAMED_CAUSES};
 
 /// A solve failure, with a stable code.
 #[derive(Debug, Error, Diagnostic)]

@@ -646,6 +646,16 @@ pub const MOVABLE_BLOCKERS: f64 = 0.2;
 /// The share of the refusals at a step at or above which one kind of cause decides the advice.
 pub const DOMINANT: f64 = 0.5;
 
+/// The scene before the deepest step any refinement reached: where the search got furthest.
+#[derive(Clone, Debug)]
+pub struct DeepestState {
+    pub scene: Scene,
+    /// The step (1-based), the length of its plan, and its grounded action.
+    pub step: usize,
+    pub length: usize,
+    pub action: String,
+}
+
 /// How many causes, and how many steps where plans ended, a message names: enough to show what
 /// blocked the plans, few enough to read.
 pub const NAMED_CAUSES: usize = 3;

@@ -28,7 +28,7 @@ use lamp_world::{Recorder, Scene};
 
 use crate::error::SolveError;
 use crate::execute::{MotionCounts, Rejection, execute};
-use crate::failures::{Cause, FailureLog};
+use crate::failures::{Cause, DeepestState, FailureLog};
 use crate::ground::{Broken, call_text, first_broken, progress, unmet_effects};
 use crate::host::SceneHost;
 use crate::planning::{Rest, plan_from};
@@ -108,16 +108,6 @@ pub struct RefineCounts {
     pub failures: FailureLog,
     /// The scene the deepest step reached started from, with the step.
     pub deepest_state: Option<Box<DeepestState>>,
-}
-
-/// The scene before the deepest step any refinement reached: where the search got furthest.
-#[derive(Clone, Debug)]
-pub struct DeepestState {
-    pub scene: Scene,
-    /// The step (1-based), the length of its plan, and its grounded action.
-    pub step: usize,
-    pub length: usize,
-    pub action: String,
 }
 
 /// How one plan's refinement ended.
