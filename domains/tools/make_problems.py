@@ -148,6 +148,33 @@ def rpy(yaw):
     return f" rpy (0, 0, {yaw}) deg" if yaw else ""
 
 
+# Problems whose robot starts away from where the others start, facing another way: solving must
+# not depend on the start (a mobile base anywhere on the free floor, the free gripper anywhere
+# above the table). Each start was checked free of the problem's furniture.
+STARTS = {
+    "pack4_10": "(0.3, -0.3, 0.5) m rpy (180, 0, 120) deg",
+    "pack4_11": "(-0.35, 0.3, 0.6) m rpy (180, 0, -75) deg",
+    "pack4_12": "(0.1, 0.35, 0.4) m rpy (180, 0, 200) deg",
+    "cafe4_02": "(2.5, -2.4, 0) m rpy (0, 0, 167) deg",
+    "cafe8_02": "(-1, 1.2, 0) m rpy (0, 0, -100) deg",
+    "set_table_2_02": "(2.5, -1.25, 0) m rpy (0, 0, 167) deg",
+    "set_table_4_02": "(-1.5, -1, 0) m rpy (0, 0, -100) deg",
+    "set_table_6_02": "(0.5, -2, 0) m rpy (0, 0, 80) deg",
+    "set_table_8_02": "(-2, 0.5, 0) m rpy (0, 0, 20) deg",
+}
+PACKING_START = "(0, 0, 0.45) m rpy (180, 0, 0) deg"
+FETCH_START = "(0, 0, 0) m"
+
+
+def start_note(name, robot):
+    """The sentence a problem's comment gets when its robot starts elsewhere."""
+    if name not in STARTS:
+        return ""
+    if robot == "gripper":
+        return " The gripper starts away from the table's centre, turned."
+    return " The robot starts away from the origin, facing another way."
+
+
 def print_packing():
     for index, layout in enumerate(packing_layouts(), start=1):
         bx, by, byaw = layout["box"]
@@ -156,15 +183,16 @@ def print_packing():
             for i, a in enumerate(layout["cans"]) for b in layout["cans"][:i]
         )
         note = "the original problem" if index == 1 else "generated"
-        print(f"// pack4_{index:02d}: box at ({fmt(bx)}, {fmt(by)}) yawed {byaw} deg; "
-              f"closest cans {gap * 100:.0f} cm apart ({note}).")
+        name = f"pack4_{index:02d}"
+        print(f"// {name}: box at ({fmt(bx)}, {fmt(by)}) yawed {byaw} deg; "
+              f"closest cans {gap * 100:.0f} cm apart ({note})." + start_note(name, "gripper"))
         print(f"problem pack4_{index:02d} {{")
         print("  scene {")
         print("    table table1 at (0, 0, 0) m")
         print(f"    surface box1 at ({fmt(bx)}, {fmt(by)}, 0) m{rpy(byaw)}")
         for k, (x, y, yaw) in enumerate(layout["cans"], start=1):
             print(f"    can can{k} at ({fmt(x)}, {fmt(y)}, 0.001) m{rpy(yaw)}")
-        print("    robot gripper at (0, 0, 0.45) m rpy (180, 0, 0) deg")
+        print(f"    robot gripper at {STARTS.get(name, PACKING_START)}")
         print("  }")
         print("  goal {")
         for k in range(1, 5):
@@ -352,13 +380,14 @@ def print_cafe_problem(rng, surfaces, name, count):
     moving = sum(1 for can, goal in zip(cans, targets) if goal != can[0])
     starts = [sum(1 for c in cans if c[0] == i) for i in range(len(surfaces))]
     where = ", ".join(f"{surfaces[i][0]} {n}" for i, n in enumerate(starts) if n)
-    print(f"// {name}: {count} cans ({where}); {moving} move to another surface.")
+    print(f"// {name}: {count} cans ({where}); {moving} move to another surface."
+          + start_note(name, "fetch"))
     print(f"problem {name} {{")
     print("  scene {")
     print_furniture(surfaces)
     for k, (_, x, y, z, yaw) in enumerate(cans, start=1):
         print(f"    can can{k} at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m{rpy(yaw)}")
-    print("    robot fetch at (0, 0, 0) m config tuck")
+    print(f"    robot fetch at {STARTS.get(name, FETCH_START)} config tuck")
     print("  }")
     print("  goal {")
     for k, goal in enumerate(targets, start=1):
@@ -484,7 +513,7 @@ def print_dinner():
         kinds = [t[0] for t in targets]
         print(f"// {name}: {kinds.count('glass')} glasses and {kinds.count('bowl')} bowls onto "
               f"{settings} place setting(s)" + (f" and {extra} extra glass(es)" if extra else "")
-              + f" on {dining_count} dining table(s).")
+              + f" on {dining_count} dining table(s)." + start_note(name, "fetch"))
         print(f"problem {name} {{")
         print("  scene {")
         print_furniture(surfaces)
@@ -494,7 +523,7 @@ def print_dinner():
             numbers[kind] = numbers.get(kind, 0) + 1
             names.append(f"{kind}{numbers[kind]}")
             print(f"    {kind} {names[-1]} at ({fmt(x)}, {fmt(y)}, {fmt(z)}) m")
-        print("    robot fetch at (0, 0, 0) m config tuck")
+        print(f"    robot fetch at {STARTS.get(name, FETCH_START)} config tuck")
         print("  }")
         print("  goal {")
         for object_name, (_, x, y, z) in zip(names, targets):

@@ -66,6 +66,25 @@ fn four_cans_are_packed_and_the_trajectory_is_collision_free() {
     }
 }
 
+/// The free-flying gripper may start anywhere above the table, turned any way about the vertical:
+/// a problem whose bundled start is above the table's centre solves from two other starts.
+#[test]
+fn the_gripper_may_start_anywhere_above_the_table() {
+    let name = "pack4_01";
+    for (x, y, z, yaw) in [(0.3, -0.3, 0.5, 120.0_f64), (-0.35, 0.3, 0.6, -75.0)] {
+        let down = nalgebra::UnitQuaternion::from_euler_angles(std::f64::consts::PI, 0.0, 0.0);
+        let turned = nalgebra::UnitQuaternion::from_euler_angles(0.0, 0.0, yaw.to_radians());
+        let start =
+            nalgebra::Isometry3::from_parts(nalgebra::Translation3::new(x, y, z), turned * down);
+        let solution = learned::solve_from(&PACKING, name, &start)
+            .unwrap_or_else(|error| panic!("{name} from ({x}, {y}, {z}) at {yaw}°: {error}"));
+        assert!(solution.summary.success, "{name} from ({x}, {y}, {z}) at {yaw}°");
+        let first = &solution.trajectory.steps[0].robots[0].positions;
+        assert!((first[0] - x).abs() < 1e-9 && (first[1] - y).abs() < 1e-9, "{first:?}");
+        check_packed(name, &solution);
+    }
+}
+
 /// The built-in planner, except that its first plan lacks its second step: once the first step
 /// is refined, the rest of that plan does not run from the reached state.
 struct SkipsTheSecondStep {

@@ -8,6 +8,7 @@ use std::sync::LazyLock;
 
 use lamp_build::{Artifacts, DemoFile, SamplersFile};
 use lamp_demonstrators::{Simulation, file_name, generate_all};
+use lamp_geometry::Pose;
 use lamp_motion_rrt::{RrtConnectPlanner, RrtOptions};
 use lamp_participants::ParticipantMap;
 use lamp_planner_builtin::{BuiltinAlgorithm, BuiltinPlanner};
@@ -161,17 +162,47 @@ pub fn solve_edited(
     solve_texts(learned, name, 1, &mut planner, (domain, problem), relax_goal)
 }
 
+/// [`solve_problem`] with the robot started with its mount (a mobile base, a free-flying
+/// gripper) at `start` in the world instead of where the problem puts it. The problem file is
+/// the bundled one: a start that changes the initial abstract state is refused as stale.
+pub fn solve_from(learned: &Learned, name: &str, start: &Pose) -> Result<Solution, SolveError> {
+    let artifacts = &learned.artifacts;
+    let texts =
+        (artifact(artifacts, "domain.pddl"), artifact(artifacts, &format!("problems/{name}.pddl")));
+    let mut planner = BuiltinPlanner::new(BuiltinAlgorithm::GbfsFf);
+    let moved = |scene: &mut Scene| {
+        let robot = &scene.robots()[0];
+        let mut q = robot.configuration().to_vec();
+        robot.robot().mount().write_coordinates(start, &mut q);
+        scene.set_configuration(0, &q);
+    };
+    solve_scene(learned, name, 1, &mut planner, texts, false, &moved)
+}
+
 fn solve_texts(
+    learned: &Learned,
+    name: &str,
+    seed: u64,
+    planner: &mut dyn Planner,
+    texts: (&str, &str),
+    relax_goal: bool,
+) -> Result<Solution, SolveError> {
+    solve_scene(learned, name, seed, planner, texts, relax_goal, &|_| {})
+}
+
+fn solve_scene(
     learned: &Learned,
     name: &str,
     seed: u64,
     planner: &mut dyn Planner,
     (domain, problem_text): (&str, &str),
     relax_goal: bool,
+    edit: &dyn Fn(&mut Scene),
 ) -> Result<Solution, SolveError> {
     let Learned { spec, world, artifacts, refiner } = learned;
     let problem = spec.problems.iter().find(|p| p.name == name).expect("the problem exists");
-    let scene = world.problem_scene(problem).expect("the scene loads");
+    let mut scene = world.problem_scene(problem).expect("the scene loads");
+    edit(&mut scene);
     let participants = ParticipantMap::new(spec, &world.robots).expect("a participant map");
     let samplers = SamplersFile::from_json(artifact(artifacts, "samplers.json")).expect("samplers");
     let never = || false;
