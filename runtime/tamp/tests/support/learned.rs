@@ -179,6 +179,30 @@ pub fn solve_from(learned: &Learned, name: &str, start: &Pose) -> Result<Solutio
     solve_scene(learned, name, 1, &mut planner, texts, false, &moved)
 }
 
+/// [`solve_from`] a mobile base at each `(x, y, yaw in degrees)` of `starts` on the floor: each
+/// solve succeeds and its trajectory starts there. The solutions, for the caller's own checks.
+pub fn solve_from_floor_starts(
+    learned: &Learned,
+    name: &str,
+    starts: &[(f64, f64, f64)],
+) -> Vec<Solution> {
+    let mut solutions = Vec::new();
+    for &(x, y, yaw) in starts {
+        let start = nalgebra::Isometry3::new(
+            nalgebra::Vector3::new(x, y, 0.0),
+            nalgebra::Vector3::z() * yaw.to_radians(),
+        );
+        let solution = solve_from(learned, name, &start)
+            .unwrap_or_else(|error| panic!("{name} from ({x}, {y}) at {yaw}°: {error}"));
+        assert!(solution.summary.success, "{name} from ({x}, {y}) at {yaw}°");
+        let first = &solution.trajectory.steps[0].robots[0].positions;
+        let turned = (first[2] - yaw.to_radians()).sin().abs();
+        assert!((first[0] - x).abs() < 1e-9 && (first[1] - y).abs() < 1e-9 && turned < 1e-9);
+        solutions.push(solution);
+    }
+    solutions
+}
+
 fn solve_texts(
     learned: &Learned,
     name: &str,
