@@ -68,10 +68,17 @@ fn towers_are_stacked_with_a_model_learned_from_plain_ros2_bags() {
         .expect("python3 runs");
     run(recorded, "record.py");
 
+    let checked = lampc(["check".as_ref(), spec.as_os_str()]);
+    let said = String::from_utf8_lossy(&checked.stderr);
+    assert!(checked.status.success(), "{said}");
+    assert!(said.contains("cubes.lamp: ok (domain `cubes`, 3 problem(s))"), "{said}");
     let built = run(lampc(["build".as_ref(), spec.as_os_str()]), "lampc build");
     // The spec's `on` names the learned region of a cube resting on another.
     assert!(built.contains("alias           on = cube_cube_"), "{built}");
     let model = scratch.path().join("build/model");
+    let vocabulary = std::fs::read_to_string(model.join("vocabulary.md")).expect("the report");
+    assert!(vocabulary.contains("### `cube_cube`: cube relative to cube"), "{vocabulary}");
+    assert!(vocabulary.contains("## Actions"), "{vocabulary}");
 
     let validator = lamp_test_support::python_oracle("unified_planning", "unified-planning");
     for (problem, tower) in [("tower_2", 2), ("tower_4", 4), ("tower_6", 6)] {
