@@ -125,7 +125,7 @@ pub enum SolveError {
     InvalidSolution { step: usize, reason: String },
     /// Cancelled by the host (an interrupt, a time limit), with how far the refinement got.
     #[error("cancelled ({0})")]
-    #[diagnostic(code(lamp::solve::cancelled))]
+    #[diagnostic(code(lamp::solve::cancelled), help("{}", .0.advice_when_stopped()))]
     Cancelled(Progress),
     /// A broken invariant inside the solver.
     #[error("internal error: {0}")]
@@ -209,6 +209,19 @@ impl Progress {
     }
 }
 
+impl Progress {
+    /// What to do about a search stopped before it ended: what was refused where most plans
+    /// ended, when that says something ([`FailureReport::advice`]), or that a search left to run
+    /// says what stopped it.
+    pub fn advice_when_stopped(&self) -> String {
+        self.report.advice().map(|advice| advice.text).unwrap_or_else(|| {
+            "The search was stopped before it ended: without a time limit it runs its whole \
+             budget, and a search that fails says what stopped it."
+                .to_string()
+        })
+    }
+}
+
 impl std::fmt::Display for Progress {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         if self.plans == 0 {
@@ -265,6 +278,23 @@ mod tests {
         let rendered = render(&error);
         assert!(rendered.contains("[build/model/domain.pddl:7:"), "{rendered}");
         insta::assert_snapshot!(rendered);
+    }
+
+    #[test]
+    fn a_stopped_search_says_what_stopped_its_plans_when_it_knows() {
+        let help = |error: &SolveError| error.help().map(|help| help.to_string());
+        let unknown = SolveError::Cancelled(Progress::default());
+        assert!(help(&unknown).is_some_and(|text| text.contains("without a time limit")));
+        let mut log = crate::failures::FailureLog::default();
+        log.start_plan(9);
+        log.reached(4, 9);
+        let reach =
+            crate::failures::Cause::OutOfReach { robot: "yumi".into(), link: "hand".into() };
+        log.note(4, "(a5 yumi_gripper goal_p1 p1)", reach, Some(0.2));
+        let stopped =
+            SolveError::Cancelled(Progress { report: log.report(), ..Progress::default() });
+        let text = help(&stopped).expect("a help");
+        assert!(text.contains("`yumi` cannot reach where the step puts `hand`"), "{text}");
     }
 
     #[test]
