@@ -332,6 +332,17 @@ fn remove_any(path: &Path) -> std::io::Result<()> {
     }
 }
 
+/// Removes `folder` when it holds nothing but files named in `files` (a report lampc wrote,
+/// now out of date); a folder holding anything else, or that cannot be read, is left alone.
+pub(crate) fn remove_if_only(folder: &Path, files: &[&str]) {
+    let only = std::fs::read_dir(folder).is_ok_and(|entries| {
+        entries.flatten().all(|entry| files.contains(&&*entry.file_name().to_string_lossy()))
+    });
+    if only {
+        let _ = std::fs::remove_dir_all(folder);
+    }
+}
+
 /// What is at a path, for messages: "a file", "a directory", "a symbolic link", "a socket", …
 pub(crate) fn kind_of(metadata: &std::fs::Metadata) -> &'static str {
     if metadata.is_file() { "a file" } else { crate::files::describe(&metadata.file_type()) }

@@ -193,7 +193,7 @@ pub struct Progress {
     pub failure: String,
     /// Every refusal by cause, and the causes that ended the plans.
     pub report: FailureReport,
-    /// Where the search got furthest, for a picture.
+    /// Where the search got furthest (the scene before step `deepest`), for a picture.
     #[serde(skip)]
     pub deepest_state: Option<Box<DeepestState>>,
 }

@@ -19,8 +19,8 @@ use crate::settings::SolveSettings;
 
 /// Why a candidate was rejected (the search tries another), or a hard error.
 pub enum Rejection {
-    /// Try the next candidate; why this one failed.
-    Candidate(Cause),
+    /// Try the next candidate: why this one failed, and the message that says it best.
+    Candidate { cause: Cause, why: String },
     /// The candidate lets go of `object` where nothing holds it up yet (`reason`). Every candidate
     /// of the step does the same, since the object is let go of before anything moves.
     Unsupported { object: String, reason: String },
@@ -31,7 +31,13 @@ pub enum Rejection {
 impl Rejection {
     /// A refusal for an error whose message says it all.
     fn candidate(error: &dyn std::fmt::Display) -> Self {
-        Rejection::Candidate(Cause::Other { reason: error.to_string() })
+        Rejection::because(Cause::Other { reason: error.to_string() })
+    }
+
+    /// A refusal for `cause`, which says it best.
+    fn because(cause: Cause) -> Self {
+        let why = cause.to_string();
+        Rejection::Candidate { cause, why }
     }
 }
 
@@ -83,7 +89,7 @@ pub fn execute(
         let robot = robot_index(scene, &change.robot)?;
         let held = scene.held(robot).map(|held| scene.bodies()[held.body].name.clone());
         if held.as_deref() != Some(change.object.as_str()) {
-            return Err(Rejection::Candidate(Cause::Other {
+            return Err(Rejection::because(Cause::Other {
                 reason: format!("`{}` does not hold `{}`", change.robot, change.object),
             }));
         }
@@ -149,7 +155,7 @@ pub fn execute(
         counts.calls += 1;
         let waypoints = match motion.plan_path(&request, &host) {
             Ok(MotionOutcome::Path(waypoints)) => waypoints,
-            Ok(MotionOutcome::NoPath { reason, .. }) => {
+            Ok(MotionOutcome::NoPath { reason, message }) => {
                 counts.failures += 1;
                 let lifted = if reason == NoPathReason::BudgetExhausted {
                     let ends = Lifted { scene, robot, group, start: &start, goal };
@@ -169,7 +175,12 @@ pub fn execute(
                             Cause::NoPath { robot: target.robot.clone(), group: group.to_string() }
                         }
                     };
-                    return Err(Rejection::Candidate(cause));
+                    let why = format!(
+                        "no {group} path for `{}` ({reason:?}{}{message})",
+                        target.robot,
+                        if message.is_empty() { "" } else { ": " }
+                    );
+                    return Err(Rejection::Candidate { cause, why });
                 };
                 waypoints
             }
@@ -204,7 +215,7 @@ pub fn execute(
     for change in &candidate.grabs {
         let robot = robot_index(scene, &change.robot)?;
         let Some(body) = scene.body_index(&change.object) else {
-            return Err(Rejection::Candidate(Cause::Other {
+            return Err(Rejection::because(Cause::Other {
                 reason: format!("no body `{}`", change.object),
             }));
         };
@@ -216,14 +227,18 @@ pub fn execute(
             (reach, settings.motion.grab_ranges.iter().find(|(name, _)| name == &change.robot))
             && !(*low..=*high).contains(&distance)
         {
-            return Err(Rejection::Candidate(Cause::OutOfGrabRange {
-                object: change.object.clone(),
-            }));
+            return Err(Rejection::Candidate {
+                cause: Cause::OutOfGrabRange { object: change.object.clone() },
+                why: format!(
+                    "`{}` is {distance:.3} m from the gripper, outside the grab range {low:.3}–{high:.3} m",
+                    change.object
+                ),
+            });
         }
         scene.grab(robot, body).map_err(|error| Rejection::candidate(&error))?;
         // Lifted, the object would leave what rests on it hanging in the air.
         if let Err(left) = scene.rests_without(body) {
-            return Err(Rejection::Candidate(Cause::Other {
+            return Err(Rejection::because(Cause::Other {
                 reason: format!("taking `{}`: {left}", change.object),
             }));
         }

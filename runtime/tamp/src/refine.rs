@@ -106,7 +106,7 @@ pub struct RefineCounts {
     deepest_failed: usize,
     /// Every refusal, by plan and step, for the failure report.
     pub failures: FailureLog,
-    /// The scene the deepest step reached started from, with the step.
+    /// The scene the deepest step reached started from, with the step's action.
     pub deepest_state: Option<Box<DeepestState>>,
 }
 
@@ -214,7 +214,7 @@ pub fn refine_plan(
                     let mut judge = Judge { context, plugins, goal, rests: &mut rests, path };
                     judge.judge(&trial, &search.actions, at, counts)?
                 }
-                Err(Rejection::Candidate(cause)) => Verdict::refused(cause),
+                Err(Rejection::Candidate { cause, why }) => Verdict::Refused(cause, why),
                 Err(Rejection::Unsupported { object, reason }) => {
                     Verdict::Unsupported { object, reason }
                 }
@@ -347,12 +347,8 @@ impl Search {
             counts.deepest = index + 1;
             counts.deepest_of = self.actions.len();
             // Cloned only when the search gets deeper than ever: at most once per step.
-            counts.deepest_state = Some(Box::new(DeepestState {
-                scene: scene.clone(),
-                step: index + 1,
-                length: self.actions.len(),
-                action: action_text.clone(),
-            }));
+            counts.deepest_state =
+                Some(Box::new(DeepestState { scene: scene.clone(), action: action_text.clone() }));
         }
         Ok(())
     }

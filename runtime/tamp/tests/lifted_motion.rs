@@ -96,8 +96,8 @@ fn carried_out(scene: &mut Scene, robot: &str, goal: &[f64]) -> (Recorder, Motio
     let mut counts = MotionCounts::default();
     let outcome =
         execute(scene, &candidate, &mut recorder, &mut StraightEdgeOnly, &settings, 3, &mut counts);
-    if let Err(Rejection::Candidate(reason)) = &outcome {
-        panic!("refused: {reason}");
+    if let Err(Rejection::Candidate { why, .. }) = &outcome {
+        panic!("refused: {why}");
     }
     assert!(outcome.is_ok());
     (recorder, counts)

@@ -362,12 +362,7 @@ fn write_failed_report(build_dir: &Path, report: &str) {
 /// as the report of the model beside it. Only a folder holding nothing but the report is removed.
 fn remove_failed_report(build_dir: &Path) {
     let folder = build_dir.join(lamp_build::FAILED_DIR);
-    let only_the_report = std::fs::read_dir(&folder).is_ok_and(|entries| {
-        entries.flatten().all(|entry| entry.file_name() == lamp_build::VOCABULARY_FILE)
-    });
-    if only_the_report {
-        let _ = std::fs::remove_dir_all(&folder);
-    }
+    crate::output::remove_if_only(&folder, &[lamp_build::VOCABULARY_FILE]);
 }
 
 /// Replaces the model folder with the artifacts.

@@ -381,7 +381,7 @@ fn write_failure_report(folder: &Path, problem: &str, error: &SolveError) {
         let options = lamp_render::RenderOptions {
             title: Some(format!(
                 "{problem}: the deepest state reached, before step {} of {} {}",
-                state.step, state.length, state.action
+                progress.deepest, progress.length, state.action
             )),
             marked: progress.report.blockers(),
             ..lamp_render::RenderOptions::default()
@@ -421,14 +421,7 @@ fn write_failure_report(folder: &Path, problem: &str, error: &SolveError) {
 /// read as the report of the solution beside it. Only a folder holding nothing but the report
 /// is removed.
 fn remove_failure_report(folder: &Path) {
-    let only_the_report = std::fs::read_dir(folder).is_ok_and(|entries| {
-        entries.flatten().all(|entry| {
-            [FAILURE_FILE, DEEPEST_FILE].contains(&&*entry.file_name().to_string_lossy())
-        })
-    });
-    if only_the_report {
-        let _ = std::fs::remove_dir_all(folder);
-    }
+    crate::output::remove_if_only(folder, &[FAILURE_FILE, DEEPEST_FILE]);
 }
 
 /// Refuses to replace `out` unless it is missing or a folder of solution files only, so that no

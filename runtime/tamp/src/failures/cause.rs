@@ -131,9 +131,7 @@ impl Tally {
     pub fn note(&mut self, cause: Cause, measure: Option<f64>) {
         let entry = self.counts.entry(cause).or_insert((0, None));
         entry.0 += 1;
-        if let Some(measure) = measure.filter(|value| value.is_finite()) {
-            entry.1 = Some(entry.1.map_or(measure, |least: f64| least.min(measure)));
-        }
+        entry.1 = least(entry.1, measure.filter(|value| value.is_finite()));
     }
 
     /// Adds every count of `other`.
@@ -141,10 +139,7 @@ impl Tally {
         for (cause, (count, nearest)) in other.counts {
             let entry = self.counts.entry(cause).or_insert((0, None));
             entry.0 += count;
-            entry.1 = match (entry.1, nearest) {
-                (Some(a), Some(b)) => Some(a.min(b)),
-                (a, b) => a.or(b),
-            };
+            entry.1 = least(entry.1, nearest);
         }
     }
 
@@ -161,6 +156,14 @@ impl Tally {
             .collect();
         counts.sort_by(|a, b| b.count.cmp(&a.count).then_with(|| a.cause.cmp(&b.cause)));
         counts
+    }
+}
+
+/// The smaller of two measures, either of which may be missing.
+fn least(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
     }
 }
 

@@ -63,8 +63,7 @@ impl FailureLog {
         &mut self.plans[last]
     }
 
-    /// Step `at` (0-based) of the current plan, `action`, was reached; the plan is now `length`
-    /// steps long.
+    /// Step `at` (0-based) of the current plan was reached; the plan is now `length` steps long.
     pub fn reached(&mut self, at: usize, length: usize) {
         let plan = self.current();
         plan.deepest = plan.deepest.max(at + 1);
@@ -210,9 +209,8 @@ impl FailureLog {
 #[derive(Clone, Debug)]
 pub struct DeepestState {
     pub scene: Scene,
-    /// The step (1-based), the length of its plan, and its grounded action.
-    pub step: usize,
-    pub length: usize,
+    /// The step's grounded action (its place and its plan's length are the refinement's
+    /// `deepest` and `deepest_of`).
     pub action: String,
 }
 
