@@ -426,7 +426,7 @@ fn a_grab_distance_no_recorded_grasp_lies_in_is_warned_about_at_the_clause() {
     assert!(!text(&quiet.stderr).contains("grab_distance"), "{}", text(&quiet.stderr));
 
     let wrong =
-        with_paths.replace("grab distance 0.207 m .. 0.23 m", "grab distance 0.05 m .. 0.1 m");
+        with_paths.replace("grab distance 0.205 m .. 0.215 m", "grab distance 0.05 m .. 0.1 m");
     assert_ne!(wrong, with_paths, "the bundled spec's grab distance");
     std::fs::write(&spec, wrong).expect("writes the spec");
     let output = build(&spec, &demos, &scratch.path().join("out"));

@@ -3,9 +3,10 @@
 //!
 //! Layout per attempt: the box at a random x, y and yaw on the table, the can at a random x, y
 //! and yaw (z = 1 mm) at least 2 cm clear of the box's footprint, the gripper at a random pose
-//! above the table pointing down. Script: path to a grasp pose above the can (pointing down, at
-//! any yaw about the can's axis, link–can distance the middle of the spec's grab range ± 2 mm),
-//! grab, path to a placement with the can inside the box (box frame (u, v, 0.001),
+//! above the table pointing down. Script: path to a pose above the can (pointing down, at any
+//! yaw about the can's axis, link–can distance 2–8 mm beyond the spec's grab range), straight
+//! down until the magnet touches the can (lamp-world's contact approach, the solver's), grab,
+//! path to a placement with the can inside the box (box frame (u, v, 0.001),
 //! |u|, |v| ≤ 4.1 cm, any yaw), release, path to a random retreat pose.
 //!
 //! The can is round, so neither its grasp nor its placement has a yaw of its own: learning holds
@@ -21,7 +22,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::Recording;
 use crate::error::DemoError;
-use crate::skills::{Attempt, grab, move_to, pose, release};
+use crate::skills::{Attempt, grab, move_to, pose, release, touch};
 use lamp_world::{Recorder, trajectory_header as header};
 
 /// Half the side of the square the box's centre is drawn from (keeps the box on the table).
@@ -39,8 +40,9 @@ const CLEARANCE: f64 = 0.02;
 /// in the reference set-up. Four cans fit side by side only near these limits, so the learned
 /// "in the box" region must reach them.
 const PLACE_RANGE: f64 = 0.041;
-/// Grasp: link–can distance is the middle of the spec's grab range, give or take this much.
-const GRASP_NOISE: f64 = 0.002;
+/// How far beyond the spec's grab distance the gripper stops above the can before it comes down
+/// to touch it (link–can distance, metres).
+const HOVER_BEYOND: (f64, f64) = (0.002, 0.008);
 /// Height of a resting can's origin above its support.
 const REST: f64 = 0.001;
 /// Half the side of the square the gripper's free poses (start, retreat) are drawn from.
@@ -125,14 +127,15 @@ impl<'a> Packing<'a> {
         let mut recorder = Recorder::default();
         recorder.record(&scene);
 
-        // Approach: straight above the can, pointing down.
-        let middle = 0.5 * (self.grab_range.0 + self.grab_range.1);
-        let distance = middle + rng.random_range(-GRASP_NOISE..=GRASP_NOISE);
+        // Approach: straight above the can, pointing down, just beyond the grab distance; then
+        // straight down until the magnet touches the can, and only then does it take hold.
+        let distance = self.grab_range.1 + rng.random_range(HOVER_BEYOND.0..=HOVER_BEYOND.1);
         // The magnet holds a round can at any yaw about its axis, and a person would grasp it so.
         let grasp_yaw = rng.random_range(-PI..PI);
         let grasp = can_pose * pose(0.0, 0.0, distance, PI, 0.0, grasp_yaw);
         let goal = self.configuration(&scene, robot, &grasp)?;
         move_to(&mut scene, &mut recorder, robot, "all", &goal, rng)?;
+        touch(&mut scene, &mut recorder, robot, can)?;
         grab(&mut scene, &mut recorder, robot, can)?;
 
         // Place: the can inside the box; the gripper keeps its grasp.

@@ -1,5 +1,5 @@
 //! Skills shared by the demonstrators: plan a collision-free path for one joint group and
-//! record every state along it at the checking resolution, grab and release.
+//! record every state along it at the checking resolution, touch, grab and release.
 
 use lamp_geometry::{Pose, Rotation, Vec3};
 use lamp_robot::IkConfig;
@@ -112,6 +112,26 @@ pub(crate) fn grab(
 ) -> Attempt<()> {
     scene.grab(robot, body).map_err(|error| error.to_string())?;
     recorder.record(scene);
+    Ok(())
+}
+
+/// Brings a gripper without fingers (a magnet) straight to contact with `body`, as the solver does
+/// before it takes hold, and records the way.
+pub(crate) fn touch(
+    scene: &mut Scene,
+    recorder: &mut Recorder,
+    robot: usize,
+    body: usize,
+) -> Attempt<()> {
+    let config = motion_config();
+    let approach = lamp_world::contact_approach(scene, robot, body, &config)
+        .map_err(|error| format!("touch: {error}"))?;
+    let states = densify(scene.robots()[robot].robot(), &approach, &config)
+        .map_err(|error| format!("touch: {error}"))?;
+    recorder.follow(scene, robot, &states);
+    if let Some(last) = states.last() {
+        scene.set_configuration(robot, last);
+    }
     Ok(())
 }
 

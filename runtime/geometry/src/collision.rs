@@ -154,6 +154,26 @@ pub fn distance(a: &CollisionShape, pose_a: &Pose, b: &CollisionShape, pose_b: &
         .map_or(0.0, |found| found.distance.max(0.0))
 }
 
+/// The nearest points of two shapes at most `max_distance` apart, in the world frame (the first
+/// on `a`): `None` when they touch or overlap, are farther apart, or parry cannot say.
+pub fn closest_points(
+    a: &CollisionShape,
+    pose_a: &Pose,
+    b: &CollisionShape,
+    pose_b: &Pose,
+    max_distance: Real,
+) -> Option<(Point3, Point3)> {
+    let pose_a = boundary::pose(&(pose_a * a.local));
+    let pose_b = boundary::pose(&(pose_b * b.local));
+    match query::closest_points(&pose_a, a.shape.as_ref(), &pose_b, b.shape.as_ref(), max_distance)
+    {
+        Ok(query::ClosestPoints::WithinMargin(on_a, on_b)) => {
+            Some((boundary::from_vector(on_a), boundary::from_vector(on_b)))
+        }
+        _ => None,
+    }
+}
+
 /// Whether the shapes are closer than `margin` (touching counts; `margin` 0 is [`intersects`]).
 pub fn within_margin(
     a: &CollisionShape,

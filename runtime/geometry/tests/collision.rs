@@ -4,8 +4,8 @@
 #![allow(clippy::unwrap_used)] // a failed step is a failed test
 
 use lamp_geometry::{
-    CollisionShape, CollisionWorld, GeometryError, Point3, Pose, Shape, Vec3, distance, intersects,
-    within_margin,
+    CollisionShape, CollisionWorld, GeometryError, Point3, Pose, Shape, Vec3, closest_points,
+    distance, intersects, within_margin,
 };
 
 fn cube(half: f64) -> CollisionShape {
@@ -58,6 +58,32 @@ fn cylinders_run_along_local_z() {
     // Along y at 0.09 m: outside the radius, but inside if the axis were parry's y.
     assert!(!intersects(&can, &origin, &ball, &at(0.0, 0.09, 0.0)));
     assert!(intersects(&can, &origin, &ball, &at(0.0, 0.0, 0.105)));
+}
+
+#[test]
+fn closest_points_lie_on_the_facing_surfaces_in_the_world_frame() {
+    // A magnet-like box 12 mm above a can's top face, both away from the origin and the can
+    // turned (parry's cylinder runs along y; ours along z).
+    let can = CollisionShape::new(&Shape::Cylinder { radius: 0.0325, half_height: 0.075 }).unwrap();
+    let magnet =
+        CollisionShape::new(&Shape::Box { half_extents: Vec3::new(0.0125, 0.0125, 0.056) })
+            .unwrap();
+    let can_pose = Pose::from_parts(
+        nalgebra::Translation3::new(0.3, -0.2, 0.075),
+        nalgebra::UnitQuaternion::from_axis_angle(&Vec3::z_axis(), 0.7),
+    );
+    let magnet_pose = at(0.31, -0.2, 0.15 + 0.012 + 0.056);
+    let (on_magnet, on_can) = closest_points(&magnet, &magnet_pose, &can, &can_pose, 0.1).unwrap();
+    assert!((on_magnet.z - 0.162).abs() < 1e-9, "on the magnet's bottom face: {on_magnet}");
+    assert!((on_can.z - 0.15).abs() < 1e-9, "on the can's top face: {on_can}");
+    assert!(((on_magnet - on_can).norm() - 0.012).abs() < 1e-9);
+    assert!((on_can.x - on_magnet.x).abs() < 1e-9 && (on_can.y - on_magnet.y).abs() < 1e-9);
+    // Farther apart than asked, touching, and overlapping: no points.
+    assert_eq!(closest_points(&magnet, &magnet_pose, &can, &can_pose, 0.01), None);
+    let touching = at(0.31, -0.2, 0.15 + 0.056);
+    assert_eq!(closest_points(&magnet, &touching, &can, &can_pose, 0.1), None);
+    let inside = at(0.31, -0.2, 0.14 + 0.056);
+    assert_eq!(closest_points(&magnet, &inside, &can, &can_pose, 0.1), None);
 }
 
 #[test]

@@ -1,5 +1,6 @@
 //! Carrying out one candidate in a scene: open the fingers and let go, move along a planned path,
-//! take hold and close the fingers; every visited state recorded at the checking resolution,
+//! take hold and close the fingers (or, without fingers, come to contact and take hold); every
+//! visited state recorded at the checking resolution,
 //! every motion checked state by state.
 
 use lamp_plugin_api::{
@@ -7,8 +8,8 @@ use lamp_plugin_api::{
 };
 use lamp_robot::{IkConfig, Mount, Robot};
 use lamp_world::{
-    FingerMove, LinkGoal, MotionConfig, Recorder, RobotSpace, Scene, densify, finger_path,
-    straight_line,
+    FingerMove, LinkGoal, MotionConfig, Recorder, RobotSpace, Scene, contact_approach, densify,
+    finger_path, straight_line,
 };
 use nalgebra::Translation3;
 
@@ -219,6 +220,24 @@ pub fn execute(
                 reason: format!("no body `{}`", change.object),
             }));
         };
+        // A magnet or a suction cup holds only what it touches: it comes straight to the object
+        // first (fingers close after the grab instead).
+        if scene.holds_by_contact(robot) {
+            let approach =
+                contact_approach(scene, robot, body, &settings.motion.config).map_err(|error| {
+                    Rejection::Candidate {
+                        cause: Cause::OutOfGrabRange { object: change.object.clone() },
+                        why: error.to_string(),
+                    }
+                })?;
+            if approach.len() > 1 {
+                let states =
+                    densify(scene.robots()[robot].robot(), &approach, &settings.motion.config)
+                        .map_err(|error| Rejection::candidate(&error))?;
+                recorder.follow(scene, robot, &states);
+                scene.set_configuration(robot, states.last().unwrap_or(&approach[0]));
+            }
+        }
         let reach =
             scene.gripper_pose(robot, scene.robots()[robot].configuration()).map(|gripper| {
                 (gripper.translation.vector - scene.body_pose(body).translation.vector).norm()

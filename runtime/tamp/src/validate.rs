@@ -1,5 +1,5 @@
 //! Replaying a finished trajectory from the initial scene, as an independent check before it is
-//! written: every step's grasp changes are legal, every configuration is valid (within limits,
+//! written: every step's grasp changes are legal (a gripper without fingers touches what it takes), every configuration is valid (within limits,
 //! collision-free, the held object included), consecutive configurations are within the checking
 //! resolution of each other, bodies move only while held (a released object settled to rest by
 //! lamp-world's rule), and the goal holds at the end, every AtGoal object within its tolerance of
@@ -11,7 +11,7 @@ use lamp_learn::{GroundAtom, SamplerArtifact};
 use lamp_participants::ParticipantMap;
 use lamp_spec::AtGoal;
 use lamp_trajectory::Step;
-use lamp_world::{MotionConfig, Scene, edge_steps};
+use lamp_world::{CONTACT_GAP, MotionConfig, Scene, edge_steps};
 
 use crate::at_rest::check_at_rest;
 use crate::error::SolveError;
@@ -37,6 +37,27 @@ const UNMOVED_TOLERANCE: f64 = 1e-9;
 /// from the recorded configuration, whose continuous joints are unwrapped (the same pose, other
 /// rounding). The recorded pose is then the body's.
 const SETTLED_TOLERANCE: f64 = 1e-6;
+
+/// A gripper without fingers (a magnet, a suction cup) takes hold only of what it touches, to
+/// within [`CONTACT_GAP`]; a gripper with fingers closes them after the grab, each until it
+/// touches the object, which lamp-world's finger motion refuses otherwise.
+fn held_by_contact(scene: &Scene, robot: usize, body: usize) -> Result<(), String> {
+    if !scene.holds_by_contact(robot) {
+        return Ok(());
+    }
+    match scene.gripper_gap(robot, body) {
+        Some(gap) if gap <= CONTACT_GAP => Ok(()),
+        Some(gap) => Err(format!(
+            "`{}` takes hold of `{}` {:.1} mm away; a gripper without fingers holds only what it \
+             touches (within {:.0} mm)",
+            scene.robots()[robot].name,
+            scene.bodies()[body].name,
+            gap * 1e3,
+            CONTACT_GAP * 1e3
+        )),
+        None => Ok(()),
+    }
+}
 
 /// Checks `steps` from `initial`; returns the final abstract state. `cancelled` is polled before
 /// every step: a long trajectory takes seconds to replay, and a stop request must not wait.
@@ -71,6 +92,7 @@ pub fn replay(
                     settled.push(body);
                 }
                 if let Some(body) = held_next {
+                    held_by_contact(&scene, robot, body).map_err(|reason| fail(index, reason))?;
                     scene.grab(robot, body).map_err(|error| fail(index, error.to_string()))?;
                 }
             }

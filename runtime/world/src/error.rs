@@ -42,6 +42,10 @@ pub enum WorldError {
     #[error("robot `{robot}` cannot {action} its fingers: {reason}")]
     #[diagnostic(code(lamp::world::fingers))]
     Fingers { robot: String, action: &'static str, reason: String },
+    /// A gripper without fingers that cannot come to contact with the object it is to hold.
+    #[error("robot `{robot}` cannot bring its gripper to `{object}`: {reason}")]
+    #[diagnostic(code(lamp::world::contact))]
+    Contact { robot: String, object: String, reason: String },
     /// A recorded trajectory whose steps cannot be timed: they do not fit the robots, or a
     /// robot moves by something that is not a number.
     #[error("the trajectory cannot be timed at step {step}: {reason}")]

@@ -7,6 +7,7 @@
 //! names.
 
 mod checking;
+mod contact;
 mod error;
 mod execution;
 mod fingers;
@@ -21,6 +22,7 @@ mod timing;
 mod viewing;
 
 pub use checking::Contact;
+pub use contact::{CONTACT_GAP, MAX_CONTACT_APPROACH, contact_approach};
 pub use error::WorldError;
 pub use execution::{
     FingerStop, HOLD_OFF, HOLD_ON, execution_channels, grasp_position, motion_segments,

@@ -252,7 +252,8 @@ impl Scene {
             let below = self.bodies[below.0].name.clone();
             return Err(RestError::TooHigh { object: name(), below, drop });
         }
-        let rest = if drop.abs() > AT_REST {
+        // Seated nearer than the resting gap, it stays there: a body let go of never rises.
+        let rest = if drop > AT_REST {
             Translation3::from(Vec3::new(0.0, 0.0, -drop)) * seated
         } else {
             seated
