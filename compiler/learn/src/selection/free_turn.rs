@@ -10,7 +10,9 @@
 //! The test: from the first keyframe of the best-supported group, every keyframe's rotation is split into a swing
 //! and a twist about the axis; the turn is free when, in every group, the twists leave no gap wider than
 //! [`FREE_GAP`] around the circle. A few turns (a can grasped from one of its four sides) leave wider gaps and
-//! stay separate cells.
+//! stay separate cells. Few keyframes drawn at every angle leave wide gaps by chance too (15 leave about 80°), so a
+//! group whose twists are many distinct turns ([`LEAST_DISTINCT`]) may leave a gap as wide as uniformly drawn
+//! twists leave but once in a hundred, up to three eighths of a turn ([`allowed_gap`]).
 
 use std::f64::consts::{PI, TAU};
 
@@ -23,16 +25,77 @@ use lamp_abstraction::free_turn::twist;
 /// sixth of a turn. Four grasp sides leave gaps of a quarter turn; 40 twists drawn at random leave about 35°.
 pub const FREE_GAP: f64 = PI / 3.0;
 
-/// The free turn of groups of keyframe rotations (the best-supported group first), if there is one: the axis whose
-/// widest gap, over the groups, is least.
+/// Twists farther apart than this are distinct turns (7°): a grasp side's spread is a few degrees.
+const DISTINCT_TWIST: f64 = 7.0 * PI / 180.0;
+
+/// The least number of distinct turns for a group of few keyframes to count as turning freely: more than the
+/// sides of any object grasped side by side (a hexagonal prism has six).
+pub const LEAST_DISTINCT: usize = 7;
+
+/// The widest gap few keyframes may leave and still turn freely, however few they are: three eighths of a turn.
+/// Fewer than about 15 twists drawn at random leave wider gaps often, and then cannot tell a free turn from
+/// twists over a part of the circle (grasps from one side of an object).
+const WIDEST_ALLOWED_GAP: f64 = 0.75 * PI;
+
+/// How rarely twists drawn uniformly around the circle leave a gap wider than [`allowed_gap`]: once in a hundred.
+const UNIFORM_MISS: f64 = 0.01;
+
+/// The free turn of groups of keyframe rotations (the best-supported group first), if there is one: of the axes
+/// about which every group turns freely, the one whose widest gap, over the groups, is least.
 pub fn free_turn(groups: &[Vec<UnitQuaternion<f64>>]) -> Option<FreeTurn> {
     let reference = *groups.first()?.first()?;
-    let gaps = [0, 1, 2].map(|axis| {
-        groups.iter().map(|rotations| widest_gap(rotations, &reference, axis)).fold(0.0, f64::max)
+    let free_gaps = [0, 1, 2].map(|axis| {
+        groups.iter().try_fold(0.0, |widest: f64, rotations| {
+            let twists = twists(rotations, &reference, axis);
+            turns_freely(&twists).then(|| widest.max(widest_gap_of(&twists)))
+        })
     });
-    let (axis, gap) =
-        gaps.iter().copied().enumerate().min_by(|a, b| a.1.total_cmp(&b.1)).expect("three axes");
-    (gap < FREE_GAP).then_some(FreeTurn { reference, axis })
+    let (axis, _) = free_gaps
+        .iter()
+        .enumerate()
+        .filter_map(|(axis, gap)| gap.map(|gap| (axis, gap)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))?;
+    Some(FreeTurn { reference, axis })
+}
+
+/// Whether sorted twists look drawn from the whole circle: no gap wider than [`FREE_GAP`], or many distinct turns
+/// leaving no gap wider than uniform draws of as many would ([`allowed_gap`]).
+fn turns_freely(twists: &[f64]) -> bool {
+    let gap = widest_gap_of(twists);
+    gap < FREE_GAP || (distinct_turns(twists) >= LEAST_DISTINCT && gap < allowed_gap(twists.len()))
+}
+
+/// The gap that `count` twists drawn uniformly around the circle exceed with probability [`UNIFORM_MISS`] (the
+/// chance that some gap exceeds a share `x` of the circle is at most `count · (1 − x)^(count − 1)`), at most
+/// [`WIDEST_ALLOWED_GAP`].
+pub(crate) fn allowed_gap(count: usize) -> f64 {
+    if count < 2 {
+        return 0.0;
+    }
+    let count = count as f64;
+    let uniform = TAU * (1.0 - (UNIFORM_MISS / count).powf(1.0 / (count - 1.0)));
+    uniform.min(WIDEST_ALLOWED_GAP)
+}
+
+/// How many distinct turns sorted twists make: runs of twists each within [`DISTINCT_TWIST`] of the next count
+/// once.
+fn distinct_turns(twists: &[f64]) -> usize {
+    let (Some(first), Some(last)) = (twists.first(), twists.last()) else { return 0 };
+    let around = first + TAU - last;
+    let separations = twists.windows(2).map(|pair| pair[1] - pair[0]).chain([around]);
+    separations.filter(|gap| *gap > DISTINCT_TWIST).count().max(1)
+}
+
+/// The twists of `rotations` about `axis` from `reference`, sorted.
+fn twists(
+    rotations: &[UnitQuaternion<f64>],
+    reference: &UnitQuaternion<f64>,
+    axis: usize,
+) -> Vec<f64> {
+    let mut twists: Vec<f64> =
+        rotations.iter().map(|rotation| twist(reference, rotation, axis)).collect();
+    twists.sort_by(f64::total_cmp);
+    twists
 }
 
 /// The widest gap between consecutive twists around the circle (a full turn when there are none).
@@ -41,9 +104,11 @@ pub(crate) fn widest_gap(
     reference: &UnitQuaternion<f64>,
     axis: usize,
 ) -> f64 {
-    let mut twists: Vec<f64> =
-        rotations.iter().map(|rotation| twist(reference, rotation, axis)).collect();
-    twists.sort_by(f64::total_cmp);
+    widest_gap_of(&twists(rotations, reference, axis))
+}
+
+/// [`widest_gap`] of twists already sorted.
+fn widest_gap_of(twists: &[f64]) -> f64 {
     let (Some(first), Some(last)) = (twists.first(), twists.last()) else { return TAU };
     let around = first + TAU - last;
     twists.windows(2).map(|pair| pair[1] - pair[0]).fold(around, f64::max)
@@ -92,5 +157,49 @@ mod tests {
         assert_eq!(free_turn(&[every.clone(), narrow]), None);
         assert!(free_turn(&[every.clone(), every]).is_some());
         assert_eq!(free_turn(&[]), None);
+    }
+
+    /// Twists of a fixed pseudo-random stream (a linear congruential generator), in [−π, π).
+    fn random_twists(count: usize, seed: u64) -> Vec<f64> {
+        let mut state = seed;
+        (0..count)
+            .map(|_| {
+                state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                -PI + TAU * ((state >> 11) as f64 / (1u64 << 53) as f64)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn few_grasps_at_random_yaws_turn_freely_and_part_of_the_circle_does_not() {
+        // Fifteen grasps at random yaws, as twenty demonstrations give, in 200 draws: most leave a gap wider than
+        // a sixth of a turn, and nearly all turn freely.
+        let (mut wide, mut free) = (0, 0);
+        for seed in 0..200 {
+            let grasps: Vec<_> = random_twists(15, seed).iter().map(|a| magnet_grasp(*a)).collect();
+            wide += usize::from(widest_gap(&grasps, &grasps[0], 2) >= FREE_GAP);
+            free += usize::from(free_turn(std::slice::from_ref(&grasps)).is_some());
+        }
+        assert!(wide > 100, "most leave a wide gap: {wide}");
+        assert!(free >= 190, "nearly all turn freely: {free} of 200");
+        // Fifteen yaws over 0.6 of a turn, or over four or five sides, are no free turn.
+        let part: Vec<_> = (0..15).map(|i| yaw(-0.6 * PI + 1.2 * PI * i as f64 / 14.0)).collect();
+        assert_eq!(free_turn(&[part]), None);
+        for sides in [4, 5] {
+            let at: Vec<_> = (0..15)
+                .map(|i| yaw((i % sides) as f64 * TAU / sides as f64 + 0.01 * i as f64))
+                .collect();
+            assert_eq!(free_turn(&[at]), None, "{sides} sides");
+        }
+    }
+
+    #[test]
+    fn the_allowed_gap_shrinks_with_the_twists() {
+        assert_eq!(allowed_gap(10), WIDEST_ALLOWED_GAP);
+        let gap = allowed_gap(20).to_degrees();
+        assert!((gap - 118.7).abs() < 0.1, "{gap}");
+        assert!(allowed_gap(40) < allowed_gap(20));
+        assert!(allowed_gap(200) < FREE_GAP);
+        assert_eq!(allowed_gap(1), 0.0);
     }
 }
