@@ -14,8 +14,9 @@ use lamp_world::{RESTING_GAP, Scene};
 use crate::error::SolveError;
 
 /// Fails with [`SolveError::Unstable`], naming the first object (in scene order) that moves
-/// more than 5 mm or turns more than 3° in two simulated seconds.
-pub fn check_at_rest(scene: &Scene) -> Result<(), SolveError> {
+/// more than 5 mm or turns more than 3° in two simulated seconds; `step` is the trajectory step
+/// the scene follows, if it is not the final one.
+pub fn check_at_rest(scene: &Scene, step: Option<usize>) -> Result<(), SolveError> {
     let held: Vec<usize> =
         (0..scene.robots().len()).filter_map(|robot| scene.held(robot)).map(|h| h.body).collect();
     let bodies: Vec<PhysicsBody<'_>> = scene
@@ -42,6 +43,7 @@ pub fn check_at_rest(scene: &Scene) -> Result<(), SolveError> {
             shift: drift.shift,
             turn: drift.turn,
             seconds: SIMULATED_SECONDS,
+            step,
         }),
     }
 }
@@ -83,18 +85,32 @@ mod tests {
 
     #[test]
     fn a_can_on_the_table_and_a_marker_in_the_air_are_at_rest() {
-        assert!(check_at_rest(&scene(0.2)).is_ok());
+        assert!(check_at_rest(&scene(0.2), None).is_ok());
     }
 
     #[test]
     fn a_can_over_the_edge_is_named_with_how_far_it_went() {
-        match check_at_rest(&scene(0.47)) {
-            Err(SolveError::Unstable { object, shift, turn, seconds }) => {
+        match check_at_rest(&scene(0.47), None) {
+            Err(SolveError::Unstable { object, shift, turn, seconds, .. }) => {
                 assert_eq!(object, "can");
                 assert!(shift > lamp_physics::MAX_SHIFT || turn > lamp_physics::MAX_TURN);
                 assert_eq!(seconds, SIMULATED_SECONDS);
             }
             other => panic!("expected Unstable, got {:?}", other.err()),
         }
+    }
+
+    /// Checked after a release, the message says which step left the scene so.
+    #[test]
+    fn a_scene_after_a_release_is_named_by_its_step() {
+        let message = check_at_rest(&scene(0.47), Some(7)).expect_err("unstable").to_string();
+        assert!(
+            message.starts_with(
+                "`can` does not stay where the solution leaves it after what is let go of at step 7:"
+            ),
+            "{message}"
+        );
+        let last = check_at_rest(&scene(0.47), None).expect_err("unstable").to_string();
+        assert!(last.starts_with("`can` does not stay where the solution leaves it:"), "{last}");
     }
 }

@@ -104,9 +104,11 @@ pub enum SolveError {
         )
     )]
     TargetMissed(String),
-    /// An object of the final scene does not stay put under gravity (the physics check).
+    /// An object does not stay put under gravity (the physics check), in the final scene or
+    /// (`step`) in the scene right after a trajectory step lets go of something.
     #[error(
-        "`{object}` does not stay where the solution leaves it: under gravity it moves {:.1} mm and turns {:.1}° in {seconds} s (at most {:.0} mm and {:.0}°)",
+        "`{object}` does not stay where the solution leaves it{}: under gravity it moves {:.1} mm and turns {:.1}° in {seconds} s (at most {:.0} mm and {:.0}°)",
+        step.map_or_else(String::new, |step| format!(" after what is let go of at step {step}")),
         shift * 1000.0,
         turn.to_degrees(),
         lamp_physics::MAX_SHIFT * 1000.0,
@@ -118,7 +120,7 @@ pub enum SolveError {
             "the object is placed where it cannot rest, or on another object that moves: look at the final scene (`lampc render`); if the demonstrations place objects like this, they are not at rest either"
         )
     )]
-    Unstable { object: String, shift: f64, turn: f64, seconds: f64 },
+    Unstable { object: String, shift: f64, turn: f64, seconds: f64, step: Option<usize> },
     /// The final trajectory failed its replay check: a bug, never a user error.
     #[error("the solution failed validation at step {step}: {reason}")]
     #[diagnostic(code(lamp::solve::invalid_solution))]

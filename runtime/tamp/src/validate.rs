@@ -3,7 +3,8 @@
 //! collision-free, the held object included), consecutive configurations are within the checking
 //! resolution of each other, bodies move only while held (a released object settled to rest by
 //! lamp-world's rule), and the goal holds at the end, every AtGoal object within its tolerance of
-//! its target in the world frame, and every object at rest under gravity (the physics check).
+//! its target in the world frame, and every object at rest under gravity (the physics check),
+//! checked after every release as well as at the end.
 
 use std::collections::BTreeSet;
 
@@ -134,6 +135,11 @@ pub fn replay(
                 return Err(fail(index, contact.to_string()));
             }
         }
+        // What is built so far must stand, not only what is finished: a structure may hold
+        // when complete and fall while half built.
+        if !settled.is_empty() {
+            check_at_rest(&scene, Some(index))?;
+        }
     }
     let reached = abstraction(artifact, participants, &scene)?;
     if let Some(missing) = goal.iter().find(|atom| !reached.contains(atom)) {
@@ -142,6 +148,6 @@ pub fn replay(
     if let Some(miss) = first_miss(targets, &scene) {
         return Err(SolveError::TargetMissed(miss.to_string()));
     }
-    check_at_rest(&scene)?;
+    check_at_rest(&scene, None)?;
     Ok(reached)
 }

@@ -23,7 +23,7 @@ fn every_initial_scene_of_packing_cafe_and_dinner_is_at_rest() {
                     );
                 }
             }
-            if let Err(error) = check_at_rest(&scene) {
+            if let Err(error) = check_at_rest(&scene, None) {
                 panic!("{name} {}: {error}", problem.name);
             }
         }
