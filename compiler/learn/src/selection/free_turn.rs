@@ -40,14 +40,21 @@ const WIDEST_ALLOWED_GAP: f64 = 0.75 * PI;
 /// How rarely twists drawn uniformly around the circle leave a gap wider than [`allowed_gap`]: once in a hundred.
 const UNIFORM_MISS: f64 = 0.01;
 
+/// The keyframe rotations of one group, and how many independent draws they are: the demonstrations they come
+/// from (one demonstration's keyframes share its grasp, and count once).
+pub struct GroupRotations {
+    pub rotations: Vec<UnitQuaternion<f64>>,
+    pub draws: usize,
+}
+
 /// The free turn of groups of keyframe rotations (the best-supported group first), if there is one: of the axes
 /// about which every group turns freely, the one whose widest gap, over the groups, is least.
-pub fn free_turn(groups: &[Vec<UnitQuaternion<f64>>]) -> Option<FreeTurn> {
-    let reference = *groups.first()?.first()?;
+pub fn free_turn(groups: &[GroupRotations]) -> Option<FreeTurn> {
+    let reference = *groups.first()?.rotations.first()?;
     let free_gaps = [0, 1, 2].map(|axis| {
-        groups.iter().try_fold(0.0, |widest: f64, rotations| {
-            let twists = twists(rotations, &reference, axis);
-            turns_freely(&twists).then(|| widest.max(widest_gap_of(&twists)))
+        groups.iter().try_fold(0.0, |widest: f64, group| {
+            let twists = twists(&group.rotations, &reference, axis);
+            turns_freely(&twists, group.draws).then(|| widest.max(widest_gap_of(&twists)))
         })
     });
     let (axis, _) = free_gaps
@@ -58,11 +65,11 @@ pub fn free_turn(groups: &[Vec<UnitQuaternion<f64>>]) -> Option<FreeTurn> {
     Some(FreeTurn { reference, axis })
 }
 
-/// Whether sorted twists look drawn from the whole circle: no gap wider than [`FREE_GAP`], or many distinct turns
-/// leaving no gap wider than uniform draws of as many would ([`allowed_gap`]).
-fn turns_freely(twists: &[f64]) -> bool {
+/// Whether sorted twists, `draws` independent ones among them, look drawn from the whole circle: no gap wider than
+/// [`FREE_GAP`], or many distinct turns leaving no gap wider than as many uniform draws would ([`allowed_gap`]).
+fn turns_freely(twists: &[f64], draws: usize) -> bool {
     let gap = widest_gap_of(twists);
-    gap < FREE_GAP || (distinct_turns(twists) >= LEAST_DISTINCT && gap < allowed_gap(twists.len()))
+    gap < FREE_GAP || (distinct_turns(twists) >= LEAST_DISTINCT && gap < allowed_gap(draws))
 }
 
 /// The gap that `count` twists drawn uniformly around the circle exceed with probability [`UNIFORM_MISS`] (the
@@ -129,12 +136,17 @@ mod tests {
         UnitQuaternion::from_euler_angles(PI, 0.0, 0.0) * yaw(angle)
     }
 
+    /// A group of rotations, each from its own demonstration.
+    fn group(rotations: Vec<UnitQuaternion<f64>>) -> GroupRotations {
+        GroupRotations { draws: rotations.len(), rotations }
+    }
+
     #[test]
     fn a_can_at_every_yaw_turns_freely_about_its_own_axis() {
         let angles: Vec<f64> = (0..40).map(|i| -PI + (i as f64 + 0.37) * TAU / 40.0).collect();
         let grasps: Vec<_> = angles.iter().map(|a| magnet_grasp(*a)).collect();
         let set_down: Vec<_> = angles.iter().rev().map(|a| yaw(*a)).collect();
-        let turn = free_turn(std::slice::from_ref(&grasps)).expect("free");
+        let turn = free_turn(&[group(grasps.clone())]).expect("free");
         assert_eq!(turn.axis, 2);
         assert_eq!(turn.reference, grasps[0]);
         // Every grasp is a turn about the can's z from the first one.
@@ -143,19 +155,19 @@ mod tests {
             let difference = (found - (angle - angles[0]) + PI).rem_euclid(TAU) - PI;
             assert!(difference.abs() < 1e-9, "{found} for {angle}");
         }
-        assert_eq!(free_turn(&[set_down]).map(|turn| turn.axis), Some(2));
+        assert_eq!(free_turn(&[group(set_down)]).map(|turn| turn.axis), Some(2));
     }
 
     #[test]
     fn four_grasp_sides_a_narrow_yaw_or_one_group_not_turning_stay_cells() {
         let sides: Vec<_> =
             (0..40).map(|i| yaw((i % 4) as f64 * FRAC_PI_2 + 0.001 * i as f64)).collect();
-        assert_eq!(free_turn(&[sides]), None);
+        assert_eq!(free_turn(&[group(sides)]), None);
         let narrow: Vec<_> = (0..40).map(|i| yaw(0.02 * (i as f64 / 40.0 - 0.5))).collect();
-        assert_eq!(free_turn(std::slice::from_ref(&narrow)), None);
+        assert_eq!(free_turn(&[group(narrow.clone())]), None);
         let every: Vec<_> = (0..40).map(|i| yaw(-PI + i as f64 * TAU / 40.0)).collect();
-        assert_eq!(free_turn(&[every.clone(), narrow]), None);
-        assert!(free_turn(&[every.clone(), every]).is_some());
+        assert_eq!(free_turn(&[group(every.clone()), group(narrow)]), None);
+        assert!(free_turn(&[group(every.clone()), group(every)]).is_some());
         assert_eq!(free_turn(&[]), None);
     }
 
@@ -178,19 +190,33 @@ mod tests {
         for seed in 0..200 {
             let grasps: Vec<_> = random_twists(15, seed).iter().map(|a| magnet_grasp(*a)).collect();
             wide += usize::from(widest_gap(&grasps, &grasps[0], 2) >= FREE_GAP);
-            free += usize::from(free_turn(std::slice::from_ref(&grasps)).is_some());
+            free += usize::from(free_turn(&[group(grasps.clone())]).is_some());
         }
         assert!(wide > 100, "most leave a wide gap: {wide}");
         assert!(free >= 190, "nearly all turn freely: {free} of 200");
         // Fifteen yaws over 0.6 of a turn, or over four or five sides, are no free turn.
         let part: Vec<_> = (0..15).map(|i| yaw(-0.6 * PI + 1.2 * PI * i as f64 / 14.0)).collect();
-        assert_eq!(free_turn(&[part]), None);
+        assert_eq!(free_turn(&[group(part)]), None);
         for sides in [4, 5] {
             let at: Vec<_> = (0..15)
                 .map(|i| yaw((i % sides) as f64 * TAU / sides as f64 + 0.01 * i as f64))
                 .collect();
-            assert_eq!(free_turn(&[at]), None, "{sides} sides");
+            assert_eq!(free_turn(&[group(at)]), None, "{sides} sides");
         }
+    }
+
+    /// Thirty demonstrations that each show their grasp twice (hovering, then touching) are thirty draws, not
+    /// sixty: their gaps are those of thirty.
+    #[test]
+    fn keyframes_of_one_demonstration_count_once() {
+        let mut free = 0;
+        for seed in 0..100 {
+            let once: Vec<_> = random_twists(30, seed).iter().map(|a| magnet_grasp(*a)).collect();
+            let twice: Vec<_> = once.iter().flat_map(|rotation| [*rotation, *rotation]).collect();
+            free +=
+                usize::from(free_turn(&[GroupRotations { rotations: twice, draws: 30 }]).is_some());
+        }
+        assert!(free >= 97, "{free} of 100");
     }
 
     #[test]

@@ -438,9 +438,13 @@ fn free_turn_of(found: &[(u8, Vec<keyframes::Keyframe>, f64)]) -> Option<FreeTur
     };
     let best = (0..found.len()).max_by_key(|&i| (support(&found[i].1), std::cmp::Reverse(i)));
     let order = best.into_iter().chain((0..found.len()).filter(|i| Some(*i) != best));
-    let rotations: Vec<Vec<nalgebra::UnitQuaternion<f64>>> =
-        order.map(|i| found[i].1.iter().map(|k| k.pose.rotation).collect()).collect();
-    free_turn::free_turn(&rotations)
+    let groups: Vec<free_turn::GroupRotations> = order
+        .map(|i| free_turn::GroupRotations {
+            rotations: found[i].1.iter().map(|k| k.pose.rotation).collect(),
+            draws: support(&found[i].1),
+        })
+        .collect();
+    free_turn::free_turn(&groups)
 }
 
 fn bounds(members: &[keyframes::Keyframe]) -> ([f64; 3], [f64; 3]) {
