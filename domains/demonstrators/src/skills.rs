@@ -124,9 +124,7 @@ pub(crate) fn touch(
     body: usize,
 ) -> Attempt<()> {
     let config = motion_config();
-    let approach = lamp_world::contact_approach(scene, robot, body, &config)
-        .map_err(|error| format!("touch: {error}"))?;
-    let states = densify(scene.robots()[robot].robot(), &approach, &config)
+    let states = lamp_world::contact_approach(scene, robot, body, &config)
         .map_err(|error| format!("touch: {error}"))?;
     recorder.follow(scene, robot, &states);
     if let Some(last) = states.last() {

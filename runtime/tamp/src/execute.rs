@@ -230,12 +230,9 @@ pub fn execute(
                         why: error.to_string(),
                     }
                 })?;
-            if approach.len() > 1 {
-                let states =
-                    densify(scene.robots()[robot].robot(), &approach, &settings.motion.config)
-                        .map_err(|error| Rejection::candidate(&error))?;
-                recorder.follow(scene, robot, &states);
-                scene.set_configuration(robot, states.last().unwrap_or(&approach[0]));
+            if let [_, .., last] = approach.as_slice() {
+                recorder.follow(scene, robot, &approach);
+                scene.set_configuration(robot, last);
             }
         }
         let reach =

@@ -9,7 +9,7 @@ use nalgebra::Translation3;
 
 use crate::error::WorldError;
 use crate::ik::LinkGoal;
-use crate::motion::MotionConfig;
+use crate::motion::{MotionConfig, densify};
 use crate::scene::Scene;
 use crate::straight::straight_line;
 
@@ -42,19 +42,20 @@ impl Scene {
     /// `body`, the robot at its current configuration: 0 when they touch or overlap. `None` when
     /// the robot has no gripper or either has no shape.
     pub fn gripper_gap(&self, robot: usize, body: usize) -> Option<f64> {
-        self.nearest_gripper_point(robot, body).map(|nearest| nearest.gap)
+        let q = &self.robots.get(robot)?.q;
+        self.nearest_gripper_point(robot, body, q).map(|nearest| nearest.gap)
     }
 
-    /// How far the gripper is from `body`, and which way (when they are apart by at most
-    /// [`MAX_CONTACT_APPROACH`]).
-    fn nearest_gripper_point(&self, robot: usize, body: usize) -> Option<Nearest> {
+    /// How far the gripper is from `body` with the robot at `q`, and which way (when they are
+    /// apart by at most [`MAX_CONTACT_APPROACH`]).
+    fn nearest_gripper_point(&self, robot: usize, body: usize, q: &[f64]) -> Option<Nearest> {
         let state = self.robots.get(robot)?;
         state.gripper.as_ref()?;
         let object = self.collision.shape(BodyId(body))?;
         let object_pose = self.body_pose(body);
         let model = &state.robot;
         let mut poses = vec![Pose::identity(); model.link_count()];
-        model.forward_kinematics(&state.q, &mut poses);
+        model.forward_kinematics(q, &mut poses);
         let mut nearest: Option<Nearest> = None;
         for (index, (link, shape)) in state.links.iter().enumerate() {
             if !state.touches_held[index] {
@@ -118,7 +119,7 @@ pub fn contact_approach(
     let Some(gripper) = state.gripper() else {
         return Err(fail("the robot has no gripper".to_string()));
     };
-    let Some(nearest) = scene.nearest_gripper_point(robot, body) else {
+    let Some(nearest) = scene.nearest_gripper_point(robot, body, &start) else {
         return Err(fail("the object has no shape to touch".to_string()));
     };
     if nearest.gap <= 0.0 {
@@ -145,13 +146,11 @@ pub fn contact_approach(
         ..IkConfig::new()
     };
     let goal = LinkGoal { robot, group, link: Some(gripper.link), target: &target, start: &start };
-    let states = straight_line(scene, &goal, config, &ik)
+    let line = straight_line(scene, &goal, config, &ik)
         .map_err(|error| fail(format!("the straight approach fails: {error}")))?;
-    let mut arrived = scene.clone();
-    if let Some(last) = states.last() {
-        arrived.set_configuration(robot, last);
-    }
-    match arrived.gripper_gap(robot, body) {
+    let states = densify(model, &line, config).map_err(|error| fail(error.to_string()))?;
+    let arrived = states.last().unwrap_or(&start);
+    match scene.nearest_gripper_point(robot, body, arrived).map(|nearest| nearest.gap) {
         Some(gap) if gap > 0.0 && gap <= CONTACT_GAP => Ok(states),
         Some(gap) => Err(fail(format!(
             "the approach ends {:.2} mm from it, not within the {:.0} mm a hold by contact needs",
