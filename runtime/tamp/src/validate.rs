@@ -1,6 +1,7 @@
 //! Replaying a finished trajectory from the initial scene, as an independent check before it is
-//! written: every step's grasp changes are legal (a gripper without fingers touches what it takes), every configuration is valid (within limits,
-//! collision-free, the held object included), consecutive configurations are within the checking
+//! written: every step's grasp changes are legal (a gripper without fingers touches what it
+//! takes), every configuration is valid (within limits, collision-free, the held object
+//! included), consecutive configurations are within the checking
 //! resolution of each other, bodies move only while held (a released object settled to rest by
 //! lamp-world's rule), and the goal holds at the end, every AtGoal object within its tolerance of
 //! its target in the world frame, and every object at rest under gravity (the physics check),
