@@ -136,6 +136,12 @@ fn solve_writes_a_validated_trajectory_plan_summary_and_picture() {
     let last = trajectory.steps.last().expect("steps").time_nanoseconds as f64 / 1e9;
     assert_eq!(json["execution_seconds"].as_f64(), Some(last), "{summary}");
     assert!(stdout.contains(&format!("{last:.1} s to execute")), "{stdout}");
+    // Each can rests on the box's floor up to the 1 mm resting gap above it, and the summary
+    // says how far the one that goes down farthest would settle.
+    let sunk = json["sink"]["metres"].as_f64().expect("a sink");
+    assert!(sunk > 0.0 && sunk <= 0.00101, "{summary}");
+    assert!(json["sink"]["object"].as_str().is_some_and(|can| can.starts_with("can")), "{summary}");
+    assert!(stdout.contains("goes down farthest onto what it rests on"), "{stdout}");
     common::assert_viewer_channels(&bytes, "trajectory.mcap");
     // The plan step being executed is on /lamp/step, each step once, in the plan's order, and
     // the first label comes after the initial state.

@@ -9,6 +9,7 @@
 //! lamp-geometry's shapes and nalgebra poses. The simulation runs a fixed number of fixed
 //! steps, reads no clock and is single-threaded, so the same scene gives the same drifts.
 
+mod contact;
 mod rapier_boundary;
 
 use lamp_geometry::{Pose, Real, Shape};
@@ -63,6 +64,10 @@ pub struct Drift {
     pub shift: Real,
     /// Angle of the rotation it made (radians).
     pub turn: Real,
+    /// How far it was lowered onto what is under it before the simulation (metres): its own
+    /// resting gap and the sink of what it rests on. `shift` and `turn` are measured from the
+    /// lowered pose; the sink is how far below the scene's pose the body would end in the world.
+    pub sink: Real,
 }
 
 impl Drift {
@@ -84,21 +89,29 @@ pub enum PhysicsError {
 /// Simulates `bodies` under gravity for [`SIMULATED_SECONDS`]; returns the drift of every body
 /// that is not fixed, in the order given.
 ///
-/// Bodies closer than `resting_gap` (metres) touch: the scenes' convention is that a body at
-/// rest floats that far above its support (touching would be a collision), and a stack of such
-/// bodies must not fall a gap per level before it stands. Each collider gets a contact skin of
-/// half the gap.
+/// The scenes' convention is that a body at rest floats up to `resting_gap` (metres) above its
+/// support (touching would be a collision). Before the simulation every free body is lowered
+/// straight down onto what is under it, from the bottom up, its own gap and the sink of its
+/// support, and its drift is measured from there; the engine itself bridges no gap.
 pub fn simulate(bodies: &[PhysicsBody<'_>], resting_gap: Real) -> Result<Vec<Drift>, PhysicsError> {
     let steps = (SIMULATED_SECONDS / STEP_SECONDS).round() as usize;
-    let finals = rapier_boundary::simulate(bodies, steps, 0.5 * resting_gap.max(0.0))?;
-    Ok(bodies
+    let lowered = contact::onto_contact(bodies, resting_gap.max(0.0))?;
+    let starts: Vec<PhysicsBody<'_>> = bodies
         .iter()
+        .zip(&lowered)
+        .map(|(body, lowered)| PhysicsBody { pose: lowered.pose, ..*body })
+        .collect();
+    let finals = rapier_boundary::simulate(&starts, steps)?;
+    Ok(starts
+        .iter()
+        .zip(lowered)
         .zip(finals)
-        .filter(|(body, _)| !body.fixed)
-        .map(|(body, end)| Drift {
+        .filter(|((body, _), _)| !body.fixed)
+        .map(|((body, lowered), end)| Drift {
             name: body.name.to_string(),
             shift: (end.translation.vector - body.pose.translation.vector).norm(),
             turn: body.pose.rotation.angle_to(&end.rotation),
+            sink: lowered.sink,
         })
         .collect())
 }

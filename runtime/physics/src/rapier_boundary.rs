@@ -1,7 +1,7 @@
 //! The one place where rapier (and the parry and glam types it speaks) meets lamp's shapes and
 //! nalgebra poses.
 
-use lamp_geometry::{Pose, Real, Shape, Vec3};
+use lamp_geometry::{Pose, Shape, Vec3};
 use rapier3d_f64::math::{Pose as RapierPose, Rotation as RapierRotation, Vector};
 use rapier3d_f64::prelude::{ColliderBuilder, PhysicsWorld, RigidBodyBuilder};
 
@@ -36,7 +36,6 @@ fn collider(
     placement: &Pose,
     shape: &Shape,
     fixed: bool,
-    skin: Real,
 ) -> Result<ColliderBuilder, PhysicsError> {
     let refused =
         |reason: &str| PhysicsError::Shape { body: name.to_string(), reason: reason.to_string() };
@@ -70,19 +69,14 @@ fn collider(
             (hull, Pose::identity())
         }
     };
-    Ok(builder
-        .position(to_rapier(&(placement * local)))
-        .friction(FRICTION)
-        .restitution(0.0)
-        .contact_skin(skin))
+    Ok(builder.position(to_rapier(&(placement * local))).friction(FRICTION).restitution(0.0))
 }
 
-/// Every body's pose after `steps` steps, in the order given; each collider has a contact skin
-/// of `skin` metres.
+/// Every body's pose after `steps` steps, in the order given. Colliders have no contact skin:
+/// bodies touch where their shapes do.
 pub(crate) fn simulate(
     bodies: &[PhysicsBody<'_>],
     steps: usize,
-    skin: Real,
 ) -> Result<Vec<Pose>, PhysicsError> {
     let mut world = PhysicsWorld::new();
     world.gravity = Vector::new(0.0, 0.0, -GRAVITY);
@@ -96,7 +90,7 @@ pub(crate) fn simulate(
             if body.fixed { RigidBodyBuilder::fixed() } else { RigidBodyBuilder::dynamic() };
         let handle = world.bodies.insert(builder.pose(to_rapier(&body.pose)));
         for (placement, shape) in body.parts {
-            let part = collider(body.name, placement, shape, body.fixed, skin)?;
+            let part = collider(body.name, placement, shape, body.fixed)?;
             world.colliders.insert_with_parent(part, handle, &mut world.bodies);
         }
         handles.push(handle);

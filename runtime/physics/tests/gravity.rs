@@ -41,9 +41,35 @@ fn a_can_resting_on_a_table_stays() {
     assert_eq!(drifts.len(), 1, "fixed bodies have no drift");
     let drift = &drifts[0];
     assert!(drift.at_rest(), "{drift:?}");
-    // It rests on its 1 mm skin from the start.
+    // Lowered by its 1 mm gap onto the table, it stays there.
+    assert!((drift.sink - GAP).abs() < 1e-6, "{drift:?}");
     assert!(drift.shift < 0.0005, "{drift:?}");
     assert!(drift.turn < 0.2 * MAX_TURN, "{drift:?}");
+}
+
+#[test]
+fn a_can_higher_than_the_gap_is_not_lowered_but_falls() {
+    let (table, can) = (table(), can());
+    let bodies = [
+        table_body(&table),
+        PhysicsBody { name: "can", parts: &can, pose: at(0.1, 0.2, 0.754), fixed: false },
+    ];
+    let drift = &simulate(&bodies, GAP).unwrap()[0];
+    assert_eq!(drift.sink, 0.0, "{drift:?}");
+    // It falls its 4 mm in the simulation, which counts in its shift.
+    assert!((drift.shift - 0.004).abs() < 0.0005, "{drift:?}");
+}
+
+#[test]
+fn a_can_in_the_air_falls() {
+    let (table, can) = (table(), can());
+    let bodies = [
+        table_body(&table),
+        PhysicsBody { name: "can", parts: &can, pose: at(0.1, 0.2, 0.80), fixed: false },
+    ];
+    let drift = first_unsettled(&bodies, GAP).unwrap().expect("a floating can falls");
+    assert_eq!(drift.sink, 0.0, "{drift:?}");
+    assert!(drift.shift > 0.04, "{drift:?}");
 }
 
 #[test]
@@ -127,6 +153,12 @@ fn a_tower_of_fifteen_crossed_layers_stands() {
     }));
     let drifts = simulate(&bodies, GAP).unwrap();
     let worst = drifts.iter().max_by(|a, b| a.shift.total_cmp(&b.shift)).unwrap();
-    // It sinks a little into its springy contacts, far less than the check allows.
+    // Once on contact it sinks a little into its springy contacts, far less than the check
+    // allows.
     assert!(worst.shift < 0.2 * MAX_SHIFT, "{worst:?}");
+    // Every layer goes down by the gaps under it: 1 mm for the first, 15 mm for the top.
+    for (drift, (name, _)) in drifts.iter().zip(&tower) {
+        let layer: f64 = name[1..name.find('_').unwrap()].parse().unwrap();
+        assert!((drift.sink - (layer + 1.0) * GAP).abs() < 1e-5, "{drift:?}");
+    }
 }

@@ -7,16 +7,22 @@
 //! not an obstacle anything could fall onto within the thresholds. An object still held at the
 //! end is left out (the solver's goal makes every gripper that starts empty end empty, so this
 //! only happens when a problem says otherwise). Markers have no geometry and are ignored.
+//!
+//! Before the simulation each object is lowered onto what it rests on (lamp-physics closes the
+//! resting gaps the world leaves under it): the drift is judged from there, and how far the
+//! object went down is its sink, what a robot's structure ends below the solution's poses.
 
-use lamp_physics::{PhysicsBody, SIMULATED_SECONDS, first_unsettled};
+use lamp_physics::{PhysicsBody, SIMULATED_SECONDS, simulate};
 use lamp_world::{RESTING_GAP, Scene};
 
 use crate::error::SolveError;
+use crate::summary::Sink;
 
 /// Fails with [`SolveError::Unstable`], naming the first object (in scene order) that moves
 /// more than 5 mm or turns more than 3° in two simulated seconds; `step` is the trajectory step
-/// the scene follows, if it is not the final one.
-pub fn check_at_rest(scene: &Scene, step: Option<usize>) -> Result<(), SolveError> {
+/// the scene follows, if it is not the final one. At rest, returns the object that sinks
+/// farthest onto what it rests on (the first in scene order among equals), if any sinks.
+pub fn check_at_rest(scene: &Scene, step: Option<usize>) -> Result<Option<Sink>, SolveError> {
     let held: Vec<usize> =
         (0..scene.robots().len()).filter_map(|robot| scene.held(robot)).map(|h| h.body).collect();
     let bodies: Vec<PhysicsBody<'_>> = scene
@@ -31,21 +37,24 @@ pub fn check_at_rest(scene: &Scene, step: Option<usize>) -> Result<(), SolveErro
             fixed: !body.movable,
         })
         .collect();
-    let unsettled =
-        first_unsettled(&bodies, RESTING_GAP).map_err(|error| SolveError::InvalidSolution {
-            step: 0,
-            reason: format!("the physics check cannot simulate the final scene: {error}"),
-        })?;
-    match unsettled {
-        None => Ok(()),
-        Some(drift) => Err(SolveError::Unstable {
-            object: drift.name,
+    let drifts = simulate(&bodies, RESTING_GAP).map_err(|error| SolveError::InvalidSolution {
+        step: 0,
+        reason: format!("the physics check cannot simulate the final scene: {error}"),
+    })?;
+    if let Some(drift) = drifts.iter().find(|drift| !drift.at_rest()) {
+        return Err(SolveError::Unstable {
+            object: drift.name.clone(),
             shift: drift.shift,
             turn: drift.turn,
             seconds: SIMULATED_SECONDS,
             step,
-        }),
+        });
     }
+    let deepest = drifts
+        .into_iter()
+        .filter(|drift| drift.sink > 0.0)
+        .reduce(|deepest, drift| if drift.sink > deepest.sink { drift } else { deepest });
+    Ok(deepest.map(|drift| Sink { object: drift.name, metres: drift.sink }))
 }
 
 #[cfg(test)]
@@ -85,7 +94,9 @@ mod tests {
 
     #[test]
     fn a_can_on_the_table_and_a_marker_in_the_air_are_at_rest() {
-        assert!(check_at_rest(&scene(0.2), None).is_ok());
+        let sink = check_at_rest(&scene(0.2), None).expect("at rest").expect("the can sinks");
+        assert_eq!(sink.object, "can");
+        assert!((sink.metres - 0.001).abs() < 1e-6, "{sink:?}");
     }
 
     #[test]

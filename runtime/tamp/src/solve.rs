@@ -189,7 +189,7 @@ fn solve_with(
                             }
                         })?;
                     summary.execution_seconds = execution as f64 / 1e9;
-                    replay(
+                    let replayed = replay(
                         input.scene,
                         &recorder.steps,
                         &settings.motion.config,
@@ -198,6 +198,7 @@ fn solve_with(
                         &Expected { goal: &goal, targets: input.targets },
                         settings.cancelled,
                     )?;
+                    summary.sink = replayed.sink;
                     summary.seconds_validating = started.elapsed().as_secs_f64();
                     summary.success = !summary.is_partial();
                     summary.plan =

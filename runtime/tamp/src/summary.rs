@@ -49,10 +49,22 @@ pub struct Summary {
     /// motion within the joints' velocity and acceleration limits and every grasp change
     /// `lamp_world::GRASP_SECONDS` (deterministic, unlike the solver's own times below).
     pub execution_seconds: f64,
+    /// The object of the final scene that goes down farthest onto what it rests on, and how far:
+    /// the world leaves every object at rest up to `lamp_world::RESTING_GAP` above its support,
+    /// so an object on a stack of n ends about n gaps below its pose in the trajectory. `None`
+    /// when nothing rests on anything.
+    pub sink: Option<Sink>,
     /// Seconds spent planning, refining (sampling, IK, motion) and validating.
     pub seconds_planning: f64,
     pub seconds_refining: f64,
     pub seconds_validating: f64,
+}
+
+/// How far an object goes down onto what it rests on.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Sink {
+    pub object: String,
+    pub metres: f64,
 }
 
 /// One replan of the plan as refined: the state reached after a step differed from the one the

@@ -18,6 +18,7 @@ use lamp_world::{CONTACT_GAP, MotionConfig, Scene, edge_steps};
 use crate::at_rest::check_at_rest;
 use crate::error::SolveError;
 use crate::state::abstraction;
+use crate::summary::Sink;
 use crate::targets::first_miss;
 
 /// What must hold at the end of a replay.
@@ -61,8 +62,18 @@ fn held_by_contact(scene: &Scene, robot: usize, body: usize) -> Result<(), Strin
     }
 }
 
-/// Checks `steps` from `initial`; returns the final abstract state. `cancelled` is polled before
-/// every step: a long trajectory takes seconds to replay, and a stop request must not wait.
+/// What a replay found at the end of a valid trajectory.
+#[derive(Clone, Debug)]
+pub struct Replayed {
+    /// The final abstract state.
+    pub reached: BTreeSet<GroundAtom>,
+    /// The object of the final scene that sinks farthest onto what it rests on
+    /// ([`check_at_rest`]).
+    pub sink: Option<Sink>,
+}
+
+/// Checks `steps` from `initial`. `cancelled` is polled before every step: a long trajectory
+/// takes seconds to replay, and a stop request must not wait.
 pub fn replay(
     initial: &Scene,
     steps: &[Step],
@@ -71,7 +82,7 @@ pub fn replay(
     participants: &ParticipantMap,
     expected: &Expected<'_>,
     cancelled: &dyn Fn() -> bool,
-) -> Result<BTreeSet<GroundAtom>, SolveError> {
+) -> Result<Replayed, SolveError> {
     let Expected { goal, targets } = *expected;
     let mut scene = initial.clone();
     let fail = |step: usize, reason: String| SolveError::InvalidSolution { step, reason };
@@ -149,6 +160,6 @@ pub fn replay(
     if let Some(miss) = first_miss(targets, &scene) {
         return Err(SolveError::TargetMissed(miss.to_string()));
     }
-    check_at_rest(&scene, None)?;
-    Ok(reached)
+    let sink = check_at_rest(&scene, None)?;
+    Ok(Replayed { reached, sink })
 }

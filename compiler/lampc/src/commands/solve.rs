@@ -483,6 +483,13 @@ fn print_summary(summary: &lamp_tamp::Summary, out: &Path) {
         "  trajectory      {} steps, {:.1} s to execute, validated by replay",
         summary.trajectory_steps, summary.execution_seconds
     );
+    if let Some(sink) = &summary.sink {
+        println!(
+            "  resting         `{}` goes down farthest onto what it rests on, {:.1} mm: the resting gaps under it",
+            sink.object,
+            sink.metres * 1000.0
+        );
+    }
     println!(
         "  time            planning {:.2} s, refining {:.2} s, validating {:.2} s",
         summary.seconds_planning, summary.seconds_refining, summary.seconds_validating
