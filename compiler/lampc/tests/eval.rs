@@ -112,6 +112,13 @@ fn pack2_job(scratch: &Path, spec: &Path, text: &str) -> Value {
 
 /// The one result row `lampc eval-worker`, started in `directory`, writes for `job`.
 fn worker_row(job: &Value, directory: &Path) -> Value {
+    let output = worker_output(job, directory);
+    assert!(output.status.success(), "{}", stderr(&output));
+    serde_json::from_slice(&output.stdout).expect("one result row")
+}
+
+/// What `lampc eval-worker`, started in `directory`, does with `job`.
+fn worker_output(job: &Value, directory: &Path) -> Output {
     let mut worker = Command::new(env!("CARGO_BIN_EXE_lampc"))
         .arg("eval-worker")
         .current_dir(directory)
@@ -123,9 +130,7 @@ fn worker_row(job: &Value, directory: &Path) -> Value {
     let mut input = worker.stdin.take().expect("its input");
     std::io::Write::write_all(&mut input, job.to_string().as_bytes()).expect("writes the job");
     drop(input);
-    let output = worker.wait_with_output().expect("the worker ends");
-    assert!(output.status.success(), "{}", stderr(&output));
-    serde_json::from_slice(&output.stdout).expect("one result row")
+    worker.wait_with_output().expect("the worker ends")
 }
 
 #[test]
@@ -509,20 +514,56 @@ fn a_worker_refuses_a_robot_model_edited_since_the_evaluation_started() {
     assert_ne!(longer, robot, "the box is in the URDF");
     std::fs::write(&urdf, longer).expect("edits the URDF");
 
-    let row = worker_row(&job, scratch.path());
-    assert_eq!(row["outcome"], "error", "{row}");
-    let reason = row["reason"].as_str().unwrap_or_default();
+    let output = worker_output(&job, scratch.path());
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "no row but a failure of where it runs: {message}");
+    assert!(output.stdout.is_empty(), "no row: {}", String::from_utf8_lossy(&output.stdout));
     assert!(
-        reason.contains(
-            "a robot model or mesh file the spec names changed since the evaluation started"
+        message.contains(
+            "cannot run this job here: a robot model or mesh file the spec names changed since \
+             the evaluation started"
         ),
-        "{row}"
+        "{message}"
     );
+}
+
+/// A worker started where the spec's relative path leads nowhere (a node of a cluster in another
+/// folder) writes no row that would count as a failed solve: it fails, naming the spec, the
+/// folder and what to do.
+#[test]
+fn a_worker_that_cannot_read_the_spec_where_it_runs_fails_instead_of_writing_a_row() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let text = std::fs::read_to_string(&spec).expect("the spec");
+    let mut job = pack2_job(scratch.path(), &spec, &text);
+    // The spec names its robots relative to its folder, which the worker's folder is not.
+    let robots = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains/robots/");
+    let text = text.replace(&format!("\"{}/", robots.display()), "\"robots/");
+    assert!(text.contains("\"robots/magnetic_gripper.urdf\""), "the spec names them so");
+    job["spec"] = Value::from("packing.lamp");
+    job["spec_text"] = Value::from(text);
+    let elsewhere = tempfile::tempdir().expect("another folder");
+
+    let output = worker_output(&job, elsewhere.path());
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{message}");
+    assert!(output.stdout.is_empty(), "no row");
+    assert!(
+        message.contains("cannot run this job here: the spec packing.lamp, read from"),
+        "{message}"
+    );
+    assert!(message.contains("does not check here"), "{message}");
+    assert!(message.contains("run the worker in the folder `lampc eval` runs in"), "{message}");
 }
 
 /// `lampc eval` of `pack2` and `unreachable` from 30 demonstrations, one run, with `extra` flags.
 fn quick_eval(spec: &Path, out: &Path, extra: &[&str]) -> Output {
-    let flags = ["--demos", "30", "--runs", "1", "--problems", "pack2,unreachable", "--jobs", "2"];
+    quick_eval_of(spec, out, extra, "pack2,unreachable", "30")
+}
+
+/// `lampc eval` of `problems` from `demos` demonstrations, one run, two jobs, `extra` flags.
+fn quick_eval_of(spec: &Path, out: &Path, extra: &[&str], problems: &str, demos: &str) -> Output {
+    let flags = ["--demos", demos, "--runs", "1", "--problems", problems, "--jobs", "2"];
     let mut args: Vec<&OsStr> = vec![OsStr::new("eval"), spec.as_os_str()];
     args.extend(flags.iter().chain(extra).map(OsStr::new));
     args.extend([OsStr::new("--out"), out.as_os_str()]);
@@ -710,4 +751,155 @@ fn a_run_whose_build_fails_keeps_what_it_learned() {
         std::fs::read_to_string(build.join("failed/vocabulary.md")).expect("what the run learned");
     assert!(report.contains("Learned from 30 demonstrations"), "{report}");
     assert!(report.contains("### `surface_can`"), "{report}");
+}
+
+/// A Ray cluster of two nodes on this machine (`ray start --head`, then a second node joining
+/// it), one CPU each, stopped when dropped. `ray stop` stops every Ray process of the user on the
+/// machine, so no other test may start a cluster.
+struct RayCluster {
+    address: String,
+    _sessions: tempfile::TempDir,
+}
+
+impl RayCluster {
+    fn ray(args: &[&str]) -> Output {
+        Command::new("python3")
+            .args(["-m", "ray.scripts.scripts"])
+            .args(args)
+            .env("RAY_USAGE_STATS_ENABLED", "0")
+            .output()
+            .expect("python3 runs")
+    }
+
+    fn start() -> RayCluster {
+        let sessions = tempfile::Builder::new().prefix("ray").tempdir().expect("a session folder");
+        let port = std::net::TcpListener::bind("127.0.0.1:0")
+            .and_then(|listener| listener.local_addr())
+            .expect("a free port")
+            .port();
+        let address = format!("127.0.0.1:{port}");
+        let cluster = RayCluster { address, _sessions: sessions };
+        let temp = format!("--temp-dir={}", cluster._sessions.path().display());
+        let head = RayCluster::ray(&[
+            "start",
+            "--head",
+            &format!("--port={port}"),
+            "--num-cpus=1",
+            "--include-dashboard=false",
+            "--disable-usage-stats",
+            &temp,
+        ]);
+        assert!(head.status.success(), "the head node starts: {}", stderr(&head));
+        let node = RayCluster::ray(&[
+            "start",
+            &format!("--address={}", cluster.address),
+            "--num-cpus=1",
+            "--disable-usage-stats",
+        ]);
+        assert!(node.status.success(), "the second node joins: {}", stderr(&node));
+        cluster
+    }
+}
+
+impl Drop for RayCluster {
+    fn drop(&mut self) {
+        let _ = RayCluster::ray(&["stop", "--force"]);
+    }
+}
+
+/// The processes running `lampc eval-worker` of this build as a Ray task: their parent is a
+/// Ray worker, which names itself `ray::…` (the other tests' workers are children of `lampc`).
+fn ray_eval_workers() -> Vec<u32> {
+    let Ok(processes) = std::fs::read_dir("/proc") else { return Vec::new() };
+    processes
+        .flatten()
+        .filter_map(|entry| {
+            let pid = entry.file_name().to_str()?.parse::<u32>().ok()?;
+            let command = std::fs::read(entry.path().join("cmdline")).ok()?;
+            let words: Vec<&[u8]> = command.split(|byte| *byte == 0).collect();
+            let lampc = env!("CARGO_BIN_EXE_lampc").as_bytes();
+            if words.first() != Some(&lampc) || words.get(1) != Some(&&b"eval-worker"[..]) {
+                return None;
+            }
+            let status = std::fs::read_to_string(entry.path().join("status")).ok()?;
+            let parent = status.lines().find_map(|line| line.strip_prefix("PPid:"))?.trim();
+            let parent = std::fs::read(format!("/proc/{parent}/cmdline")).ok()?;
+            parent.starts_with(b"ray::").then_some(pid)
+        })
+        .collect()
+}
+
+/// The Ray executor of `domains/tools/` on a real two-node Ray cluster gives the local worker's
+/// rows; interrupted, the evaluation cancels its task on the cluster, and the next run continues
+/// from the journal.
+#[cfg(unix)]
+#[test]
+fn a_ray_cluster_gives_the_local_rows_and_an_interrupted_ray_evaluation_resumes() {
+    if !lamp_test_support::python_oracle("ray", "ray==2.60.0") {
+        return;
+    }
+    let cluster = RayCluster::start();
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let script =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../domains/tools/ray_eval_worker.py");
+    let executor = format!(
+        "python3 '{}' --lampc '{}' --address {}",
+        script.display(),
+        env!("CARGO_BIN_EXE_lampc"),
+        cluster.address
+    );
+
+    let local = scratch.path().join("local");
+    let output = quick_eval(&spec, &local, &[]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let through = scratch.path().join("ray");
+    let output = quick_eval(&spec, &through, &["--executor", &executor]);
+    let message = stderr(&output);
+    assert!(output.status.success(), "{message}");
+    let (expected, got) =
+        (read_json(&local.join("eval.json")), read_json(&through.join("eval.json")));
+    assert_eq!(deterministic_rows(&got), deterministic_rows(&expected));
+    assert_eq!(journal_keys(&through), journal_keys(&local), "the same journal key");
+
+    // `unreachable` ends at once; `pack6` runs on until the evaluation is interrupted.
+    let out = scratch.path().join("interrupted");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lampc"))
+        .arg("eval")
+        .arg(&spec)
+        .args(["--demos", "40", "--runs", "1", "--problems", "unreachable,pack6", "--jobs", "1"])
+        .args(["--executor", &executor])
+        .arg("--out")
+        .arg(&out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("lampc starts");
+    let journal = out.join("journal.jsonl");
+    let started = Instant::now();
+    while std::fs::read_to_string(&journal).map_or(0, |text| text.lines().count()) < 1
+        || ray_eval_workers().is_empty()
+    {
+        assert!(started.elapsed() < Duration::from_secs(300), "the first row never came");
+        assert!(child.try_wait().expect("waits").is_none(), "lampc ended before Ctrl-C");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let pid = child.id().to_string();
+    assert!(Command::new("kill").args(["-INT", &pid]).status().expect("kill runs").success());
+    let output = child.wait_with_output().expect("lampc ends");
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(130), "{message}");
+    assert!(message.contains("interrupted; 1 of 2 solves are kept"), "{message}");
+    // The solve on the cluster is cancelled, not left running for nobody.
+    let stopping = Instant::now();
+    while !ray_eval_workers().is_empty() {
+        assert!(stopping.elapsed() < Duration::from_secs(30), "a worker outlives the evaluation");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+
+    let next = quick_eval_of(&spec, &out, &["--executor", &executor], "unreachable", "40");
+    let message = stderr(&next);
+    assert!(next.status.success(), "{message}");
+    assert!(message.contains("1 already in the journal"), "{message}");
+    assert_eq!(read_json(&out.join("eval.json"))["rows"][0]["outcome"], "relaxed_goal");
 }

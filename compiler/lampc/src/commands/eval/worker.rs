@@ -5,6 +5,12 @@
 //!
 //! A process per solve gives every row its own peak memory and lets a time limit or Ctrl-C end a
 //! solve at once.
+//!
+//! A row is what the job gives: solved, or why not. What depends on where the worker runs is not
+//! a row: a spec whose files this machine does not have, or robot files that changed since the
+//! evaluation started. Then the worker writes no row, says why on its standard error and exits
+//! with 1, which the parent reports as a failure of the executor (tried once more, then the
+//! evaluation stops with the message), so that a misplaced node never turns into failed solves.
 
 use std::io::Read as _;
 use std::path::PathBuf;
@@ -67,14 +73,21 @@ pub(crate) fn run() -> ExitCode {
     // outcome: it becomes an `error` row (the panic hook has printed it on standard error). A
     // worker that ends without a row is the executor's failure, which stops the evaluation.
     let solved = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| solve(&job)));
-    let mut result = solved.unwrap_or_else(|payload| {
-        let message = payload
-            .downcast_ref::<&str>()
-            .map(|text| (*text).to_string())
-            .or_else(|| payload.downcast_ref::<String>().cloned())
-            .unwrap_or_default();
-        error(format!("internal error: lampc panicked while solving: {message}"))
-    });
+    let mut result = match solved {
+        Ok(Ok(result)) => result,
+        Ok(Err(NotHere(reason))) => {
+            eprintln!("lampc eval-worker: cannot run this job here: {reason}");
+            return ExitCode::from(crate::EXIT_DIAGNOSTICS);
+        }
+        Err(payload) => {
+            let message = payload
+                .downcast_ref::<&str>()
+                .map(|text| (*text).to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_default();
+            error(format!("internal error: lampc panicked while solving: {message}"))
+        }
+    };
     result.seconds_solving = Some(started.elapsed().as_secs_f64());
     result.peak_memory_bytes = peak_memory();
     match serde_json::to_string(&result) {
@@ -98,7 +111,11 @@ fn error(reason: impl std::fmt::Display) -> SolveResult {
     SolveResult::failed(Outcome::Error, one_line(&reason.to_string()))
 }
 
-fn solve(job: &Job) -> SolveResult {
+/// Why a job cannot be solved where this worker runs (the files it reads differ from those the
+/// evaluation started with), as opposed to a row that says why the problem was not solved.
+struct NotHere(String);
+
+fn solve(job: &Job) -> Result<SolveResult, NotHere> {
     let spec_dir = match job.spec.parent() {
         Some(dir) if !dir.as_os_str().is_empty() => dir.to_path_buf(),
         _ => PathBuf::from("."),
@@ -107,28 +124,51 @@ fn solve(job: &Job) -> SolveResult {
     let checked =
         lamp_lang::check_source(&name, &job.spec_text, &spec_dir, &crate::files::DiskLoader);
     let Some(spec) = checked.spec else {
-        return error(format!("the spec {name} has errors"));
+        let first = checked.diagnostics.first().map(|diagnostic| diagnostic.error.to_string());
+        return Err(NotHere(format!(
+            "the spec {name}, read from {}, does not check here: {}; run the worker in the \
+             folder `lampc eval` runs in, on a file system that holds the spec and the files it \
+             names at the same paths",
+            std::env::current_dir()
+                .map_or_else(|_| "?".to_string(), |dir| dir.display().to_string()),
+            one_line(&first.unwrap_or_default())
+        )));
     };
     let spec_file = job.spec.file_name().map_or_else(String::new, |n| n.to_string_lossy().into());
     let Some(problem) = spec.problems.iter().find(|problem| problem.name == job.problem) else {
-        return error(format!("the spec has no problem `{}`", job.problem));
+        return Ok(error(format!("the spec has no problem `{}`", job.problem)));
     };
     let samplers = match SamplersFile::from_json(&job.samplers) {
         Ok(samplers) => samplers,
-        Err(failure) => return error(failure),
+        Err(failure) => return Ok(error(failure)),
     };
     let world = match SpecWorld::load(&spec_dir, &spec) {
         Ok(world) => world,
-        Err(failure) => return error(failure),
+        Err(failure) => return Err(NotHere(one_line(&failure.to_string()))),
     };
     // The parent digested its spec with the evaluation's seed in place of the spec's.
     let as_evaluated = lamp_spec::Spec { seed: job.seed, ..spec.clone() };
     if SpecSources::of(&as_evaluated, &world).model != job.model_sources {
-        return error(
-            "a robot model or mesh file the spec names changed since the evaluation started:              this solve would move another robot than the one its model was learned for",
-        );
+        return Err(NotHere(
+            "a robot model or mesh file the spec names changed since the evaluation started: \
+             this solve would move another robot than the one its model was learned for"
+                .to_string(),
+        ));
     }
-    let participants = match ParticipantMap::new(&spec, &world.robots) {
+    Ok(solve_loaded(job, &spec, &spec_dir, &spec_file, problem, &samplers, &world))
+}
+
+/// Solves `job` once its spec, robots and model are known to be the evaluation's.
+fn solve_loaded(
+    job: &Job,
+    spec: &lamp_spec::Spec,
+    spec_dir: &std::path::Path,
+    spec_file: &str,
+    problem: &lamp_spec::Problem,
+    samplers: &SamplersFile,
+    world: &SpecWorld,
+) -> SolveResult {
+    let participants = match ParticipantMap::new(spec, &world.robots) {
         Ok(participants) => participants,
         Err(failure) => return error(failure),
     };
@@ -142,14 +182,14 @@ fn solve(job: &Job) -> SolveResult {
     };
     let overrides = Overrides { seed: Some(job.seed), ..Overrides::default() };
     let mut plugins =
-        match solve_setup::plugins(&spec, &spec_dir, &spec_file, &overrides, &samplers.artifact) {
+        match solve_setup::plugins(spec, spec_dir, spec_file, &overrides, &samplers.artifact) {
             Ok(plugins) => plugins,
             Err(message) => return error(message),
         };
     let deadline = job.timeout.map(|seconds| Instant::now() + Duration::from_secs_f64(seconds));
     let cancelled = || deadline.is_some_and(|deadline| Instant::now() >= deadline);
-    let settings = solve_setup::settings(&spec, &plugins.runtime, &overrides, &cancelled);
-    let mut header = trajectory_header(&spec, &scene, settings.seed);
+    let settings = solve_setup::settings(spec, &plugins.runtime, &overrides, &cancelled);
+    let mut header = trajectory_header(spec, &scene, settings.seed);
     header.provenance.insert("problem".to_string(), problem.name.clone());
     let input = SolveInput {
         scene: &scene,
