@@ -134,18 +134,6 @@ pub fn execute(
             continue;
         }
         let group = motion_group(&model, &start, goal);
-        if let Some(path) =
-            straight_first(scene, robot, group, &start, goal, &settings.motion.config)
-        {
-            let states = densify(&model, &path, &settings.motion.config)
-                .map_err(|error| Rejection::candidate(&error))?;
-            recorder.follow(scene, robot, &states);
-            scene.set_configuration(robot, states.last().unwrap_or(&start));
-            continue;
-        }
-        let space = RobotSpace::new(scene, robot, group, &start, goal, &settings.motion.config)
-            .map_err(|error| Rejection::candidate(&error))?;
-        let host = GroupHost::new(&target.robot, &model, space, settings.cancelled);
         let request = MotionRequest {
             robot: target.robot.clone(),
             start: start.clone(),
@@ -153,39 +141,72 @@ pub fn execute(
             budget: settings.motion.budget,
             seed: seed.wrapping_add(offset as u64),
         };
-        counts.calls += 1;
-        let waypoints = match motion.plan_path(&request, &host) {
-            Ok(MotionOutcome::Path(waypoints)) => waypoints,
-            Ok(MotionOutcome::NoPath { reason, message }) => {
-                counts.failures += 1;
-                let lifted = if reason == NoPathReason::BudgetExhausted {
-                    let ends = Lifted { scene, robot, group, start: &start, goal };
-                    ends.plan(motion, &request, &host, &settings.motion.config, counts)?
-                } else {
-                    None
-                };
-                let Some(waypoints) = lifted else {
-                    let blocked = match reason {
-                        NoPathReason::StartInvalid => scene.first_contact(robot, &start),
-                        NoPathReason::GoalInvalid => scene.first_contact(robot, goal),
-                        NoPathReason::BudgetExhausted | NoPathReason::Other => None,
-                    };
-                    let cause = match blocked {
-                        Some(contact) => Cause::of_contact(&target.robot, contact, scene),
-                        None => {
-                            Cause::NoPath { robot: target.robot.clone(), group: group.to_string() }
-                        }
-                    };
-                    let why = format!(
-                        "no {group} path for `{}` ({reason:?}{}{message})",
-                        target.robot,
-                        if message.is_empty() { "" } else { ": " }
-                    );
-                    return Err(Rejection::Candidate { cause, why });
-                };
-                waypoints
+        // A carry leaves its support straight up and comes down onto its place straight down,
+        // as a robot picks and places: a path that slides the object along what it stood on, or
+        // skims a wall on the way down, is collision-free only at the world's zero clearance.
+        let carrying = scene.held(robot).is_some();
+        let carried = if carrying {
+            let space = RobotSpace::new(scene, robot, group, &start, goal, &settings.motion.config)
+                .map_err(|error| Rejection::candidate(&error))?;
+            let host = GroupHost::new(&target.robot, &model, space, settings.cancelled);
+            let ends = Lifted { scene, robot, group, start: &start, goal };
+            ends.plan(motion, &request, &host, &settings.motion.config, counts)?
+        } else {
+            None
+        };
+        let waypoints = if let Some(path) = carried {
+            path
+        } else {
+            if let Some(path) =
+                straight_first(scene, robot, group, &start, goal, &settings.motion.config)
+            {
+                let states = densify(&model, &path, &settings.motion.config)
+                    .map_err(|error| Rejection::candidate(&error))?;
+                recorder.follow(scene, robot, &states);
+                scene.set_configuration(robot, states.last().unwrap_or(&start));
+                continue;
             }
-            Err(error) => return Err(Rejection::Fatal(SolveError::from_plugin("motion", error))),
+            let space = RobotSpace::new(scene, robot, group, &start, goal, &settings.motion.config)
+                .map_err(|error| Rejection::candidate(&error))?;
+            let host = GroupHost::new(&target.robot, &model, space, settings.cancelled);
+            counts.calls += 1;
+            match motion.plan_path(&request, &host) {
+                Ok(MotionOutcome::Path(waypoints)) => waypoints,
+                Ok(MotionOutcome::NoPath { reason, message }) => {
+                    counts.failures += 1;
+                    // A carry was tried from above its ends already.
+                    let lifted = if reason == NoPathReason::BudgetExhausted && !carrying {
+                        let ends = Lifted { scene, robot, group, start: &start, goal };
+                        ends.plan(motion, &request, &host, &settings.motion.config, counts)?
+                    } else {
+                        None
+                    };
+                    let Some(waypoints) = lifted else {
+                        let blocked = match reason {
+                            NoPathReason::StartInvalid => scene.first_contact(robot, &start),
+                            NoPathReason::GoalInvalid => scene.first_contact(robot, goal),
+                            NoPathReason::BudgetExhausted | NoPathReason::Other => None,
+                        };
+                        let cause = match blocked {
+                            Some(contact) => Cause::of_contact(&target.robot, contact, scene),
+                            None => Cause::NoPath {
+                                robot: target.robot.clone(),
+                                group: group.to_string(),
+                            },
+                        };
+                        let why = format!(
+                            "no {group} path for `{}` ({reason:?}{}{message})",
+                            target.robot,
+                            if message.is_empty() { "" } else { ": " }
+                        );
+                        return Err(Rejection::Candidate { cause, why });
+                    };
+                    waypoints
+                }
+                Err(error) => {
+                    return Err(Rejection::Fatal(SolveError::from_plugin("motion", error)));
+                }
+            }
         };
         if let Some(reason) = malformed_waypoint(&waypoints, start.len()) {
             return Err(bad_path(&reason));
@@ -335,6 +356,11 @@ fn straight_first(
 /// did not find (metres): [`Lifted`].
 pub const LIFT_HEIGHT: f64 = 0.1;
 
+/// How far above everything around it a carried object is lifted at each end of a carry
+/// (metres), when that is higher than [`LIFT_HEIGHT`]: a robot tracks its trajectory within
+/// millimetres, and an object carried over a box's wall at the height of its rim hits it.
+pub const CARRY_CLEARANCE: f64 = 0.02;
+
 /// An arm motion planned again from above its ends: the gripper goes straight up
 /// [`LIFT_HEIGHT`] from the start, the motion planner plans from there to the same height above
 /// the goal, and the gripper comes straight down onto the goal.
@@ -409,8 +435,15 @@ impl Lifted<'_> {
     fn lift(&self, from: &[f64], config: &MotionConfig) -> Option<Vec<Vec<f64>>> {
         let state = &self.scene.robots()[self.robot];
         let model = state.robot();
-        let link = state.gripper()?.link;
-        let target = Translation3::new(0.0, 0.0, LIFT_HEIGHT) * model.link_pose(from, link);
+        let gripper = state.gripper()?;
+        let link = gripper.link;
+        let at = model.link_pose(from, link);
+        // A carried object rises clear of what is around it, a box's walls included.
+        let height = gripper.held.map_or(LIFT_HEIGHT, |held| {
+            let rise = self.scene.rise_to_clear(held.body, &(at * held.grasp), CARRY_CLEARANCE);
+            rise.max(LIFT_HEIGHT)
+        });
+        let target = Translation3::new(0.0, 0.0, height) * at;
         let goal = LinkGoal {
             robot: self.robot,
             group: self.group,

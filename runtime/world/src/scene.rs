@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 
-use lamp_geometry::{BodyId, CollisionShape, CollisionWorld, Pose, Shape};
+use lamp_geometry::{Aabb, BodyId, CollisionShape, CollisionWorld, Pose, Shape};
 use lamp_robot::{LinkId, Robot};
 
 use crate::error::WorldError;
@@ -265,6 +265,29 @@ impl Scene {
         let state = self.robots.get(robot)?;
         let gripper = state.gripper.as_ref()?;
         Some(state.robot.link_pose(q, gripper.link))
+    }
+
+    /// How far `body`, held by robot `robot` at configuration `q`, must rise straight up so
+    /// that its bottom is `clearance` above the top of every other body whose box, grown by
+    /// `clearance`, it overlaps across (0 when it is already that high). Boxes, world-aligned:
+    /// conservative for what a carry passes on its way up and over.
+    pub fn rise_to_clear(&self, body: usize, pose: &Pose, clearance: f64) -> f64 {
+        let Some(shape) = self.collision.shape(BodyId(body)) else { return 0.0 };
+        let held = shape.aabb(pose);
+        let across = |other: &Aabb| {
+            (0..2).all(|axis| {
+                held.mins[axis] < other.maxs[axis] + clearance
+                    && other.mins[axis] < held.maxs[axis] + clearance
+            })
+        };
+        (0..self.bodies.len())
+            .filter(|&other| other != body)
+            .filter_map(|other| {
+                let id = BodyId(other);
+                let outline = self.collision.shape(id)?.aabb(self.collision.pose(id)?);
+                across(&outline).then_some(outline.maxs.z + clearance - held.mins.z)
+            })
+            .fold(0.0, f64::max)
     }
 
     /// The body a robot's gripper holds.

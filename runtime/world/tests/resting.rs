@@ -319,3 +319,26 @@ fn a_release_settles_the_can_it_lets_go_of_or_keeps_holding_it() {
     // An empty gripper lets go of nothing.
     assert_eq!(scene.release_at_rest(gripper), Ok(None));
 }
+
+/// A carry rises until the object's bottom is the clearance above every body it overlaps
+/// across: the table under it, and a wall beside it (boxes grown by the clearance).
+#[test]
+fn a_carried_can_rises_clear_of_the_table_and_of_a_wall_beside_it() {
+    let clearance = 0.02;
+    let (scene, can) = can_over_table(0.0, RESTING_GAP);
+    let at = scene.body_pose(can);
+    // Only the table: its top is 1 mm under the can's bottom.
+    let rise = scene.rise_to_clear(can, &at, clearance);
+    assert!((rise - (clearance - RESTING_GAP)).abs() < 1e-9, "{rise}");
+    let (mut scene, can) = can_over_table(0.0, RESTING_GAP);
+    // A wall 10 cm tall on the table, 1.5 cm beside the can: within the clearance.
+    let wall = block("wall", (0.005, 0.2, 0.05), false);
+    let wall_x = CAN_RADIUS + 0.015 + 0.005;
+    scene.add_body(wall, pose(wall_x, 0.0, TABLE_TOP + 0.05, 0.0, 0.0, 0.0)).unwrap();
+    let rise = scene.rise_to_clear(can, &at, clearance);
+    assert!((rise - (0.1 + clearance - RESTING_GAP)).abs() < 1e-9, "{rise}");
+    // Farther from the wall than the clearance, only the table counts.
+    let away = pose(-0.01, 0.0, TABLE_TOP + RESTING_GAP, 0.0, 0.0, 0.0);
+    let rise = scene.rise_to_clear(can, &away, clearance);
+    assert!((rise - (clearance - RESTING_GAP)).abs() < 1e-9, "{rise}");
+}
