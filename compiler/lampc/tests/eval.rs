@@ -258,31 +258,46 @@ fn children_of(pid: u32) -> Vec<u32> {
     children
 }
 
-fn interrupt_keeps_finished_rows_and_leaves_no_worker(signal: &str) {
-    let scratch = tempfile::tempdir().expect("a scratch directory");
-    let spec = scratch_spec(scratch.path());
-    let out = scratch.path().join("eval");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_lampc"))
+/// `lampc eval` of `unreachable` and `pack6` from 40 demonstrations, one at a time, with `extra`
+/// flags: `unreachable` comes first in spec order and ends at once; `pack6` runs on.
+fn start_unreachable_and_pack6(spec: &Path, out: &Path, extra: &[&str]) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_lampc"))
         .arg("eval")
-        .arg(&spec)
+        .arg(spec)
         .args(["--demos", "40", "--runs", "1", "--problems", "unreachable,pack6", "--jobs", "1"])
+        .args(extra)
         .arg("--out")
-        .arg(&out)
+        .arg(out)
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
-        .expect("lampc starts");
-    // `unreachable` comes first in spec order and ends at once; `pack6` runs on.
+        .expect("lampc starts")
+}
+
+/// Waits until the first row is in the journal and `pack6`'s solve runs (`running`, given the
+/// evaluation's process id).
+fn wait_for_first_row_while_pack6_runs(
+    child: &mut std::process::Child,
+    out: &Path,
+    running: impl Fn(u32) -> bool,
+) {
     let journal = out.join("journal.jsonl");
     let started = Instant::now();
-    // Until the first row is in and `pack6`'s worker runs.
     while std::fs::read_to_string(&journal).map_or(0, |text| text.lines().count()) < 1
-        || children_of(child.id()).is_empty()
+        || !running(child.id())
     {
         assert!(started.elapsed() < Duration::from_secs(300), "the first row never came");
         assert!(child.try_wait().expect("waits").is_none(), "lampc ended before Ctrl-C");
         std::thread::sleep(Duration::from_millis(50));
     }
+}
+
+fn interrupt_keeps_finished_rows_and_leaves_no_worker(signal: &str) {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let out = scratch.path().join("eval");
+    let mut child = start_unreachable_and_pack6(&spec, &out, &[]);
+    wait_for_first_row_while_pack6_runs(&mut child, &out, |child| !children_of(child).is_empty());
     let workers = children_of(child.id());
     let pid = child.id().to_string();
     let kill = Command::new("kill").args([signal, &pid]).status().expect("kill runs");
@@ -864,26 +879,8 @@ fn a_ray_cluster_gives_the_local_rows_and_an_interrupted_ray_evaluation_resumes(
 
     // `unreachable` ends at once; `pack6` runs on until the evaluation is interrupted.
     let out = scratch.path().join("interrupted");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_lampc"))
-        .arg("eval")
-        .arg(&spec)
-        .args(["--demos", "40", "--runs", "1", "--problems", "unreachable,pack6", "--jobs", "1"])
-        .args(["--executor", &executor])
-        .arg("--out")
-        .arg(&out)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("lampc starts");
-    let journal = out.join("journal.jsonl");
-    let started = Instant::now();
-    while std::fs::read_to_string(&journal).map_or(0, |text| text.lines().count()) < 1
-        || ray_eval_workers().is_empty()
-    {
-        assert!(started.elapsed() < Duration::from_secs(300), "the first row never came");
-        assert!(child.try_wait().expect("waits").is_none(), "lampc ended before Ctrl-C");
-        std::thread::sleep(Duration::from_millis(50));
-    }
+    let mut child = start_unreachable_and_pack6(&spec, &out, &["--executor", &executor]);
+    wait_for_first_row_while_pack6_runs(&mut child, &out, |_| !ray_eval_workers().is_empty());
     let pid = child.id().to_string();
     assert!(Command::new("kill").args(["-INT", &pid]).status().expect("kill runs").success());
     let output = child.wait_with_output().expect("lampc ends");
