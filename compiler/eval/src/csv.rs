@@ -5,12 +5,14 @@ use std::fmt::Write as _;
 use crate::row::Row;
 
 /// The header line's columns.
-pub const CSV_COLUMNS: [&str; 21] = [
+pub const CSV_COLUMNS: [&str; 23] = [
     "demos",
     "run",
     "problem",
     "objects",
     "subset",
+    "commit",
+    "model",
     "solved",
     "outcome",
     "reason",
@@ -60,6 +62,8 @@ pub fn csv(rows: &[Row]) -> String {
             field(&row.problem),
             row.objects.to_string(),
             field(&row.subset),
+            field(row.commit.as_deref().unwrap_or_default()),
+            field(row.model.as_deref().unwrap_or_default()),
             row.solved.to_string(),
             result.outcome.name().to_string(),
             field(&result.reason),
@@ -97,13 +101,13 @@ mod tests {
         assert_eq!(lines.len(), 1 + rows.len());
         assert_eq!(
             lines[1],
-            "40,1,pack2,2,fnv1a64:a,true,solved,,,,10,1,20,0,12,0.100,2.500,0.200,3.000,50000000,1.000"
+            "40,1,pack2,2,fnv1a64:a,,,true,solved,,,,10,1,20,0,12,0.100,2.500,0.200,3.000,50000000,1.000"
         );
         assert!(lines[6].contains(",false,relaxed_goal,"), "{}", lines[6]);
         assert!(lines[6].contains(",(surface_can_1 box1 can4),"), "{}", lines[6]);
         assert_eq!(
             lines[7],
-            "20,2,pack2,2,fnv1a64:d,false,refinement_budget,\"no plan could be refined (3 plans, \"\"deepest\"\" step 2)\",in_the_way,,,,,,,,,,,,0.500"
+            "20,2,pack2,2,fnv1a64:d,,,false,refinement_budget,\"no plan could be refined (3 plans, \"\"deepest\"\" step 2)\",in_the_way,,,,,,,,,,,,0.500"
         );
     }
 }

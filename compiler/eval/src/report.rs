@@ -1,6 +1,8 @@
 //! `report.md`: what was evaluated, the sample-efficiency table, the generalization factor, the
-//! success table per problem and why solves failed, with the two plots embedded.
+//! success table per problem and why solves failed, with the two plots embedded; and, apart,
+//! the journal's rows that another learner made.
 
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use crate::row::{EvalInfo, Outcome, Row};
@@ -46,8 +48,9 @@ fn reaching_goal(count: usize, pool: &crate::PoolInfo) -> String {
     (count - crate::subset::cut_places(count, pool.demonstrations, pool.cut)).to_string()
 }
 
-/// The report of `rows` (in any order).
-pub fn report(info: &EvalInfo, rows: &[Row]) -> String {
+/// The report of `rows` (in any order); `earlier` are rows of the same solves made with another
+/// model (an earlier learner's), listed apart and counted in no figure.
+pub fn report(info: &EvalInfo, rows: &[Row], earlier: &[Row]) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "# Evaluation of `{}`\n", info.spec);
     let counts: Vec<String> = info.counts.iter().map(usize::to_string).collect();
@@ -181,7 +184,33 @@ pub fn report(info: &EvalInfo, rows: &[Row]) -> String {
         out.push('\n');
     }
     stopped_table(&mut out, info, rows);
+    earlier_table(&mut out, earlier);
     out
+}
+
+/// The rows another learner made, by commit and demonstration count; nothing when there are none.
+fn earlier_table(out: &mut String, earlier: &[Row]) {
+    if earlier.is_empty() {
+        return;
+    }
+    out.push_str("\n## Rows from another learner\n\n");
+    let _ = writeln!(
+        out,
+        "{} row(s) of the journal answer these solves with a model that this lampc no longer learns from their subsets: the learner has changed since. They stay in the journal and count in none of the figures above.\n",
+        earlier.len()
+    );
+    let mut groups: BTreeMap<(&str, usize), (usize, usize)> = BTreeMap::new();
+    for row in earlier {
+        let commit = row.commit.as_deref().unwrap_or("not recorded");
+        let (rows, solved) = groups.entry((commit, row.demos)).or_default();
+        *rows += 1;
+        *solved += usize::from(row.solved);
+    }
+    out.push_str("| commit | demonstrations | rows | solved |\n| --- | ---: | ---: | ---: |\n");
+    for ((commit, demos), (rows, solved)) in groups {
+        let short: String = commit.chars().take(12).collect();
+        let _ = writeln!(out, "| `{short}` | {demos} | {rows} | {solved} |");
+    }
 }
 
 /// The table of what stopped the failed solves that refined plans, by kind and demonstration
@@ -217,7 +246,7 @@ mod tests {
 
     #[test]
     fn the_report_has_the_tables_the_factor_and_the_plots() {
-        let text = report(&info(), &rows());
+        let text = report(&info(), &rows(), &[]);
         assert!(text.starts_with("# Evaluation of `packing.lamp`\n"), "{text}");
         assert!(
             text.contains("| 40 | 20 | 2 | 100.0 % ± 0.0 % | 100 % | 100 % | 4 objects |"),
@@ -234,16 +263,16 @@ mod tests {
         assert!(text.contains("![Sample efficiency](sample_efficiency.svg)"));
         assert!(text.contains("![Success per problem](success.svg)"));
         assert!(text.contains("No solve had a time limit"));
-        assert_eq!(text, report(&info(), &rows()), "deterministic");
+        assert_eq!(text, report(&info(), &rows(), &[]), "deterministic");
     }
 
     #[test]
     fn failed_solves_are_counted_by_what_stopped_them() {
-        assert!(!report(&info(), &rows()).contains("What stopped"), "no row says");
+        assert!(!report(&info(), &rows(), &[]).contains("What stopped"), "no row says");
         let mut rows = rows();
         let failed = rows.iter_mut().find(|row| row.result.outcome == Outcome::RefinementBudget);
         failed.expect("a refinement failure").result.stopped_by = Some("in_the_way".into());
-        let text = report(&info(), &rows);
+        let text = report(&info(), &rows, &[]);
         assert!(text.contains("## What stopped the failed solves"), "{text}");
         assert!(text.contains("| `in_the_way` | 0 | 1 |"), "{text}");
     }
@@ -252,8 +281,26 @@ mod tests {
     fn a_time_limit_is_said_to_make_results_machine_dependent() {
         let mut info = info();
         info.settings.timeout = Some(60.0);
-        let text = report(&info, &rows());
+        let text = report(&info, &rows(), &[]);
         assert!(text.contains("a time limit of 60 s (`--timeout`)"), "{text}");
+    }
+
+    #[test]
+    fn rows_of_another_learner_are_listed_apart_and_counted_in_no_figure() {
+        let rows = rows();
+        assert!(!report(&info(), &rows, &[]).contains("another learner"));
+        let mut earlier = vec![rows[0].clone(), rows[1].clone()];
+        earlier[0].commit = Some("0123456789abcdef0123".into());
+        earlier[1].commit = None;
+        for row in &mut earlier {
+            row.solved = false;
+        }
+        let text = report(&info(), &rows, &earlier);
+        assert!(text.contains("## Rows from another learner"), "{text}");
+        assert!(text.contains("| `0123456789ab` | 40 | 1 | 0 |"), "{text}");
+        assert!(text.contains("| `not recorded` | 40 | 1 | 0 |"), "{text}");
+        let without = report(&info(), &rows, &[]);
+        assert!(text.starts_with(&without), "the figures are those of `rows` alone");
     }
 
     #[test]

@@ -135,6 +135,15 @@ pub struct Row {
     pub objects: usize,
     /// The digest of the demonstration subset learned from.
     pub subset: String,
+    /// The source commit of the lampc that learned and solved (`unknown` when built outside a
+    /// git checkout); absent from rows written before it was recorded.
+    #[serde(default)]
+    pub commit: Option<String>,
+    /// The digest of what the solve was given: the learned domain, the sampler file and the
+    /// problem's PDDL (or, when the build failed, why). Two learners that give the same model
+    /// give the same digest; absent from rows written before it was recorded.
+    #[serde(default)]
+    pub model: Option<String>,
     /// Whether the problem was solved: the outcome is `solved`.
     pub solved: bool,
     #[serde(flatten)]
@@ -160,6 +169,8 @@ impl Row {
             problem: problem.to_string(),
             objects,
             subset: subset.to_string(),
+            commit: None,
+            model: None,
             solved: result.outcome == Outcome::Solved,
             result,
             seconds_learning,

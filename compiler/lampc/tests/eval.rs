@@ -585,6 +585,72 @@ fn quick_eval_of(spec: &Path, out: &Path, extra: &[&str], problems: &str, demos:
     common::lampc(args)
 }
 
+/// The journal's lines, parsed.
+fn journal_lines(out: &Path) -> Vec<Value> {
+    let text = std::fs::read_to_string(out.join("journal.jsonl")).expect("a journal");
+    text.lines().map(|line| serde_json::from_str(line).expect("a journal line")).collect()
+}
+
+/// Figures accumulate: a later evaluation with more runs solves only the new runs' problems, and
+/// every row says which commit made it with which model; a row whose model this lampc no longer
+/// learns (an earlier learner's) is solved again, stays in the journal, and is reported apart,
+/// counted in no figure.
+#[test]
+fn rows_accumulate_and_an_earlier_learners_rows_are_solved_again_and_kept_apart() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let out = scratch.path().join("accumulated");
+    let evaluate = |runs: &str| {
+        let flags = ["--demos", "40,30", "--runs", runs, "--problems", "pack2", "--jobs", "2"];
+        let mut args: Vec<&OsStr> = vec![OsStr::new("eval"), spec.as_os_str()];
+        args.extend(flags.iter().map(OsStr::new));
+        args.extend([OsStr::new("--out"), out.as_os_str()]);
+        let output = common::lampc(args);
+        assert!(output.status.success(), "{}", stderr(&output));
+        output
+    };
+
+    evaluate("1");
+    let lines = journal_lines(&out);
+    assert_eq!(lines.len(), 2, "one subset of 40 and one of 30");
+    for line in &lines {
+        let commit = line["row"]["commit"].as_str().expect("a commit");
+        let is_commit = commit.len() == 40 && commit.chars().all(|c| c.is_ascii_hexdigit());
+        assert!(is_commit || commit == "unknown", "{commit}");
+        let model = line["row"]["model"].as_str().expect("a model digest");
+        assert!(model.starts_with("fnv1a64:"), "{model}");
+    }
+
+    // A second run per count: the 40 of a pool of 40 is the same subset again, the 30 a new one.
+    let second = evaluate("2");
+    assert!(stderr(&second).contains(", 3 already in the journal"), "{}", stderr(&second));
+    assert!(!stderr(&second).contains("again"), "{}", stderr(&second));
+    assert_eq!(journal_lines(&out).len(), 3, "only the new subset's problem was solved");
+    let accumulated = read_json(&out.join("eval.json"));
+    assert_eq!(accumulated["rows"].as_array().map(Vec::len), Some(4));
+
+    // The same rows as an earlier learner's: another model, another commit.
+    let earlier: Vec<String> = journal_lines(&out)
+        .into_iter()
+        .map(|mut line| {
+            line["row"]["model"] = Value::from("fnv1a64:0000000000000000");
+            line["row"]["commit"] = Value::from("0123456789abcdef0123");
+            format!("{line}\n")
+        })
+        .collect();
+    std::fs::write(out.join("journal.jsonl"), earlier.concat()).expect("rewrites the journal");
+    let third = evaluate("2");
+    assert!(stderr(&third).contains("solved 3 journaled solve(s) again"), "{}", stderr(&third));
+    assert_eq!(journal_lines(&out).len(), 6, "the earlier rows stay");
+    let resolved = read_json(&out.join("eval.json"));
+    assert_eq!(deterministic_rows(&resolved), deterministic_rows(&accumulated));
+    let report = std::fs::read_to_string(out.join("report.md")).expect("report.md");
+    assert!(report.contains("## Rows from another learner"), "{report}");
+    assert!(report.contains("| `0123456789ab` | 30 | 2 | 2 |"), "{report}");
+    assert!(report.contains("| `0123456789ab` | 40 | 1 | 1 |"), "{report}");
+    assert!(report.contains("| 30 | 16 | 2 | 100.0 % ± 0.0 % |"), "{report}");
+}
+
 /// The settings keys of a journal's lines.
 fn journal_keys(out: &Path) -> Vec<String> {
     let text = std::fs::read_to_string(out.join("journal.jsonl")).unwrap_or_default();

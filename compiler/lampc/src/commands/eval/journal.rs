@@ -3,8 +3,10 @@
 //! command continues where it stopped.
 //!
 //! A line is `{"settings": KEY, "row": ROW}`; a row is reused for the subset digest and problem
-//! it names when KEY is the current settings key. Lines that do not parse (the last one, cut off
-//! by a crash) are skipped.
+//! it names when KEY is the current settings key and the model this lampc learns for that subset
+//! and problem is the row's `model` (so rows accumulate across commits while the learner gives
+//! the same models; rows of another learner stay in the file and are reported apart). Lines that
+//! do not parse (the last one, cut off by a crash) are skipped.
 
 use std::collections::BTreeMap;
 use std::fs::{File, OpenOptions};
@@ -37,9 +39,13 @@ pub(super) struct Journal {
     settings: String,
 }
 
-/// What an existing journal holds for `settings`: the rows by key, and how many lines were
-/// skipped because they do not parse or contradict themselves (`solved` against the outcome).
-pub(super) fn read(path: &Path, settings: &str) -> Result<(BTreeMap<Key, Row>, usize), String> {
+/// What an existing journal holds for `settings`: the rows by key, each key's in file order, and
+/// how many lines were skipped because they do not parse or contradict themselves (`solved`
+/// against the outcome).
+pub(super) fn read(
+    path: &Path,
+    settings: &str,
+) -> Result<(BTreeMap<Key, Vec<Row>>, usize), String> {
     let text = match crate::files::read_text_limited(path, JOURNAL_FILE_LIMIT, "journal") {
         Ok(text) => text,
         Err(crate::files::ReadError::Io(error)) if error.kind() == std::io::ErrorKind::NotFound => {
@@ -53,12 +59,13 @@ pub(super) fn read(path: &Path, settings: &str) -> Result<(BTreeMap<Key, Row>, u
             ));
         }
     };
-    let mut rows = BTreeMap::new();
+    let mut rows: BTreeMap<Key, Vec<Row>> = BTreeMap::new();
     let mut skipped = 0;
     for line in text.lines().filter(|line| !line.trim().is_empty()) {
         match serde_json::from_str::<Entry>(line) {
             Ok(entry) if entry.settings == settings && entry.row.is_consistent() => {
-                rows.insert((entry.row.subset.clone(), entry.row.problem.clone()), entry.row);
+                let key = (entry.row.subset.clone(), entry.row.problem.clone());
+                rows.entry(key).or_default().push(entry.row);
             }
             Ok(entry) if entry.settings == settings => skipped += 1,
             Ok(_) => {}
@@ -121,6 +128,6 @@ mod tests {
         journal.append(&edited).expect("appends");
         let (rows, skipped) = read(&path, "key").expect("reads");
         assert_eq!(skipped, 1);
-        assert_eq!(rows.into_values().collect::<Vec<_>>(), [honest]);
+        assert_eq!(rows.into_values().flatten().collect::<Vec<_>>(), [honest]);
     }
 }

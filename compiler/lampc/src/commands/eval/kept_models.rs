@@ -7,24 +7,22 @@
 //! `failed/`, as `lampc build` does. Runs of one count that drew the same
 //! subset (a count equal to the pool's size) share a model, written under each run's name.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
 
 use lamp_build::ArtifactFile;
 
+use super::Slot;
 use super::schedule::SubsetWork;
-use super::{Slot, Subsets};
 use crate::output::OutputFolder;
 
 /// The folder, beside the evaluation's outputs, that holds the kept models.
 const MODELS_DIR: &str = "models";
 
-/// Where each subset's model goes, and which have been written.
+/// Where each subset's model goes.
 pub(super) struct KeptModels {
     /// Per subset digest, the build folders of the runs that drew it, in slot order.
     folders: BTreeMap<String, Vec<PathBuf>>,
-    written: Mutex<BTreeSet<String>>,
 }
 
 impl KeptModels {
@@ -37,7 +35,7 @@ impl KeptModels {
                 runs.push(folder);
             }
         }
-        KeptModels { folders, written: Mutex::new(BTreeSet::new()) }
+        KeptModels { folders }
     }
 
     /// Writes a subset's model into the build folder of every run that drew it. A folder that
@@ -66,8 +64,7 @@ impl KeptModels {
     }
 
     /// Replaces the folder `name` of each build folder of the runs that drew the subset with
-    /// `files`, reporting (as `what`) and skipping a folder that cannot be written, and marks the
-    /// subset written.
+    /// `files`, reporting (as `what`) and skipping a folder that cannot be written.
     fn replace_in_each(
         &self,
         work: &SubsetWork,
@@ -85,21 +82,5 @@ impl KeptModels {
                 eprintln!("lampc eval: {what} was not kept: {}", render(&error));
             }
         }
-        self.written.lock().unwrap_or_else(std::sync::PoisonError::into_inner).insert(digest);
-    }
-
-    /// The subsets no model was written for yet (every solve of theirs was in the journal).
-    pub(super) fn unwritten(&self, subsets: &Subsets) -> Vec<SubsetWork> {
-        let written = self.written.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        self.folders
-            .keys()
-            .filter(|digest| !written.contains(*digest))
-            .filter_map(|digest| subsets.get(digest))
-            .map(|(digest, indices)| SubsetWork {
-                digest: *digest,
-                indices: indices.clone(),
-                problems: Vec::new(),
-            })
-            .collect()
     }
 }

@@ -35,7 +35,7 @@ use miette::Diagnostic as _;
 use self::executor::Executor;
 use self::journal::{JOURNAL_FILE, Journal, Key};
 use self::kept_models::KeptModels;
-use self::schedule::{Done, Ending, Learned, Model, SubsetWork};
+use self::schedule::{Done, Ending, Learned, Model, SubsetWork, model_digest};
 use self::worker::one_line;
 use crate::commands::failure::Failure;
 use crate::solve_setup::{self, Overrides};
@@ -161,7 +161,7 @@ fn evaluate_checked(
     // Read before any demonstration is generated: a journal that cannot be read stops the
     // evaluation before its slow part.
     let journal_path = out.join(JOURNAL_FILE);
-    let (mut results, skipped) = journal::read(&journal_path, &settings.key)?;
+    let (mut journaled, skipped) = journal::read(&journal_path, &settings.key)?;
 
     let world = SpecWorld::load(spec_dir, &spec).map_err(|error| render(&error))?;
     // Before any demonstration: a problem whose start cannot be (a can in the air) would fail
@@ -188,7 +188,7 @@ fn evaluate_checked(
     let draw = Draw { spec: &spec, pool: &pool, problems: &problems, counts: &counts, runs, seed };
     let (slots, subsets) = draw_slots(&draw).map_err(|error| render(&error))?;
 
-    results.retain(|key, _| slots.iter().any(|slot| slot.key == *key));
+    journaled.retain(|key, _| slots.iter().any(|slot| slot.key == *key));
     if skipped > 0 {
         note(&format!(
             "skipped {skipped} unreadable or self-contradicting line(s) of {}; their solves run again",
@@ -196,8 +196,8 @@ fn evaluate_checked(
         ));
     }
     let mut journal = Journal::open(&journal_path, &settings.key)?;
-    let work = pending_work(&slots, &results, &subsets);
-    let reused = slots.iter().filter(|slot| results.contains_key(&slot.key)).count();
+    let work = subset_work(&slots, &journaled, &subsets);
+    let reused = slots.iter().filter(|slot| journaled.contains_key(&slot.key)).count();
     let through = match args.executor {
         Some(_) => format!(" through `{}`", executor.text()),
         None => String::new(),
@@ -225,15 +225,30 @@ fn evaluate_checked(
         jobs,
         executor: &executor,
     };
-    let ending =
-        run_solves(&schedule_settings, work, &learn, &slots, &mut results, &mut journal, reused)?;
-    if let Some(kept_models) = &kept_models {
-        // Subsets whose every solve was in the journal were not learned above.
-        for work in kept_models.unwritten(&subsets) {
-            learn(&work);
-        }
+    let mut results = BTreeMap::new();
+    let ending = run_solves(
+        &schedule_settings,
+        work,
+        &learn,
+        &slots,
+        &journaled,
+        &mut results,
+        &mut journal,
+    )?;
+    let solved_again =
+        journaled.keys().filter(|key| results.get(*key).is_some_and(|(_, fresh)| *fresh)).count();
+    if solved_again > 0 {
+        note(&format!(
+            "solved {solved_again} journaled solve(s) again: this lampc learns another model for them; the earlier rows stay in {} and are reported apart",
+            journal_path.display()
+        ));
     }
-    let kept = slots.iter().filter(|slot| results.contains_key(&slot.key)).count();
+    let results: BTreeMap<Key, Row> =
+        results.into_iter().map(|(key, (row, _))| (key, row)).collect();
+    let kept = slots
+        .iter()
+        .filter(|slot| results.contains_key(&slot.key) || journaled.contains_key(&slot.key))
+        .count();
     if !completed(ending, kept, slots.len(), &journal_path, &render)? {
         return Ok(false);
     }
@@ -245,8 +260,9 @@ fn evaluate_checked(
             Some(Row { demos: slot.demos, run: slot.run, objects: slot.objects, ..row.clone() })
         })
         .collect();
+    let earlier = earlier_rows(&slots, &journaled, &results);
     let info = eval_info(&checked.file_name, &draw, settings);
-    write_outputs(&out, &info, &rows)?;
+    write_outputs(&out, &info, &rows, &earlier)?;
     print_summary(&info, &rows, &out, started.elapsed());
     Ok(true)
 }
@@ -346,47 +362,78 @@ fn draw_slots(draw: &Draw<'_>) -> Result<(Vec<Slot>, Subsets), lamp_eval::EvalEr
     Ok((slots, subsets))
 }
 
-/// The subsets with solves still to do, in the order of their first solve.
-fn pending_work(
+/// Every subset with its problems, in the order of their first solve, and the models their rows
+/// in the journal were solved with: every subset is learned, since only the model it gives now
+/// tells whether a journaled row still answers the solve.
+fn subset_work(
     slots: &[Slot],
-    results: &BTreeMap<Key, Row>,
+    journaled: &BTreeMap<Key, Vec<Row>>,
     subsets: &Subsets,
 ) -> Vec<SubsetWork> {
     let mut work: Vec<SubsetWork> = Vec::new();
     for slot in slots {
-        if results.contains_key(&slot.key) {
-            continue;
-        }
         let subset = &slot.key.0;
-        match work.iter_mut().find(|work| work.digest.to_string() == *subset) {
-            Some(work) if work.problems.contains(&slot.problem) => {}
-            Some(work) => work.problems.push(slot.problem.clone()),
+        let index = match work.iter().position(|work| work.digest.to_string() == *subset) {
+            Some(index) => index,
             None => {
                 let (digest, indices) = subsets[subset].clone();
-                work.push(SubsetWork { digest, indices, problems: vec![slot.problem.clone()] });
+                let journaled = BTreeMap::new();
+                work.push(SubsetWork { digest, indices, problems: Vec::new(), journaled });
+                work.len() - 1
             }
+        };
+        let entry = &mut work[index];
+        if entry.problems.contains(&slot.problem) {
+            continue;
+        }
+        entry.problems.push(slot.problem.clone());
+        let models = journaled.get(&slot.key).into_iter().flatten();
+        let models: Vec<String> = models.filter_map(|row| row.model.clone()).collect();
+        if !models.is_empty() {
+            entry.journaled.insert(slot.problem.clone(), models);
         }
     }
     work
 }
 
-/// Runs the solves still to do with a progress bar, each result journalled as it comes; an
+/// The journal's rows for the evaluation's solves that another model answered, in slot order:
+/// an earlier learner's, kept apart from the figures.
+fn earlier_rows(
+    slots: &[Slot],
+    journaled: &BTreeMap<Key, Vec<Row>>,
+    results: &BTreeMap<Key, Row>,
+) -> Vec<Row> {
+    let mut seen = std::collections::BTreeSet::new();
+    let mut earlier = Vec::new();
+    for slot in slots {
+        let Some(current) = results.get(&slot.key) else { continue };
+        if !seen.insert(&slot.key) {
+            continue;
+        }
+        let others = journaled.get(&slot.key).into_iter().flatten();
+        earlier.extend(others.filter(|row| row.model != current.model).cloned());
+    }
+    earlier
+}
+
+/// Runs the solves with a progress bar, each new result journalled as it comes, into `results`
+/// by key with whether it was solved now (`false`: the journal's row for the same model); an
 /// error is a journal line that could not be written.
 fn run_solves(
     schedule_settings: &schedule::Settings<'_>,
     work: Vec<SubsetWork>,
     learn: &(dyn Fn(&SubsetWork) -> Learned + Sync),
     slots: &[Slot],
-    results: &mut BTreeMap<Key, Row>,
+    journaled: &BTreeMap<Key, Vec<Row>>,
+    results: &mut BTreeMap<Key, (Row, bool)>,
     journal: &mut Journal,
-    reused: usize,
 ) -> Result<Ending, String> {
     let progress = progress_bar(slots.len() as u64);
-    let solved_in = |results: &BTreeMap<Key, Row>| {
-        slots.iter().filter(|slot| results.get(&slot.key).is_some_and(|row| row.solved)).count()
+    let solved_in = |results: &BTreeMap<Key, (Row, bool)>| {
+        let solved = |slot: &&Slot| results.get(&slot.key).is_some_and(|(row, _)| row.solved);
+        slots.iter().filter(solved).count()
     };
-    progress.set_position(reused as u64);
-    progress.set_message(format!("{} solved", solved_in(results)));
+    progress.set_message("0 solved".to_string());
     let mut write_error = None;
     let current = RefCell::new(String::new());
     let ending = schedule::run(
@@ -406,19 +453,33 @@ fn run_solves(
         },
         &mut |done: Done| {
             let Some(first) = slots.iter().find(|slot| slot.key == done.key) else { return };
-            let row = Row::new(
-                first.demos,
-                first.run,
-                &first.problem,
-                first.objects,
-                &first.key.0,
-                done.result,
-                Some(done.seconds_learning),
-            );
-            if let Err(message) = journal.append(&row) {
-                write_error.get_or_insert(message);
-            }
-            results.insert(done.key.clone(), row);
+            let entry = match done.result {
+                Some(result) => {
+                    let mut row = Row::new(
+                        first.demos,
+                        first.run,
+                        &first.problem,
+                        first.objects,
+                        &first.key.0,
+                        result,
+                        Some(done.seconds_learning),
+                    );
+                    row.commit = Some(env!("LAMP_SOURCE_COMMIT").to_string());
+                    row.model = Some(done.model);
+                    if let Err(message) = journal.append(&row) {
+                        write_error.get_or_insert(message);
+                    }
+                    (row, true)
+                }
+                None => {
+                    let same = journaled.get(&done.key).and_then(|rows| {
+                        rows.iter().rfind(|row| row.model.as_ref() == Some(&done.model))
+                    });
+                    let Some(row) = same else { return };
+                    (row.clone(), false)
+                }
+            };
+            results.insert(done.key.clone(), entry);
             let finished = slots.iter().filter(|slot| slot.key == done.key).count();
             progress.inc(finished as u64);
             progress.set_message(format!("{} · {} solved", current.borrow(), solved_in(results)));
@@ -554,8 +615,10 @@ fn refuse_out_in_a_model_folder(out: &Path) -> Result<(), String> {
     Ok(())
 }
 
-/// What every solve uses, described, and the digest that keys the journal: lampc's version and
-/// executable, the whole checked spec (with the evaluation's seed) and the time limit.
+/// What every solve uses, described, and the digest that keys the journal: lampc's version, the
+/// whole checked spec (with the evaluation's seed) and the time limit. Not the executable or its
+/// commit: rows accumulate across builds, each reused only while the learner gives the same model
+/// (`journal`), so figures grow over many commits.
 fn settings_info(
     spec: &Spec,
     spec_dir: &Path,
@@ -573,11 +636,7 @@ fn settings_info(
         .map_err(|message| format!("the motion plugin: {message}"))?;
     let never = || false;
     let solve = solve_setup::settings(spec, &runtime, &overrides, &never);
-    let text = format!(
-        "lampc {} ({})\n{spec:?}\ntimeout {timeout:?}\n",
-        env!("CARGO_PKG_VERSION"),
-        executable_identity()
-    );
+    let text = format!("lampc {}\n{spec:?}\ntimeout {timeout:?}\n", env!("CARGO_PKG_VERSION"));
     let key = lamp_build::demonstration_digest(&[DemoFile {
         name: "lampc eval settings".to_string(),
         bytes: text.into_bytes(),
@@ -594,24 +653,6 @@ fn settings_info(
         timeout,
         key: key.to_string(),
     })
-}
-
-/// The running lampc executable, as its size and modification time: a rebuilt lampc may solve
-/// differently, so its rows are not mixed with an earlier build's (hashing the executable would
-/// cost a second per run in a debug build; any rebuild changes these two).
-fn executable_identity() -> String {
-    let metadata = std::env::current_exe().and_then(std::fs::metadata);
-    match metadata {
-        Ok(metadata) => {
-            let modified = metadata
-                .modified()
-                .ok()
-                .and_then(|time| time.duration_since(std::time::UNIX_EPOCH).ok())
-                .map_or(0, |since| since.as_nanos());
-            format!("{} bytes, modified {modified}", metadata.len())
-        }
-        Err(_) => "unknown executable".to_string(),
-    }
 }
 
 /// A plugin as its name (or library path) and its options, e.g. `gbfs-ff (timeout 30 s)`.
@@ -697,23 +738,39 @@ fn learn(
                 .collect();
             Ok(Model { domain, samplers, problems })
         });
+    let models = work
+        .problems
+        .iter()
+        .map(|name| {
+            let digest = match &model {
+                Ok(model) => match &model.problems[name] {
+                    Ok(pddl) => model_digest(&[&model.domain, &model.samplers, pddl]),
+                    Err(reason) => model_digest(&[&model.domain, &model.samplers, "", reason]),
+                },
+                Err(reason) => model_digest(&["", "", "", reason]),
+            };
+            (name.clone(), digest)
+        })
+        .collect();
     Learned {
         digest: work.digest.to_string(),
         seconds: started.elapsed().as_secs_f64(),
         model,
         problems: work.problems.clone(),
+        models,
+        journaled: work.journaled.clone(),
     }
 }
 
 /// Writes the five outputs as one set: every one into a temporary file beside it first, and only
 /// when all are written are they renamed into place, so that a failed write (a full disk) leaves
 /// the previous set whole, never new figures beside an old report. The journal beside them stays.
-fn write_outputs(out: &Path, info: &EvalInfo, rows: &[Row]) -> Result<(), String> {
+fn write_outputs(out: &Path, info: &EvalInfo, rows: &[Row], earlier: &[Row]) -> Result<(), String> {
     let json = EvalDocument::new(info.clone(), rows.to_vec())
         .to_json()
         .map_err(|error| format!("cannot write eval.json: {error}"))?;
     let csv = lamp_eval::csv(rows);
-    let report = lamp_eval::report(info, rows);
+    let report = lamp_eval::report(info, rows, earlier);
     let success = lamp_eval::success_plot(info, rows);
     let efficiency = lamp_eval::sample_efficiency_plot(info, rows);
     let files: [(&str, &[u8]); 5] = [

@@ -1,6 +1,7 @@
 //! Running the solves: one thread learns the subsets' models in order, while up to `--jobs`
 //! worker processes (each through the executor's command) solve the problems of the subsets
-//! learned so far. Each finished solve is handed to the caller at once (which journals it); an
+//! learned so far. A problem whose journaled row was solved with the very model just learned is
+//! not solved again. Each finished solve is handed to the caller at once (which journals it); an
 //! interrupt stops learning, kills the running workers and drops their solves. A solve the
 //! executor gives no row for is tried once more; a second failure, or a command that cannot
 //! start, stops the evaluation as an interrupt does and is returned.
@@ -20,12 +21,15 @@ use super::worker::Job;
 /// How often the scheduler looks for finished solves, learned subsets and an interrupt.
 const POLL: Duration = Duration::from_millis(50);
 
-/// A subset to learn, with the problems still to solve with its model.
+/// A subset to learn, with the problems to solve with its model.
 pub(super) struct SubsetWork {
     pub(super) digest: lamp_build::Digest,
     /// Indices into the pool, ascending.
     pub(super) indices: Vec<usize>,
     pub(super) problems: Vec<String>,
+    /// Per problem, the models its rows in the journal were solved with: a problem whose model
+    /// is among them keeps its row.
+    pub(super) journaled: BTreeMap<String, Vec<String>>,
 }
 
 /// A subset's model as text, or why learning failed.
@@ -34,6 +38,22 @@ pub(super) struct Learned {
     pub(super) seconds: f64,
     pub(super) model: Result<Model, String>,
     pub(super) problems: Vec<String>,
+    /// Per problem, the digest of what its solve is given ([`model_digest`]).
+    pub(super) models: BTreeMap<String, String>,
+    pub(super) journaled: BTreeMap<String, Vec<String>>,
+}
+
+/// The digest of what one solve is given: the learned domain, the sampler file and the problem's
+/// PDDL, or, when there is nothing to solve with, why. Equal digests mean equal answers to the
+/// solver, whichever commit of the learner made them.
+pub(super) fn model_digest(parts: &[&str]) -> String {
+    let mut bytes = Vec::new();
+    for part in parts {
+        // Each part's length first, so that no two different lists give the same bytes.
+        bytes.extend_from_slice(&(part.len() as u64).to_le_bytes());
+        bytes.extend_from_slice(part.as_bytes());
+    }
+    lamp_build::file_digest(&bytes).to_string()
 }
 
 /// The artifacts a solve reads.
@@ -59,10 +79,12 @@ pub(super) struct Settings<'a> {
     pub(super) executor: &'a Executor,
 }
 
-/// A finished solve: its key, what it reported, and the subset's learning time.
+/// A finished solve: its key, what it reported (`None`: the journal's row for this model stands),
+/// the model it was given and the subset's learning time.
 pub(super) struct Done {
     pub(super) key: Key,
-    pub(super) result: SolveResult,
+    pub(super) result: Option<SolveResult>,
+    pub(super) model: String,
     pub(super) seconds_learning: f64,
 }
 
@@ -156,7 +178,8 @@ pub(super) fn run(
                     match finished {
                         Finished::Result(result) => {
                             let seconds_learning = learned.seconds;
-                            done(Done { key, result, seconds_learning });
+                            let model = learned.models.get(&problem).cloned().unwrap_or_default();
+                            done(Done { key, result: Some(result), model, seconds_learning });
                         }
                         // Killed by the signal that stops the evaluation (a SIGTERM to a whole
                         // cgroup reaches the workers too), not broken.
@@ -191,7 +214,8 @@ pub(super) fn run(
     }
 }
 
-/// Queues the problems of a learned subset; a failed build ends them at once.
+/// Queues the problems of a learned subset; a problem journaled with the same model and a
+/// failed build end at once.
 fn queue(
     learned: Arc<Learned>,
     ready: &mut VecDeque<(Arc<Learned>, String)>,
@@ -199,9 +223,15 @@ fn queue(
 ) {
     for problem in &learned.problems {
         let key = (learned.digest.clone(), problem.clone());
+        let model = learned.models.get(problem).cloned().unwrap_or_default();
+        if learned.journaled.get(problem).is_some_and(|models| models.contains(&model)) {
+            done(Done { key, result: None, model, seconds_learning: learned.seconds });
+            continue;
+        }
         let failed = |reason: String| Done {
             key: key.clone(),
-            result: SolveResult::failed(Outcome::BuildFailed, reason),
+            result: Some(SolveResult::failed(Outcome::BuildFailed, reason)),
+            model: model.clone(),
             seconds_learning: learned.seconds,
         };
         match &learned.model {
