@@ -8,7 +8,8 @@ domain with different demonstration counts are merged; two files giving the same
 are refused (exit 2), as is a file of another format. The figure is a grouped bar chart, one
 group per domain: per demonstration count the mean solved fraction over the runs, a whisker of
 ± one sample standard deviation and ticks at the worst and best run, then the paper's result with
-its full training set. The same table is printed to stdout in Markdown. Same inputs give the same
+its full training set. The same table, with each count's generalization factor (as `lampc eval`'s
+report computes it), is printed to stdout in Markdown. Same inputs give the same
 bytes: everything is sorted and numbers have a fixed precision.
 """
 
@@ -62,8 +63,13 @@ def summarize(path: Path, data: dict, count: int) -> dict | None:
         return None
     mean = sum(fractions) / len(fractions)
     spread = sum((f - mean) ** 2 for f in fractions) / (len(fractions) - 1) if len(fractions) > 1 else 0.0
+    # The generalization factor as `lampc eval`'s report computes it: the most objects in a solved
+    # test task over the most in a demonstration of the pool.
+    solved = [row["objects"] for row in data["rows"] if row["demos"] == count and row["solved"] is True]
+    training = data.get("pool", {}).get("max_objects", 0)
     return {"runs": len(fractions), "planned_runs": data["runs"], "mean": mean,
-            "std": math.sqrt(spread), "worst": min(fractions), "best": max(fractions)}
+            "std": math.sqrt(spread), "worst": min(fractions), "best": max(fractions),
+            "largest_solved": max(solved) if solved else None, "training_objects": training}
 
 
 def load(paths: list[Path]) -> dict[tuple[str, int], dict]:
@@ -114,16 +120,26 @@ def paper_text(domain: str) -> str:
     return f"100 % ({entry['demos']} demonstrations{factor})"
 
 
+def factor_text(summary: dict) -> str:
+    """`30× (30 ÷ 1)`, or a dash when nothing was solved or no demonstration shows an object."""
+    test, training = summary["largest_solved"], summary["training_objects"]
+    if test is None or not training:
+        return "—"
+    factor = test / training
+    shown = f"{factor:.0f}" if factor == round(factor) else f"{factor:.1f}"
+    return f"{shown}× ({test} ÷ {training})"
+
+
 def markdown(results: dict[tuple[str, int], dict]) -> str:
     """The Markdown table, one row per (domain, count); the paper's figure once per domain."""
-    lines = ["| domain | demonstrations | runs | solved (mean ± std) | worst | best | paper |",
-             "| --- | ---: | ---: | --- | ---: | ---: | --- |"]
+    lines = ["| domain | demonstrations | runs | solved (mean ± std) | worst | best | generalization | paper |",
+             "| --- | ---: | ---: | --- | ---: | ---: | --- | --- |"]
     for domain in domain_order({d for d, _ in results}):
         for index, count in enumerate(sorted(c for d, c in results if d == domain)):
             s = results[(domain, count)]
             paper = paper_text(domain) if index == 0 or domain not in PAPER else ""
             lines.append(f"| {display(domain)} | {count} | {s['runs']} | {pct(s['mean'], 1)} ± {pct(s['std'], 1)} "
-                         f"| {pct(s['worst'], 0)} | {pct(s['best'], 0)} | {paper} |")
+                         f"| {pct(s['worst'], 0)} | {pct(s['best'], 0)} | {factor_text(s)} | {paper} |")
     return "\n".join(lines) + "\n"
 
 
