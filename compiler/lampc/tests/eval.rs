@@ -625,6 +625,8 @@ fn rows_accumulate_and_an_earlier_learners_rows_are_solved_again_and_kept_apart(
     let second = evaluate("2");
     assert!(stderr(&second).contains(", 3 already in the journal"), "{}", stderr(&second));
     assert!(!stderr(&second).contains("again"), "{}", stderr(&second));
+    let summary = String::from_utf8_lossy(&second.stdout);
+    assert!(summary.contains("(1 solve(s) run now; 2 from the journal)"), "{summary}");
     assert_eq!(journal_lines(&out).len(), 3, "only the new subset's problem was solved");
     let accumulated = read_json(&out.join("eval.json"));
     assert_eq!(accumulated["rows"].as_array().map(Vec::len), Some(4));

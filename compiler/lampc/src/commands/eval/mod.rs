@@ -243,6 +243,9 @@ fn evaluate_checked(
             journal_path.display()
         ));
     }
+    // Solved by this run, for the time line: a row from the journal took its time earlier.
+    let solved_now: Vec<Row> =
+        results.values().filter(|(_, fresh)| *fresh).map(|(row, _)| row.clone()).collect();
     let results: BTreeMap<Key, Row> =
         results.into_iter().map(|(key, (row, _))| (key, row)).collect();
     let kept = slots
@@ -263,7 +266,8 @@ fn evaluate_checked(
     let earlier = earlier_rows(&slots, &journaled, &results);
     let info = eval_info(&checked.file_name, &draw, settings);
     write_outputs(&out, &info, &rows, &earlier)?;
-    print_summary(&info, &rows, &out, started.elapsed());
+    let from_journal = results.len() - solved_now.len();
+    print_summary(&info, &rows, &out, (&solved_now, from_journal, started.elapsed()));
     Ok(true)
 }
 
@@ -811,7 +815,9 @@ fn write_outputs(out: &Path, info: &EvalInfo, rows: &[Row], earlier: &[Row]) -> 
     Ok(())
 }
 
-fn print_summary(info: &EvalInfo, rows: &[Row], out: &Path, elapsed: Duration) {
+/// Prints the figures of `rows`, then the time line of `timing`: the rows solved now, how many
+/// distinct solves came from the journal, and the wall time.
+fn print_summary(info: &EvalInfo, rows: &[Row], out: &Path, timing: (&[Row], usize, Duration)) {
     println!("{}: evaluated {} solves into {}", info.spec, rows.len(), out.display());
     for summary in lamp_eval::efficiency(info, rows) {
         let percent = |value: Option<f64>| {
@@ -833,16 +839,27 @@ fn print_summary(info: &EvalInfo, rows: &[Row], out: &Path, elapsed: Duration) {
         ),
         _ => println!("  generalization  none: no test problem solved"),
     }
-    println!("{}", time_line(rows, elapsed));
+    let (solved_now, from_journal, elapsed) = timing;
+    println!("{}", time_line(solved_now, from_journal, elapsed));
 }
 
-/// The summary's last line: the solving time of the rows and the wall time of the evaluation.
-fn time_line(rows: &[Row], elapsed: Duration) -> String {
+/// The summary's last line: the solving time of the solves run now, the wall time of the
+/// evaluation, and how many solves the journal gave (their time was spent by an earlier run).
+fn time_line(solved_now: &[Row], from_journal: usize, elapsed: Duration) -> String {
     // Summed from +0.0: `Sum` for floats starts at -0.0, which prints as "-0.0 s" when no row
-    // was solved (every build failed, or every row came from the journal without a time).
+    // was solved (every build failed, or every row came from the journal).
     let solving =
-        rows.iter().filter_map(|row| row.result.seconds_solving).fold(0.0, |sum, s| sum + s);
-    format!("  time            {:.1} s of solving in {:.1} s", solving, elapsed.as_secs_f64())
+        solved_now.iter().filter_map(|row| row.result.seconds_solving).fold(0.0, |sum, s| sum + s);
+    let journal = match from_journal {
+        0 => String::new(),
+        n => format!("; {n} from the journal"),
+    };
+    format!(
+        "  time            {:.1} s of solving in {:.1} s ({} solve(s) run now{journal})",
+        solving,
+        elapsed.as_secs_f64(),
+        solved_now.len()
+    )
 }
 
 /// One bar for the whole evaluation on a terminal, nothing otherwise.
@@ -866,8 +883,12 @@ mod tests {
     fn rows_without_a_solving_time_add_up_to_zero_seconds_not_minus_zero() {
         let failed = SolveResult::failed(Outcome::BuildFailed, "learning failed");
         let rows = [Row::new(30, 1, "pack2", 2, "fnv1a64:0", failed, Some(0.5))];
-        let line = time_line(&rows, Duration::from_millis(1500));
-        assert_eq!(line, "  time            0.0 s of solving in 1.5 s");
-        assert_eq!(time_line(&[], Duration::ZERO), "  time            0.0 s of solving in 0.0 s");
+        let line = time_line(&rows, 0, Duration::from_millis(1500));
+        assert_eq!(line, "  time            0.0 s of solving in 1.5 s (1 solve(s) run now)");
+        let line = time_line(&[], 3, Duration::ZERO);
+        assert_eq!(
+            line,
+            "  time            0.0 s of solving in 0.0 s (0 solve(s) run now; 3 from the journal)"
+        );
     }
 }
