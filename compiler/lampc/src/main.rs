@@ -20,6 +20,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use crate::commands::{Finished, Outcome, Stopped};
+
 /// Learn symbolic world models from demonstrations and plan with them.
 #[derive(Parser)]
 #[command(name = "lampc", version, about)]
@@ -56,18 +58,26 @@ pub(crate) const EXIT_DIAGNOSTICS: u8 = 1;
 fn main() -> ExitCode {
     install_panic_hook();
     let cli = Cli::parse();
-    match cli.command {
-        Command::Check { spec } => check(&spec),
-        Command::Demos(args) => commands::demos::run(&args),
-        Command::Build(args) => commands::build::run(&args),
-        Command::Solve(args) => commands::solve::run(&args),
-        Command::Eval(args) => commands::eval::run(&args),
-        Command::EvalWorker => commands::eval::worker::run(),
-        Command::Render(args) => commands::render::run(&args),
+    let (name, outcome) = match cli.command {
+        Command::Check { spec } => ("check", check(&spec)),
+        Command::Demos(args) => ("demos", commands::demos::run(&args)),
+        Command::Build(args) => ("build", commands::build::run(&args)),
+        Command::Solve(args) => ("solve", commands::solve::run(&args)),
+        Command::Eval(args) => ("eval", commands::eval::run(&args)),
+        Command::EvalWorker => ("eval-worker", commands::eval::worker::run()),
+        Command::Render(args) => ("render", commands::render::run(&args)),
+    };
+    match outcome {
+        Ok(Finished::Done) => ExitCode::SUCCESS,
+        Ok(Finished::Partial) => ExitCode::from(commands::solve::EXIT_PARTIAL),
+        Err(stopped) => {
+            stopped.print(name, terminal::colour());
+            ExitCode::from(stopped.exit_code())
+        }
     }
 }
 
-fn check(spec: &std::path::Path) -> ExitCode {
+fn check(spec: &std::path::Path) -> Outcome {
     let outcome = lamp_lang::check(spec, &files::DiskLoader);
     let colour = crate::terminal::colour();
     eprint!("{}", diagnostics::render_all(&outcome, colour, terminal_width()));
@@ -96,12 +106,12 @@ fn check(spec: &std::path::Path) -> ExitCode {
                 spec.domain,
                 problems
             );
-            ExitCode::SUCCESS
+            Ok(Finished::Done)
         }
         None => {
             let count = outcome.diagnostics.len() + scene_errors;
             eprintln!("{}: {count} error(s)", spec_name(&outcome.sources));
-            ExitCode::from(EXIT_DIAGNOSTICS)
+            Err(Stopped::said())
         }
     }
 }

@@ -14,9 +14,9 @@ use std::path::Path;
 use std::time::Duration;
 
 use lamp_learn::SamplerArtifact;
-use lamp_plugin_api::{MotionPlanner, Planner, Refiner};
-use lamp_plugin_host::PluginLibrary;
-use lamp_spec::limits::{self, Limit};
+use lamp_plugin_api::{MotionPlanner, Planner, PluginError, Refiner};
+use lamp_plugin_host::{LoadError, PluginLibrary};
+use lamp_spec::limits::{self, Limit, RangeError};
 use lamp_spec::{OptionKind, OptionValue, PluginChoice, PluginKind, PluginSource};
 
 use crate::builtin_plugins::{self, ARTIFACT_KEY, Builtin, Factory};
@@ -29,6 +29,42 @@ pub(crate) struct RuntimeOptions {
     pub(crate) linear_resolution: Option<f64>,
     pub(crate) angular_resolution: Option<f64>,
     pub(crate) motion_timeout: Option<Duration>,
+}
+
+/// Why a plugin could not be set up from its choice and options.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
+pub(crate) enum SetupError {
+    #[error("option `{key}`: {range}")]
+    #[diagnostic(code(lamp::plugin::option))]
+    OutOfRange { key: String, range: RangeError },
+    #[error("option `{key}` must be {expected}, not {found}")]
+    #[diagnostic(code(lamp::plugin::option))]
+    WrongKind { key: String, expected: &'static str, found: String },
+    #[error("option `{key}` is too large")]
+    #[diagnostic(code(lamp::plugin::option))]
+    TooLarge { key: String },
+    #[error("option `{key}` is set by the plugin's name already")]
+    #[diagnostic(
+        code(lamp::plugin::option),
+        help("leave the option out: the built-in's name sets it, or choose the plain built-in")
+    )]
+    SetByName { key: String },
+    #[error("there is no built-in {kind} `{name}`; built in: {builtins}; or give a library path")]
+    #[diagnostic(code(lamp::plugin::unknown))]
+    UnknownBuiltin { kind: &'static str, name: String, builtins: String },
+    /// A built-in's table row holds another kind's factory: the table is wrong, not the input.
+    #[error("the built-in `{name}` is listed with another kind's factory")]
+    #[diagnostic(code(lamp::plugin::table))]
+    WrongFactory { name: &'static str },
+    #[error("the configuration cannot be written as JSON: {0}")]
+    #[diagnostic(code(lamp::plugin::configuration))]
+    Configuration(String),
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Library(#[from] LoadError),
+    #[error(transparent)]
+    #[diagnostic(transparent)]
+    Refused(#[from] PluginError),
 }
 
 /// The spec's choice, or the command line's name or path instead (keeping no options).
@@ -59,14 +95,22 @@ pub(crate) fn chosen(
 fn take_seconds(
     options: &mut BTreeMap<String, OptionValue>,
     key: &str,
-) -> Result<Option<Duration>, String> {
+) -> Result<Option<Duration>, SetupError> {
     match options.remove(key) {
         None => Ok(None),
         Some(OptionValue::Duration(seconds)) => {
-            limits::duration(seconds).map(Some).map_err(|error| format!("option `{key}`: {error}"))
+            limits::duration(seconds).map(Some).map_err(|source| out_of_range(key, source))
         }
-        Some(other) => Err(format!("option `{key}` must be a duration, not {other:?}")),
+        Some(other) => Err(wrong_kind(key, "a duration", &other)),
     }
+}
+
+fn out_of_range(key: &str, range: RangeError) -> SetupError {
+    SetupError::OutOfRange { key: key.to_string(), range }
+}
+
+fn wrong_kind(key: &str, expected: &'static str, found: &OptionValue) -> SetupError {
+    SetupError::WrongKind { key: key.to_string(), expected, found: format!("{found:?}") }
 }
 
 /// A count within `limit`, taken out of `options`.
@@ -74,14 +118,15 @@ fn take_count(
     options: &mut BTreeMap<String, OptionValue>,
     key: &str,
     limit: &Limit,
-) -> Result<Option<usize>, String> {
+) -> Result<Option<usize>, SetupError> {
     match options.remove(key) {
         None => Ok(None),
         Some(OptionValue::Number(value)) => {
-            let count = limit.count(value).map_err(|error| format!("option `{key}`: {error}"))?;
-            usize::try_from(count).map(Some).map_err(|_| format!("option `{key}` is too large"))
+            let count = limit.count(value).map_err(|source| out_of_range(key, source))?;
+            let too_large = |_| SetupError::TooLarge { key: key.to_string() };
+            usize::try_from(count).map(Some).map_err(too_large)
         }
-        Some(other) => Err(format!("option `{key}` must be a whole number, not {other:?}")),
+        Some(other) => Err(wrong_kind(key, "a whole number", &other)),
     }
 }
 
@@ -91,7 +136,7 @@ fn configuration(
     preset: &[(&str, &str)],
     options: &BTreeMap<String, OptionValue>,
     extra: Option<(&str, serde_json::Value)>,
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>, SetupError> {
     let mut object: serde_json::Map<String, serde_json::Value> =
         preset.iter().map(|(key, value)| ((*key).to_string(), serde_json::json!(value))).collect();
     if let Some((key, value)) = extra {
@@ -112,10 +157,11 @@ fn configuration(
             OptionValue::Text(text) | OptionValue::Word(text) => serde_json::json!(text),
         };
         if object.insert(key.clone(), value).is_some() {
-            return Err(format!("option `{key}` is set by the plugin's name already"));
+            return Err(SetupError::SetByName { key: key.clone() });
         }
     }
-    serde_json::to_vec(&serde_json::Value::Object(object)).map_err(|error| error.to_string())
+    serde_json::to_vec(&serde_json::Value::Object(object))
+        .map_err(|error| SetupError::Configuration(error.to_string()))
 }
 
 /// Whether `value` is a whole number that an `f64` and an `i64` both hold exactly.
@@ -131,26 +177,22 @@ fn check_builtin_options(
     kind: PluginKind,
     name: &str,
     options: &BTreeMap<String, OptionValue>,
-) -> Result<(), String> {
+) -> Result<(), SetupError> {
     let rules = kind.builtin_options(name).unwrap_or_default();
     for (key, value) in options {
         let Some(rule) = rules.iter().find(|rule| rule.name == key) else { continue };
-        let range = |limit: &Limit, v: f64| {
-            limit.check(v).map(drop).map_err(|error| format!("option `{key}`: {error}"))
+        let in_range = |checked: Option<RangeError>| match checked {
+            Some(range) => Err(out_of_range(key, range)),
+            None => Ok(()),
         };
         match (rule.kind, value) {
-            (OptionKind::Count(limit), OptionValue::Number(v)) => {
-                limit.count(*v).map(drop).map_err(|error| format!("option `{key}`: {error}"))?;
-            }
+            (OptionKind::Count(limit), OptionValue::Number(v)) => in_range(limit.count(*v).err())?,
             (OptionKind::Number(limit), OptionValue::Number(v))
-            | (OptionKind::Length(limit), OptionValue::Length(v)) => range(&limit, *v)?,
-            (OptionKind::Text, OptionValue::Text(_) | OptionValue::Word(_)) => {}
-            (expected, other) => {
-                return Err(format!(
-                    "option `{key}` must be {}, not {other:?}",
-                    describe(expected)
-                ));
+            | (OptionKind::Length(limit), OptionValue::Length(v)) => {
+                in_range(limit.check(*v).err())?;
             }
+            (OptionKind::Text, OptionValue::Text(_) | OptionValue::Word(_)) => {}
+            (expected, other) => return Err(wrong_kind(key, describe(expected), other)),
         }
     }
     Ok(())
@@ -180,30 +222,26 @@ impl Maker {
         choice: &PluginChoice,
         options: &BTreeMap<String, OptionValue>,
         extra: Option<(&str, serde_json::Value)>,
-    ) -> Result<(Maker, Vec<u8>), String> {
+    ) -> Result<(Maker, Vec<u8>), SetupError> {
         match &choice.source {
             PluginSource::Builtin(name) => {
                 let builtin = builtin_plugins::find(kind, name).ok_or_else(|| {
-                    format!(
-                        "there is no built-in {} `{name}`; built in: {}; or give a library path",
-                        kind_name(kind),
-                        builtin_plugins::names(kind).join(", ")
-                    )
+                    SetupError::UnknownBuiltin {
+                        kind: kind_name(kind),
+                        name: name.clone(),
+                        builtins: builtin_plugins::names(kind).join(", "),
+                    }
                 })?;
                 check_builtin_options(kind, name, options)?;
                 let config = configuration(builtin.preset, options, extra)?;
                 Ok((Maker::Builtin(builtin), config))
             }
             PluginSource::Library(path) => {
-                let library = PluginLibrary::open(path).map_err(|error| rendered(&error))?;
+                let library = PluginLibrary::open(path)?;
                 Ok((Maker::Library(library), configuration(&[], options, extra)?))
             }
         }
     }
-}
-
-fn rendered(error: &dyn miette::Diagnostic) -> String {
-    crate::diagnostics::render_error(error, false)
 }
 
 fn kind_name(kind: PluginKind) -> &'static str {
@@ -214,27 +252,24 @@ fn kind_name(kind: PluginKind) -> &'static str {
     }
 }
 
-/// A built-in's table row holds another kind's factory: the table is wrong, not the input.
-fn wrong_factory(builtin: &Builtin) -> String {
-    format!("the built-in `{}` is listed with another kind's factory", builtin.name)
+fn wrong_factory(builtin: &Builtin) -> SetupError {
+    SetupError::WrongFactory { name: builtin.name }
 }
 
 /// The planner.
 pub(crate) fn planner(
     choice: &PluginChoice,
     runtime: &mut RuntimeOptions,
-) -> Result<Box<dyn Planner>, String> {
+) -> Result<Box<dyn Planner>, SetupError> {
     let mut options = choice.options.clone();
     runtime.planner_timeout = take_seconds(&mut options, "timeout")?;
     runtime.plan_count = take_count(&mut options, "plans", &limits::PLANS)?;
     match Maker::of(PluginKind::Planner, choice, &options, None)? {
         (Maker::Builtin(builtin), config) => match builtin.factory {
-            Factory::Planner(make) => make(&config).map_err(|error| rendered(&error)),
+            Factory::Planner(make) => Ok(make(&config)?),
             _ => Err(wrong_factory(builtin)),
         },
-        (Maker::Library(library), config) => {
-            library.create_planner(&config).map_err(|error| rendered(&error))
-        }
+        (Maker::Library(library), config) => Ok(library.create_planner(&config)?),
     }
 }
 
@@ -242,17 +277,16 @@ pub(crate) fn planner(
 pub(crate) fn refiner(
     choice: &PluginChoice,
     artifact: &SamplerArtifact,
-) -> Result<Box<dyn Refiner>, String> {
-    let artifact = serde_json::to_value(artifact).map_err(|error| error.to_string())?;
+) -> Result<Box<dyn Refiner>, SetupError> {
+    let artifact = serde_json::to_value(artifact)
+        .map_err(|error| SetupError::Configuration(error.to_string()))?;
     let extra = Some((ARTIFACT_KEY, artifact));
     match Maker::of(PluginKind::Refiner, choice, &choice.options, extra)? {
         (Maker::Builtin(builtin), config) => match builtin.factory {
-            Factory::Refiner(make) => make(&config).map_err(|error| rendered(&error)),
+            Factory::Refiner(make) => Ok(make(&config)?),
             _ => Err(wrong_factory(builtin)),
         },
-        (Maker::Library(library), config) => {
-            library.create_refiner(&config).map_err(|error| rendered(&error))
-        }
+        (Maker::Library(library), config) => Ok(library.create_refiner(&config)?),
     }
 }
 
@@ -260,10 +294,10 @@ pub(crate) fn refiner(
 pub(crate) fn motion(
     choice: &PluginChoice,
     runtime: &mut RuntimeOptions,
-) -> Result<Box<dyn MotionPlanner>, String> {
+) -> Result<Box<dyn MotionPlanner>, SetupError> {
     let mut options = choice.options.clone();
     let resolution = |limit: &Limit, value: f64| {
-        limit.check(value).map(Some).map_err(|error| format!("option `resolution`: {error}"))
+        limit.check(value).map(Some).map_err(|source| out_of_range("resolution", source))
     };
     match options.remove("resolution") {
         None => {}
@@ -273,19 +307,15 @@ pub(crate) fn motion(
         Some(OptionValue::Length(v)) => {
             runtime.linear_resolution = resolution(&limits::LINEAR_RESOLUTION, v)?;
         }
-        Some(other) => {
-            return Err(format!("option `resolution` must be a length or an angle, not {other:?}"));
-        }
+        Some(other) => return Err(wrong_kind("resolution", "a length or an angle", &other)),
     }
     runtime.motion_timeout = take_seconds(&mut options, "timeout")?;
     match Maker::of(PluginKind::Motion, choice, &options, None)? {
         (Maker::Builtin(builtin), config) => match builtin.factory {
-            Factory::Motion(make) => make(&config).map_err(|error| rendered(&error)),
+            Factory::Motion(make) => Ok(make(&config)?),
             _ => Err(wrong_factory(builtin)),
         },
-        (Maker::Library(library), config) => {
-            library.create_motion_planner(&config).map_err(|error| rendered(&error))
-        }
+        (Maker::Library(library), config) => Ok(library.create_motion_planner(&config)?),
     }
 }
 
@@ -317,21 +347,24 @@ mod tests {
     #[test]
     fn built_in_options_are_held_to_the_spec_rules_and_unknown_names_listed() {
         let bad = options(&[("samples", OptionValue::Number(0.0))]);
-        let message = check_builtin_options(PluginKind::Refiner, "gmm", &bad).unwrap_err();
+        let message =
+            check_builtin_options(PluginKind::Refiner, "gmm", &bad).unwrap_err().to_string();
         assert!(message.starts_with("option `samples`"), "{message}");
         let typed = options(&[("step", OptionValue::Length(0.1))]);
-        let message = check_builtin_options(PluginKind::Motion, "rrt-connect", &typed).unwrap_err();
+        let message = check_builtin_options(PluginKind::Motion, "rrt-connect", &typed)
+            .unwrap_err()
+            .to_string();
         assert!(message.contains("must be a number"), "{message}");
 
         let choice = PluginChoice {
             source: PluginSource::Builtin("astar".to_string()),
             options: BTreeMap::new(),
         };
-        let Err(message) = planner(&choice, &mut RuntimeOptions::default()) else {
+        let Err(error) = planner(&choice, &mut RuntimeOptions::default()) else {
             panic!("an unknown built-in is refused")
         };
         assert_eq!(
-            message,
+            error.to_string(),
             "there is no built-in planner `astar`; built in: gbfs-ff, topk, external; or give a library path"
         );
     }

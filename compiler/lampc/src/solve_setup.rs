@@ -14,7 +14,7 @@ use lamp_tamp::MotionSettings;
 use lamp_tamp::{Plugins, SolveSettings};
 use lamp_world::MotionConfig;
 
-use crate::plugin_setup::{self, RuntimeOptions};
+use crate::plugin_setup::{self, RuntimeOptions, SetupError};
 
 /// Wasted candidates (refused, backtracked over, needing a replan) per plan before it is given up.
 pub(crate) const MAX_REFUSED: usize = 100;
@@ -59,6 +59,26 @@ impl SolvePlugins {
     }
 }
 
+/// A plugin of the spec (or of the command line) that could not be set up: the spec file and the
+/// plugin kind, then why, with the code and help of the underlying error.
+#[derive(Debug, thiserror::Error)]
+#[error("{spec_file}: the {kind} plugin: {error}")]
+pub(crate) struct PluginSetupError {
+    spec_file: String,
+    kind: &'static str,
+    error: SetupError,
+}
+
+impl miette::Diagnostic for PluginSetupError {
+    fn code<'a>(&'a self) -> Option<Box<dyn std::fmt::Display + 'a>> {
+        self.error.code()
+    }
+
+    fn help<'a>(&'a self) -> Option<Box<dyn std::fmt::Display + 'a>> {
+        self.error.help()
+    }
+}
+
 /// Sets up the spec's plugins (or the command line's), the `gmm` refiner sampling `artifact`.
 /// An error names the spec file and the plugin kind.
 pub(crate) fn plugins(
@@ -67,11 +87,14 @@ pub(crate) fn plugins(
     spec_file: &str,
     overrides: &Overrides<'_>,
     artifact: &SamplerArtifact,
-) -> Result<SolvePlugins, String> {
+) -> Result<SolvePlugins, PluginSetupError> {
     let plugins_spec = &spec.plugins;
     let mut runtime = RuntimeOptions::default();
-    let plugin_error =
-        |kind: &str, message: String| format!("{spec_file}: the {kind} plugin: {message}");
+    let plugin_error = |kind: &'static str, error: SetupError| PluginSetupError {
+        spec_file: spec_file.to_string(),
+        kind,
+        error,
+    };
     let planner = plugin_setup::planner(
         &plugin_setup::chosen(&plugins_spec.planner, spec_dir, overrides.planner),
         &mut runtime,

@@ -8,13 +8,12 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use indicatif::ProgressBar;
 use lamp_build::{Adapter, ArtifactFile, Artifacts, BuildContext, BuildError, DemoFile};
 
-use crate::commands::failure::Failure;
+use crate::commands::{Failure, Finished, Outcome, Stopped};
 use crate::output::{FolderLock, OutputError, OutputFolder, Replaced};
 
 /// Arguments of `lampc build`.
@@ -43,17 +42,18 @@ impl Timings {
     }
 }
 
-pub(crate) fn run(args: &Args) -> ExitCode {
+pub(crate) fn run(args: &Args) -> Outcome {
     let colour = crate::terminal::colour();
     let mut model = None;
-    let failure = match build(args, colour, &mut model) {
-        Ok(()) => return ExitCode::SUCCESS,
-        Err(Failure::Spec) => return ExitCode::from(crate::EXIT_DIAGNOSTICS),
-        Err(failure) => failure,
+    let stopped = match build(args, colour, &mut model) {
+        Ok(()) => return Ok(Finished::Done),
+        Err(stopped) if stopped.left.is_some() || matches!(stopped.failure, Failure::Said) => {
+            return Err(stopped);
+        }
+        Err(stopped) => stopped,
     };
-    failure.print(colour);
     // A swap that failed half way says itself what became of the model folder.
-    let swapped = match failure.report_of::<OutputError>() {
+    let swapped = match stopped.failure.report_of::<OutputError>() {
         Some(OutputError::Swap { state, .. }) => Some(state.clone()),
         _ => None,
     };
@@ -61,12 +61,11 @@ pub(crate) fn run(args: &Args) -> ExitCode {
         Some(model) if model.is_dir() => format!("the model in {} is unchanged", model.display()),
         _ => "no model was written".to_string(),
     });
-    eprintln!("lampc build: failed; {outcome}");
-    ExitCode::from(crate::EXIT_DIAGNOSTICS)
+    Err(stopped.leaving(outcome))
 }
 
 /// Runs the build; `model` is set to the model folder as soon as it is known, for the last message.
-fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), Failure> {
+fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), Stopped> {
     let mut timings = Timings::default();
     // With `--demos DIR` the spec's own sources are not read, so their patterns need not match.
     let demonstrations = match args.demos {
@@ -83,7 +82,7 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
         places,
     }) = checked
     else {
-        return Err(Failure::Spec);
+        return Err(Stopped::said());
     };
     let build_dir =
         args.out.clone().unwrap_or_else(|| spec_dir.join(lamp_build::DEFAULT_BUILD_DIR));
@@ -98,7 +97,7 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
         eprintln!(
             "lampc build: {refused} finding(s) in the problems' initial scenes, which the solver cannot start from; no model was written"
         );
-        return Err(Failure::Spec);
+        return Err(Stopped::said());
     }
     let paths = find_demonstrations(&spec, &spec_dir, &build_dir, args.demos.as_deref())?;
     let mut bags = BagMappings::new(&spec, &spec_dir, args.demos.as_deref());
@@ -139,8 +138,7 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
         };
         let rendered = crate::diagnostics::render_frame_in_no_bag(&error, place, &sources, colour);
         eprint!("{rendered}");
-        eprintln!("lampc build: failed; no model was written");
-        return Err(Failure::Spec);
+        return Err(Stopped::said().leaving("no model was written"));
     }
 
     let model = timings.time("learn", || {
@@ -175,8 +173,7 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), F
                     crate::diagnostics::render_structure_issue(issue, &places, &sources, colour);
                 eprint!("{rendered}");
             }
-            eprintln!("lampc build: failed; the model folder was not changed");
-            return Err(Failure::Spec);
+            return Err(Stopped::said().leaving("the model folder was not changed"));
         }
         emitted => emitted?,
     };

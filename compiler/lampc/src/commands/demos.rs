@@ -5,13 +5,12 @@
 //! under the folder's lock, as `lampc build` writes its model), and prints the summary.
 
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::time::Instant;
 
 use indicatif::ProgressBar;
 use lamp_demonstrators::{DemoError, Simulation, file_name, generate_all};
 
-use crate::commands::failure::Failure;
+use crate::commands::{Failure, Finished, Outcome, Stopped};
 use crate::output::{OutputError, OutputFolder};
 
 /// Arguments of `lampc demos`.
@@ -30,20 +29,12 @@ pub(crate) struct Args {
     pub(crate) out: Option<PathBuf>,
 }
 
-pub(crate) fn run(args: &Args) -> ExitCode {
+pub(crate) fn run(args: &Args) -> Outcome {
     let colour = crate::terminal::colour();
     match demos(args, colour) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(Failure::Spec) => ExitCode::from(crate::EXIT_DIAGNOSTICS),
-        Err(failure @ Failure::Report(_)) => {
-            failure.print(colour);
-            eprintln!("lampc demos: failed; no files were written");
-            ExitCode::from(crate::EXIT_DIAGNOSTICS)
-        }
-        Err(Failure::Message(reason)) => {
-            eprintln!("lampc demos: {reason}");
-            ExitCode::from(crate::EXIT_DIAGNOSTICS)
-        }
+        Ok(()) => Ok(Finished::Done),
+        Err(Failure::Said) => Err(Stopped::said()),
+        Err(failure) => Err(Stopped::from(failure).leaving("no files were written")),
     }
 }
 
@@ -52,7 +43,7 @@ fn demos(args: &Args, colour: bool) -> Result<(), Failure> {
     let Some(crate::spec_input::CheckedSpec { spec, dir: spec_dir, file_name: spec_file, .. }) =
         crate::spec_input::check_spec(&args.spec, colour, crate::spec_input::Demonstrations::Read)
     else {
-        return Err(Failure::Spec);
+        return Err(Failure::Said);
     };
     let out = args.out.clone().unwrap_or_else(|| {
         spec_dir.join(lamp_build::DEFAULT_BUILD_DIR).join(lamp_build::SIMULATED_DEMOS_DIR)

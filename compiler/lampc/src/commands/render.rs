@@ -4,13 +4,12 @@
 //! problem or step, and writes the SVG (beside the input unless `--out` says otherwise).
 
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 use lamp_render::{RenderOptions, render_scene, render_trajectory};
 use lamp_world::SpecWorld;
 use miette::MietteDiagnostic;
 
-use crate::commands::failure::Failure;
+use crate::commands::{Failure, Finished, Outcome};
 
 /// Arguments of `lampc render`.
 #[derive(clap::Args)]
@@ -37,18 +36,11 @@ enum Input {
     Trajectory,
 }
 
-pub(crate) fn run(args: &Args) -> ExitCode {
+pub(crate) fn run(args: &Args) -> Outcome {
     let colour = crate::terminal::colour();
-    match render(args, colour) {
-        Ok((what, out)) => {
-            println!("{}: drew {what} into {}", args.file.display(), out.display());
-            ExitCode::SUCCESS
-        }
-        Err(failure) => {
-            failure.print(colour);
-            ExitCode::from(crate::EXIT_DIAGNOSTICS)
-        }
-    }
+    let (what, out) = render(args, colour)?;
+    println!("{}: drew {what} into {}", args.file.display(), out.display());
+    Ok(Finished::Done)
 }
 
 /// Draws and writes; returns what was drawn and where.
@@ -164,7 +156,7 @@ fn refuse_option(given: bool, option: &str, what: &str) -> Result<(), Failure> {
 fn check_spec(path: &Path, colour: bool) -> Result<lamp_spec::Spec, Failure> {
     crate::spec_input::check_spec(path, colour, crate::spec_input::Demonstrations::Unread)
         .map(|checked| checked.spec)
-        .ok_or(Failure::Spec)
+        .ok_or(Failure::Said)
 }
 
 /// The initial scene of the named problem (or the first), and a description of it.

@@ -9,7 +9,6 @@
 //! a partial result with its own exit code.
 
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -19,6 +18,7 @@ use lamp_tamp::{SolveError, SolveInput};
 use lamp_world::{SpecWorld, trajectory_header};
 
 use crate::build_folder::{Check, ModelFiles};
+use crate::commands::{EXIT_INTERRUPTED, Failure, Finished, Outcome, Stopped};
 use crate::output::{OutputError, OutputFolder};
 use crate::solve_setup::{self, Overrides};
 
@@ -72,30 +72,20 @@ const SOLUTIONS_DIR: &str = "solutions";
 /// Not 2, which is the exit code of a command line that does not parse.
 pub(crate) const EXIT_PARTIAL: u8 = 3;
 
-/// The exit code after Ctrl-C or SIGTERM, as shells report a process ended by SIGINT.
-const EXIT_INTERRUPTED: u8 = 130;
-
 /// Set by the first Ctrl-C or SIGTERM; the solver polls it through its cancellation check.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
-pub(crate) fn run(args: &Args) -> ExitCode {
+pub(crate) fn run(args: &Args) -> Outcome {
     let colour = crate::terminal::colour();
     watch_interrupts();
     let mut left = NOTHING_WRITTEN.to_string();
     match solve(args, colour, &mut left) {
-        Ok(summary) if summary.success => ExitCode::SUCCESS,
-        Ok(_) => ExitCode::from(EXIT_PARTIAL),
-        Err(message) => {
-            if !message.is_empty() {
-                eprintln!("{message}");
-            }
-            if INTERRUPTED.load(Ordering::Relaxed) {
-                eprintln!("lampc solve: interrupted; {left}");
-                return ExitCode::from(EXIT_INTERRUPTED);
-            }
-            eprintln!("lampc solve: failed; {left}");
-            ExitCode::from(crate::EXIT_DIAGNOSTICS)
-        }
+        Ok(summary) if summary.success => Ok(Finished::Done),
+        Ok(_) => Ok(Finished::Partial),
+        Err(stopped) => Err(Stopped {
+            interrupted: INTERRUPTED.load(Ordering::Relaxed),
+            ..stopped.leaving(left)
+        }),
     }
 }
 
@@ -146,9 +136,9 @@ fn watch_deadline(deadline: Instant, seconds: f64, finished: Arc<AtomicBool>, co
             let now = Instant::now();
             if now >= abandon {
                 let error = Unresponsive { seconds, grace: UNRESPONSIVE_GRACE.as_secs() };
-                eprintln!("{}", crate::diagnostics::render_error(&error, colour));
-                eprintln!("lampc solve: failed; {NOTHING_WRITTEN}");
-                std::process::exit(i32::from(crate::EXIT_DIAGNOSTICS));
+                let stopped = Stopped::from(error).leaving(NOTHING_WRITTEN);
+                stopped.print("solve", colour);
+                std::process::exit(i32::from(stopped.exit_code()));
             }
             std::thread::sleep(POLL.min(abandon - now));
         }
@@ -163,24 +153,24 @@ pub(crate) fn parse_seconds(text: &str) -> Result<f64, String> {
 const NOTHING_WRITTEN: &str = "no solution files were written";
 
 /// Solves and writes the solution folder; `left` is kept true about what a failure leaves.
-fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summary, String> {
+fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summary, Stopped> {
     let Some(checked) = crate::spec_input::check_spec(
         &args.spec,
         colour,
         crate::spec_input::Demonstrations::Unread,
     ) else {
-        return Err(String::new());
+        return Err(Stopped::said());
     };
     let (spec, spec_dir) = (&checked.spec, &checked.dir);
     let problem =
         spec.problems.iter().find(|problem| problem.name == args.problem).ok_or_else(|| {
             let names: Vec<&str> = spec.problems.iter().map(|p| p.name.as_str()).collect();
-            format!(
+            Failure::Message(format!(
                 "{}: no problem `{}`; the spec has: {}",
                 checked.file_name,
                 args.problem,
                 names.join(", ")
-            )
+            ))
         })?;
     let build_dir =
         args.build.clone().unwrap_or_else(|| spec_dir.join(lamp_build::DEFAULT_BUILD_DIR));
@@ -192,42 +182,35 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
         );
     }
     // Loaded first: the build is checked against the robot models and shapes as they are now.
-    let world = SpecWorld::load(spec_dir, spec)
-        .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
+    let world = SpecWorld::load(spec_dir, spec)?;
     // Before the build: a problem whose start cannot be (a can in the air) is the spec's fault,
     // whichever build answers it, and is said at its line rather than as a stale build.
     let located = (&checked.places, &checked.sources);
     if crate::spec_input::refuse_scenes(spec, located, &world, Some(&problem.name), colour) > 0 {
-        return Err(format!(
+        return Err(Stopped::from(Failure::Message(format!(
             "problem `{}`: its initial scene is not one the solver can start from",
             problem.name
-        ));
+        ))));
     }
     let ModelFiles { domain, problem: problem_text, samplers, warnings } =
         crate::build_folder::read_model(&build_dir, &problem.name, spec, &world, check)
-            .map_err(|error| crate::diagnostics::render_error(error.as_ref(), colour))?;
+            .map_err(Failure::Report)?;
     for warning in &warnings {
         eprintln!("lampc solve: warning: {warning}");
     }
     let out = args.out.clone().unwrap_or_else(|| build_dir.join(SOLUTIONS_DIR).join(&problem.name));
-    let rendered = |error: OutputError| crate::diagnostics::render_error(&error, colour);
-    let folder = OutputFolder::new(&out).map_err(rendered)?;
-    let lock = folder.lock("solve").map_err(rendered)?;
+    let folder = OutputFolder::new(&out)?;
+    let lock = folder.lock("solve")?;
     if out.is_dir() {
         *left =
             format!("{NOTHING_WRITTEN}; the previous solution in {} is unchanged", out.display());
     }
-    replaceable(&out).map_err(rendered)?;
+    replaceable(&out)?;
     folder.remove_leftovers(&lock);
 
-    let participants = ParticipantMap::new(spec, &world.robots)
-        .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
-    let scene = world
-        .problem_scene(problem)
-        .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
-    let targets = world
-        .placement_targets(problem)
-        .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
+    let participants = ParticipantMap::new(spec, &world.robots)?;
+    let scene = world.problem_scene(problem)?;
+    let targets = world.placement_targets(problem)?;
 
     let overrides = Overrides {
         planner: args.planner.as_deref(),
@@ -243,9 +226,10 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
         None => None,
         Some(seconds) => {
             let limit = lamp_spec::limits::duration(seconds)
-                .map_err(|error| format!("--timeout: {error}"))?;
+                .map_err(|error| Failure::Message(format!("--timeout: {error}")))?;
             let deadline = Instant::now().checked_add(limit);
-            Some(deadline.ok_or_else(|| "--timeout: beyond the clock's range".to_string())?)
+            let beyond = || Failure::Message("--timeout: beyond the clock's range".to_string());
+            Some(deadline.ok_or_else(beyond)?)
         }
     };
     let out_of_time = || deadline.is_some_and(|deadline| Instant::now() >= deadline);
@@ -285,36 +269,34 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
             &model.join(lamp_build::DOMAIN_FILE).display().to_string(),
             &model.join(problem_file).display().to_string(),
         );
-        let rendered = crate::diagnostics::render_error(&error, colour);
-        match (&error, args.timeout) {
-            (SolveError::Cancelled(_), Some(seconds)) if out_of_time() => format!(
-                "{rendered}\nlampc solve: the time limit of {seconds} s (`--timeout`) ran out"
-            ),
-            _ => rendered,
-        }
+        let notes = match (&error, args.timeout) {
+            (SolveError::Cancelled(_), Some(seconds)) if out_of_time() => {
+                vec![format!("the time limit of {seconds} s (`--timeout`) ran out")]
+            }
+            _ => Vec::new(),
+        };
+        Stopped { notes, ..Stopped::from(error) }
     })?;
 
     let picture =
-        lamp_render::render_trajectory(&world, &solution.trajectory, None, &Default::default())
-            .map_err(|error| crate::diagnostics::render_error(&error, colour))?;
+        lamp_render::render_trajectory(&world, &solution.trajectory, None, &Default::default())?;
     let summary = &solution.summary;
     let plan = (solution.step_starts.as_slice(), summary.plan.as_slice());
     let mcap = crate::commands::demos::viewable_bytes(&world, &solution.trajectory, Some(plan))
-        .map_err(|error| crate::diagnostics::render_error(error.as_ref(), colour))?;
-    let mut summary_json =
-        serde_json::to_string_pretty(summary).map_err(|error| error.to_string())?;
+        .map_err(Failure::Report)?;
+    let mut summary_json = serde_json::to_string_pretty(summary)
+        .map_err(|error| Failure::Message(error.to_string()))?;
     summary_json.push('\n');
     let plan_text = summary.plan_text();
     let contents: [&[u8]; 4] =
         [&mcap, plan_text.as_bytes(), summary_json.as_bytes(), picture.as_bytes()];
     let files: Vec<(&Path, &[u8])> = SOLUTION_FILES.iter().map(Path::new).zip(contents).collect();
     // Checked again: the folder may have changed while the solve ran.
-    replaceable(&out).map_err(rendered)?;
-    let replaced = folder.replace(&lock, &files).map_err(|error| {
-        if let OutputError::Swap { state, .. } = &error {
+    replaceable(&out)?;
+    let replaced = folder.replace(&lock, &files).inspect_err(|error| {
+        if let OutputError::Swap { state, .. } = error {
             left.clone_from(state);
         }
-        rendered(error)
     })?;
     remove_failure_report(&failed_folder);
     print_summary(summary, &out);

@@ -21,7 +21,6 @@ use std::collections::BTreeMap;
 use std::io::Write as _;
 use std::num::NonZeroUsize;
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
@@ -37,7 +36,7 @@ use self::journal::{JOURNAL_FILE, Journal, Key};
 use self::kept_models::KeptModels;
 use self::schedule::{Done, Ending, Learned, Model, SubsetWork, model_digest};
 use self::worker::one_line;
-use crate::commands::failure::Failure;
+use crate::commands::{EXIT_INTERRUPTED, Failure, Finished, Outcome, Stopped};
 use crate::solve_setup::{self, Overrides};
 
 /// Arguments of `lampc eval`.
@@ -84,14 +83,11 @@ const MAX_RUNS: i64 = 10_000;
 /// The most solves at once: far more processes than cores help nothing, and each holds a
 /// robot world and a learned model in memory.
 const MAX_JOBS: i64 = 1024;
-/// The exit code after Ctrl-C or SIGTERM, as shells report a process ended by SIGINT.
-const EXIT_INTERRUPTED: u8 = 130;
-
 /// Set by the first Ctrl-C or SIGTERM: the evaluation stops its workers, keeping the rows it
 /// finished.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
-pub(crate) fn run(args: &Args) -> ExitCode {
+pub(crate) fn run(args: &Args) -> Outcome {
     let colour = crate::terminal::colour();
     // The first Ctrl-C or SIGTERM stops the evaluation at once, killing its workers and keeping
     // finished rows; a second one kills them and ends the process (the journal holds every
@@ -102,15 +98,10 @@ pub(crate) fn run(args: &Args) -> ExitCode {
             std::process::exit(i32::from(EXIT_INTERRUPTED));
         }
     });
-    match evaluate(args, colour) {
-        Ok(true) => ExitCode::SUCCESS,
-        Ok(false) => ExitCode::from(EXIT_INTERRUPTED),
-        Err(Failure::Spec) => ExitCode::from(crate::EXIT_DIAGNOSTICS),
-        Err(failure) => {
-            failure.print(colour);
-            eprintln!("lampc eval: failed");
-            ExitCode::from(crate::EXIT_DIAGNOSTICS)
-        }
+    match evaluate(args, colour)? {
+        true => Ok(Finished::Done),
+        // The summary of what is kept has been said.
+        false => Err(Stopped { interrupted: true, ..Stopped::said() }),
     }
 }
 
@@ -129,7 +120,7 @@ fn evaluate(args: &Args, colour: bool) -> Result<bool, Failure> {
     let Some(checked) =
         crate::spec_input::check_spec(&args.spec, colour, crate::spec_input::Demonstrations::Read)
     else {
-        return Err(Failure::Spec);
+        return Err(Failure::Said);
     };
     evaluate_checked(args, colour, &checked, started).map_err(Failure::Message)
 }
@@ -634,10 +625,13 @@ fn settings_info(
     let (planner, motion) = (choice(&spec.plugins.planner), choice(&spec.plugins.motion));
     // Set up now, so that a broken plugin block stops the evaluation before any solve.
     let mut runtime = crate::plugin_setup::RuntimeOptions::default();
+    let rendered = |kind: &str, error: crate::plugin_setup::SetupError| {
+        format!("the {kind} plugin: {}", crate::diagnostics::render_error(&error, false))
+    };
     crate::plugin_setup::planner(&planner, &mut runtime)
-        .map_err(|message| format!("the planner plugin: {message}"))?;
+        .map_err(|error| rendered("planner", error))?;
     crate::plugin_setup::motion(&motion, &mut runtime)
-        .map_err(|message| format!("the motion plugin: {message}"))?;
+        .map_err(|error| rendered("motion", error))?;
     let never = || false;
     let solve = solve_setup::settings(spec, &runtime, &overrides, &never);
     let text = format!("lampc {}\n{spec:?}\ntimeout {timeout:?}\n", env!("CARGO_PKG_VERSION"));

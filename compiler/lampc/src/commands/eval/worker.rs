@@ -14,7 +14,6 @@
 
 use std::io::Read as _;
 use std::path::PathBuf;
-use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use lamp_build::{SamplersFile, SpecSources};
@@ -25,6 +24,7 @@ use lamp_world::{SpecWorld, trajectory_header};
 use miette::Diagnostic as _;
 use serde::{Deserialize, Serialize};
 
+use crate::commands::{Failure, Finished, Stopped};
 use crate::solve_setup::{self, Overrides};
 
 /// The hidden subcommand's name.
@@ -54,19 +54,15 @@ pub(super) struct Job {
 }
 
 /// Runs `lampc eval-worker`: a job from standard input, a result to standard output.
-pub(crate) fn run() -> ExitCode {
+pub(crate) fn run() -> crate::commands::Outcome {
     let started = Instant::now();
     let mut input = String::new();
     if let Err(error) = std::io::stdin().read_to_string(&mut input) {
-        eprintln!("lampc eval-worker: cannot read the job: {error}");
-        return ExitCode::from(crate::EXIT_DIAGNOSTICS);
+        return Err(said(format!("cannot read the job: {error}")));
     }
     let job: Job = match serde_json::from_str(&input) {
         Ok(job) => job,
-        Err(error) => {
-            eprintln!("lampc eval-worker: the job does not parse: {error}");
-            return ExitCode::from(crate::EXIT_DIAGNOSTICS);
-        }
+        Err(error) => return Err(said(format!("the job does not parse: {error}"))),
     };
     drop(input);
     // A panic in the solver is a property of this lampc and the job, as repeatable as any other
@@ -76,8 +72,7 @@ pub(crate) fn run() -> ExitCode {
     let mut result = match solved {
         Ok(Ok(result)) => result,
         Ok(Err(NotHere(reason))) => {
-            eprintln!("lampc eval-worker: cannot run this job here: {reason}");
-            return ExitCode::from(crate::EXIT_DIAGNOSTICS);
+            return Err(said(format!("cannot run this job here: {reason}")));
         }
         Err(payload) => {
             let message = payload
@@ -93,13 +88,15 @@ pub(crate) fn run() -> ExitCode {
     match serde_json::to_string(&result) {
         Ok(line) => {
             println!("{line}");
-            ExitCode::SUCCESS
+            Ok(Finished::Done)
         }
-        Err(error) => {
-            eprintln!("lampc eval-worker: cannot write the result: {error}");
-            ExitCode::from(crate::EXIT_DIAGNOSTICS)
-        }
+        Err(error) => Err(said(format!("cannot write the result: {error}"))),
     }
+}
+
+/// A worker's stop: one line that the evaluation quotes as the executor's failure.
+fn said(reason: String) -> Stopped {
+    Stopped::from(Failure::Message(format!("lampc eval-worker: {reason}")))
 }
 
 /// One line: a multi-line message joined with spaces.
