@@ -69,6 +69,13 @@ pub(crate) struct PluginSetupError {
     error: SetupError,
 }
 
+impl PluginSetupError {
+    /// The `kind` plugin of `spec_file` could not be set up.
+    pub(crate) fn new(spec_file: &str, kind: &'static str, error: SetupError) -> Self {
+        PluginSetupError { spec_file: spec_file.to_string(), kind, error }
+    }
+}
+
 impl miette::Diagnostic for PluginSetupError {
     fn code<'a>(&'a self) -> Option<Box<dyn std::fmt::Display + 'a>> {
         self.error.code()
@@ -90,11 +97,8 @@ pub(crate) fn plugins(
 ) -> Result<SolvePlugins, PluginSetupError> {
     let plugins_spec = &spec.plugins;
     let mut runtime = RuntimeOptions::default();
-    let plugin_error = |kind: &'static str, error: SetupError| PluginSetupError {
-        spec_file: spec_file.to_string(),
-        kind,
-        error,
-    };
+    let plugin_error =
+        |kind: &'static str, error: SetupError| PluginSetupError::new(spec_file, kind, error);
     let planner = plugin_setup::planner(
         &plugin_setup::chosen(&plugins_spec.planner, spec_dir, overrides.planner),
         &mut runtime,

@@ -16,6 +16,8 @@ use std::path::{Path, PathBuf};
 use lamp_eval::Row;
 use serde::{Deserialize, Serialize};
 
+use super::error::EvaluationError;
+
 /// The journal's file name in the output folder.
 pub(super) const JOURNAL_FILE: &str = "journal.jsonl";
 
@@ -45,18 +47,15 @@ pub(super) struct Journal {
 pub(super) fn read(
     path: &Path,
     settings: &str,
-) -> Result<(BTreeMap<Key, Vec<Row>>, usize), String> {
+) -> Result<(BTreeMap<Key, Vec<Row>>, usize), EvaluationError> {
     let text = match crate::files::read_text_limited(path, JOURNAL_FILE_LIMIT, "journal") {
         Ok(text) => text,
         Err(crate::files::ReadError::Io(error)) if error.kind() == std::io::ErrorKind::NotFound => {
             String::new()
         }
         Err(error) => {
-            return Err(format!(
-                "cannot read the journal {}: {error}; move it away (a new journal is started), or \
-                 give `--out` another folder",
-                path.display()
-            ));
+            let path = path.display().to_string();
+            return Err(EvaluationError::Journal { path, reason: error.to_string() });
         }
     };
     let mut rows: BTreeMap<Key, Vec<Row>> = BTreeMap::new();
@@ -77,34 +76,36 @@ pub(super) fn read(
 
 impl Journal {
     /// Opens (or creates) the journal at `path` for rows of `settings`.
-    pub(super) fn open(path: &Path, settings: &str) -> Result<Journal, String> {
+    pub(super) fn open(path: &Path, settings: &str) -> Result<Journal, EvaluationError> {
         if let Some(folder) = path.parent() {
             std::fs::create_dir_all(folder)
-                .map_err(|error| format!("cannot create {}: {error}", folder.display()))?;
+                .map_err(|error| EvaluationError::io("create", folder, error))?;
         }
         let mut file = OpenOptions::new()
             .create(true)
             .append(true)
             .open(path)
-            .map_err(|error| format!("cannot open {}: {error}", path.display()))?;
+            .map_err(|error| EvaluationError::io("open", path, error))?;
         // A line cut off by a crash must not swallow the next one.
         let length = file.metadata().map(|m| m.len()).unwrap_or(0);
         if length > 0 && !std::fs::read(path).is_ok_and(|bytes| bytes.ends_with(b"\n")) {
-            file.write_all(b"\n")
-                .map_err(|error| format!("cannot write {}: {error}", path.display()))?;
+            file.write_all(b"\n").map_err(|error| EvaluationError::io("write", path, error))?;
         }
         Ok(Journal { path: path.to_path_buf(), file, settings: settings.to_string() })
     }
 
     /// Appends `row` as one line and flushes it to the file.
-    pub(super) fn append(&mut self, row: &Row) -> Result<(), String> {
+    pub(super) fn append(&mut self, row: &Row) -> Result<(), EvaluationError> {
         let entry = Entry { settings: self.settings.clone(), row: row.clone() };
-        let mut line = serde_json::to_string(&entry).map_err(|error| error.to_string())?;
+        let mut line = serde_json::to_string(&entry).map_err(|error| EvaluationError::Encode {
+            what: "a journal line",
+            reason: error.to_string(),
+        })?;
         line.push('\n');
         self.file
             .write_all(line.as_bytes())
             .and_then(|()| self.file.flush())
-            .map_err(|error| format!("cannot write {}: {error}", self.path.display()))
+            .map_err(|error| EvaluationError::io("write", &self.path, error))
     }
 }
 

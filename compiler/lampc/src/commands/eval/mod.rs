@@ -9,6 +9,7 @@
 //! end `eval.json`, `eval.csv`, `report.md`, `success.svg` and `sample_efficiency.svg` are written
 //! into the output folder. The protocol and the design are in `docs/evaluation.md`.
 
+mod error;
 mod executor;
 mod journal;
 mod kept_models;
@@ -31,13 +32,14 @@ use lamp_spec::{OptionValue, PluginChoice, PluginSource, Problem, Spec};
 use lamp_world::SpecWorld;
 use miette::Diagnostic as _;
 
+use self::error::EvaluationError;
 use self::executor::Executor;
 use self::journal::{JOURNAL_FILE, Journal, Key};
 use self::kept_models::KeptModels;
 use self::schedule::{Done, Ending, Learned, Model, SubsetWork, model_digest};
 use self::worker::one_line;
 use crate::commands::{EXIT_INTERRUPTED, Failure, Finished, Outcome, Stopped};
-use crate::solve_setup::{self, Overrides};
+use crate::solve_setup::{self, Overrides, PluginSetupError};
 
 /// Arguments of `lampc eval`.
 #[derive(clap::Args)]
@@ -115,46 +117,42 @@ struct Slot {
 }
 
 /// Runs the evaluation; `Ok(false)` when interrupted.
-fn evaluate(args: &Args, colour: bool) -> Result<bool, Failure> {
+fn evaluate(args: &Args, colour: bool) -> Result<bool, Stopped> {
     let started = Instant::now();
     let Some(checked) =
         crate::spec_input::check_spec(&args.spec, colour, crate::spec_input::Demonstrations::Read)
     else {
-        return Err(Failure::Said);
+        return Err(Stopped::said());
     };
-    evaluate_checked(args, colour, &checked, started).map_err(Failure::Message)
+    evaluate_checked(args, colour, &checked, started)
 }
 
-/// Runs the evaluation of a checked spec; an error is a message to print.
+/// Runs the evaluation of a checked spec.
 fn evaluate_checked(
     args: &Args,
     colour: bool,
     checked: &crate::spec_input::CheckedSpec,
     started: Instant,
-) -> Result<bool, String> {
+) -> Result<bool, Stopped> {
     let render = |error: &dyn miette::Diagnostic| crate::diagnostics::render_error(error, colour);
     let seed = args.seed.unwrap_or(checked.spec.seed);
     // The learner and the problems take their seed from the spec.
     let spec = Spec { seed, ..checked.spec.clone() };
     let spec_dir = &checked.dir;
-    let problems = select_problems(&spec, args.problems.as_deref())
-        .map_err(|message| format!("{}: {message}", checked.file_name))?;
-    let Options { counts, build_dir, out, runs, jobs, executor } =
-        options(args, spec_dir, &render)?;
+    let problems = select_problems(&spec, &checked.file_name, args.problems.as_deref())?;
+    let Options { counts, build_dir, out, runs, jobs, executor } = options(args, spec_dir)?;
 
     refuse_out_in_a_model_folder(&out)?;
     // Held to the end: a second evaluation into the folder would interleave its journal lines
     // and outputs with this one's.
-    let _lock = crate::output::OutputFolder::new(&out)
-        .and_then(|folder| folder.lock("eval"))
-        .map_err(|error| render(&error))?;
-    let settings = settings_info(&spec, spec_dir, args.timeout)?;
+    let _lock = crate::output::OutputFolder::new(&out).and_then(|folder| folder.lock("eval"))?;
+    let settings = settings_info(&spec, spec_dir, &checked.file_name, args.timeout)?;
     // Read before any demonstration is generated: a journal that cannot be read stops the
     // evaluation before its slow part.
     let journal_path = out.join(JOURNAL_FILE);
     let (mut journaled, skipped) = journal::read(&journal_path, &settings.key)?;
 
-    let world = SpecWorld::load(spec_dir, &spec).map_err(|error| render(&error))?;
+    let world = SpecWorld::load(spec_dir, &spec)?;
     // Before any demonstration: a problem whose start cannot be (a can in the air) would fail
     // every row in the final physics check, blaming the solves for the scene.
     let located = (&checked.places, &checked.sources);
@@ -165,19 +163,17 @@ fn evaluate_checked(
         })
         .sum();
     if findings > 0 {
-        return Err(format!(
-            "{}: {findings} finding(s) in the initial scenes of the problems to evaluate, which the solver cannot start from; nothing was evaluated",
-            checked.file_name
-        ));
+        let spec_file = checked.file_name.clone();
+        return Err(Stopped::from(EvaluationError::Scenes { spec_file, findings }));
     }
-    let adapter = Adapter::new(&spec, &world.robots).map_err(|error| render(&error))?;
+    let adapter = Adapter::new(&spec, &world.robots)?;
     let largest = counts.as_ref().and_then(|counts| counts.iter().copied().max());
     let note = |message: &str| eprintln!("{}: {message}", checked.file_name);
     let pool = pool::gather(&spec, spec_dir, &build_dir, &world, &adapter, largest, &note)?;
     let counts = counts.unwrap_or_else(|| vec![pool.files.len()]);
 
     let draw = Draw { spec: &spec, pool: &pool, problems: &problems, counts: &counts, runs, seed };
-    let (slots, subsets) = draw_slots(&draw).map_err(|error| render(&error))?;
+    let (slots, subsets) = draw_slots(&draw)?;
 
     journaled.retain(|key, _| slots.iter().any(|slot| slot.key == *key));
     if skipped > 0 {
@@ -243,7 +239,7 @@ fn evaluate_checked(
         .iter()
         .filter(|slot| results.contains_key(&slot.key) || journaled.contains_key(&slot.key))
         .count();
-    if !completed(ending, kept, slots.len(), &journal_path, &render)? {
+    if !completed(ending, kept, slots.len(), &journal_path)? {
         return Ok(false);
     }
 
@@ -273,13 +269,9 @@ struct Options {
     executor: Executor,
 }
 
-/// Reads the flags, for a spec in `spec_dir`; an error is a message to print.
-fn options(
-    args: &Args,
-    spec_dir: &Path,
-    render: &dyn Fn(&dyn miette::Diagnostic) -> String,
-) -> Result<Options, String> {
-    let counts = demonstration_counts(args, render)?;
+/// Reads the flags, for a spec in `spec_dir`.
+fn options(args: &Args, spec_dir: &Path) -> Result<Options, Failure> {
+    let counts = demonstration_counts(args)?;
     let build_dir = spec_dir.join(lamp_build::DEFAULT_BUILD_DIR);
     let out = args.out.clone().unwrap_or_else(|| build_dir.join("eval"));
     let runs = args.runs as usize;
@@ -287,22 +279,16 @@ fn options(
         Some(jobs) => jobs as usize,
         None => std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
     };
-    let executor = executor_of(args).map_err(|error| render(&error))?;
+    let executor = executor_of(args)?;
     Ok(Options { counts, build_dir, out, runs, jobs, executor })
 }
 
 /// The counts of `--demos`, if given, each within the bounds of `lampc demos --count` and the
 /// spec's `count`.
-fn demonstration_counts(
-    args: &Args,
-    render: &dyn Fn(&dyn miette::Diagnostic) -> String,
-) -> Result<Option<Vec<usize>>, String> {
-    let counts =
-        args.demos.as_deref().map(lamp_eval::parse_counts).transpose().map_err(|e| render(&e))?;
+fn demonstration_counts(args: &Args) -> Result<Option<Vec<usize>>, Failure> {
+    let counts = args.demos.as_deref().map(lamp_eval::parse_counts).transpose()?;
     for count in counts.iter().flatten() {
-        lamp_spec::limits::DEMONSTRATIONS
-            .count(*count as f64)
-            .map_err(|error| format!("`--demos`: {error}"))?;
+        lamp_spec::limits::DEMONSTRATIONS.count(*count as f64).map_err(EvaluationError::Demos)?;
     }
     Ok(counts)
 }
@@ -422,7 +408,7 @@ fn run_solves(
     journaled: &BTreeMap<Key, Vec<Row>>,
     results: &mut BTreeMap<Key, (Row, bool)>,
     journal: &mut Journal,
-) -> Result<Ending, String> {
+) -> Result<Ending, EvaluationError> {
     let progress = progress_bar(slots.len() as u64);
     let solved_in = |results: &BTreeMap<Key, (Row, bool)>| {
         let solved = |slot: &&Slot| results.get(&slot.key).is_some_and(|(row, _)| row.solved);
@@ -461,8 +447,8 @@ fn run_solves(
                     );
                     row.commit = Some(env!("LAMP_SOURCE_COMMIT").to_string());
                     row.model = Some(done.model);
-                    if let Err(message) = journal.append(&row) {
-                        write_error.get_or_insert(message);
+                    if let Err(error) = journal.append(&row) {
+                        write_error.get_or_insert(error);
                     }
                     (row, true)
                 }
@@ -481,8 +467,8 @@ fn run_solves(
         },
     );
     progress.finish_and_clear();
-    if let Some(message) = write_error {
-        return Err(message);
+    if let Some(error) = write_error {
+        return Err(error);
     }
     Ok(ending)
 }
@@ -508,8 +494,7 @@ fn completed(
     kept: usize,
     total: usize,
     journal_path: &Path,
-    render: &dyn Fn(&dyn miette::Diagnostic) -> String,
-) -> Result<bool, String> {
+) -> Result<bool, Stopped> {
     match ending {
         Ending::Complete => Ok(true),
         Ending::Interrupted => {
@@ -521,13 +506,15 @@ fn completed(
             );
             Ok(false)
         }
-        Ending::Broken(error) => Err(format!(
-            "{}lampc eval: stopped by the executor's failure, which is not recorded as a result; {} of {} solves are kept in {}; run the same command again to continue",
-            render(&error),
-            kept,
-            total,
-            journal_path.display()
-        )),
+        Ending::Broken(error) => Err(Stopped {
+            notes: vec![format!(
+                "stopped by the executor's failure, which is not recorded as a result; {} of {} solves are kept in {}; run the same command again to continue",
+                kept,
+                total,
+                journal_path.display()
+            )],
+            ..Stopped::from(error)
+        }),
     }
 }
 
@@ -561,15 +548,26 @@ fn eval_info(spec_file: &str, draw: &Draw<'_>, settings: SettingsInfo) -> EvalIn
 
 /// The spec's problems whose names match one of the comma-separated globs of `filter` (all
 /// without a filter), in spec order; a glob that matches nothing is an error.
-fn select_problems<'a>(spec: &'a Spec, filter: Option<&str>) -> Result<Vec<&'a Problem>, String> {
+fn select_problems<'a>(
+    spec: &'a Spec,
+    spec_file: &str,
+    filter: Option<&str>,
+) -> Result<Vec<&'a Problem>, EvaluationError> {
     let Some(filter) = filter else { return Ok(spec.problems.iter().collect()) };
     let names: Vec<&str> = spec.problems.iter().map(|problem| problem.name.as_str()).collect();
     let mut patterns = Vec::new();
     for text in filter.split(',').map(str::trim) {
-        let pattern = glob::Pattern::new(text)
-            .map_err(|error| format!("`{text}` is not a name or glob: {error}"))?;
+        let pattern = glob::Pattern::new(text).map_err(|error| EvaluationError::BadPattern {
+            spec_file: spec_file.to_string(),
+            pattern: text.to_string(),
+            reason: error.to_string(),
+        })?;
         if !names.iter().any(|name| pattern.matches(name)) {
-            return Err(format!("`{text}` matches no problem; the spec has: {}", names.join(", ")));
+            return Err(EvaluationError::NoProblem {
+                spec_file: spec_file.to_string(),
+                pattern: text.to_string(),
+                names: names.join(", "),
+            });
         }
         patterns.push(pattern);
     }
@@ -593,18 +591,16 @@ fn objects_of(spec: &Spec, problem: &Problem) -> usize {
 
 /// Refuses an output folder inside a build's model folder (one holding a build manifest): the next
 /// `lampc build` replaces that folder whole, and the evaluation's journal and results with it.
-fn refuse_out_in_a_model_folder(out: &Path) -> Result<(), String> {
+fn refuse_out_in_a_model_folder(out: &Path) -> Result<(), EvaluationError> {
     let absolute = std::path::absolute(out).unwrap_or_else(|_| out.to_path_buf());
     for folder in absolute.ancestors() {
         // Links resolved where they exist, so that a link into a model folder is seen too.
         let folder = std::fs::canonicalize(folder).unwrap_or_else(|_| folder.to_path_buf());
         if folder.join(lamp_build::MANIFEST_FILE).is_file() {
-            return Err(format!(
-                "`--out` {} is inside the model folder {} of a build, which the next `lampc build` \
-                 replaces whole, results and journal included; give `--out` a folder outside it",
-                out.display(),
-                folder.display()
-            ));
+            return Err(EvaluationError::OutInModel {
+                out: out.display().to_string(),
+                model: folder.display().to_string(),
+            });
         }
     }
     Ok(())
@@ -617,21 +613,19 @@ fn refuse_out_in_a_model_folder(out: &Path) -> Result<(), String> {
 fn settings_info(
     spec: &Spec,
     spec_dir: &Path,
+    spec_file: &str,
     timeout: Option<f64>,
-) -> Result<SettingsInfo, String> {
+) -> Result<SettingsInfo, PluginSetupError> {
     let overrides = Overrides::default();
     let choice =
         |spec_choice: &PluginChoice| crate::plugin_setup::chosen(spec_choice, spec_dir, None);
     let (planner, motion) = (choice(&spec.plugins.planner), choice(&spec.plugins.motion));
     // Set up now, so that a broken plugin block stops the evaluation before any solve.
     let mut runtime = crate::plugin_setup::RuntimeOptions::default();
-    let rendered = |kind: &str, error: crate::plugin_setup::SetupError| {
-        format!("the {kind} plugin: {}", crate::diagnostics::render_error(&error, false))
-    };
     crate::plugin_setup::planner(&planner, &mut runtime)
-        .map_err(|error| rendered("planner", error))?;
+        .map_err(|error| PluginSetupError::new(spec_file, "planner", error))?;
     crate::plugin_setup::motion(&motion, &mut runtime)
-        .map_err(|error| rendered("motion", error))?;
+        .map_err(|error| PluginSetupError::new(spec_file, "motion", error))?;
     let never = || false;
     let solve = solve_setup::settings(spec, &runtime, &overrides, &never);
     let text = format!("lampc {}\n{spec:?}\ntimeout {timeout:?}\n", env!("CARGO_PKG_VERSION"));
@@ -763,10 +757,15 @@ fn learn(
 /// Writes the five outputs as one set: every one into a temporary file beside it first, and only
 /// when all are written are they renamed into place, so that a failed write (a full disk) leaves
 /// the previous set whole, never new figures beside an old report. The journal beside them stays.
-fn write_outputs(out: &Path, info: &EvalInfo, rows: &[Row], earlier: &[Row]) -> Result<(), String> {
-    let json = EvalDocument::new(info.clone(), rows.to_vec())
-        .to_json()
-        .map_err(|error| format!("cannot write eval.json: {error}"))?;
+fn write_outputs(
+    out: &Path,
+    info: &EvalInfo,
+    rows: &[Row],
+    earlier: &[Row],
+) -> Result<(), EvaluationError> {
+    let json = EvalDocument::new(info.clone(), rows.to_vec()).to_json().map_err(|error| {
+        EvaluationError::Encode { what: "eval.json", reason: error.to_string() }
+    })?;
     let csv = lamp_eval::csv(rows);
     let report = lamp_eval::report(info, rows, earlier);
     let success = lamp_eval::success_plot(info, rows);
@@ -778,8 +777,7 @@ fn write_outputs(out: &Path, info: &EvalInfo, rows: &[Row], earlier: &[Row]) -> 
         (lamp_eval::SUCCESS_PLOT_FILE, success.as_bytes()),
         (lamp_eval::EFFICIENCY_PLOT_FILE, efficiency.as_bytes()),
     ];
-    std::fs::create_dir_all(out)
-        .map_err(|error| format!("cannot create {}: {error}", out.display()))?;
+    std::fs::create_dir_all(out).map_err(|error| EvaluationError::io("create", out, error))?;
     let temporary = |name: &str| out.join(format!(".{name}.tmp"));
     let remove_temporaries = || {
         for (name, _) in &files {
@@ -792,18 +790,15 @@ fn write_outputs(out: &Path, info: &EvalInfo, rows: &[Row], earlier: &[Row]) -> 
             .and_then(|mut file| file.write_all(contents).and_then(|()| file.sync_all()));
         if let Err(error) = written {
             remove_temporaries();
-            return Err(format!(
-                "cannot write {}: {error}; the previous results in {} are unchanged",
-                path.display(),
-                out.display()
-            ));
+            let consequence = format!("; the previous results in {} are unchanged", out.display());
+            return Err(EvaluationError::Io { action: "write", path, error, consequence });
         }
     }
     for (name, _) in &files {
         let path = out.join(name);
         if let Err(error) = std::fs::rename(temporary(name), &path) {
             remove_temporaries();
-            return Err(format!("cannot move the new {name} into place: {error}"));
+            return Err(EvaluationError::io("move into place", path, error));
         }
     }
     Ok(())

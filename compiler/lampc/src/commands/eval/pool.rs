@@ -15,6 +15,9 @@ use lamp_spec::{DemoSource, Mobility, Spec};
 use lamp_trajectory::TrajectoryHeader;
 use lamp_world::SpecWorld;
 
+use super::error::EvaluationError;
+use crate::commands::Failure;
+
 /// The provenance key of a simulated demonstration's cut (`none` for a full one).
 const CUT_KEY: &str = "cut_at";
 
@@ -56,8 +59,7 @@ pub(super) fn gather(
     adapter: &Adapter,
     wanted: Option<usize>,
     show: &dyn Fn(&str),
-) -> Result<Pool, String> {
-    let render = |error: &dyn miette::Diagnostic| crate::diagnostics::render_error(error, false);
+) -> Result<Pool, Failure> {
     let find = || crate::commands::build::find_demonstrations(spec, spec_dir, build_dir, None);
     let simulated = spec.demonstrations.iter().any(|s| matches!(s, DemoSource::Simulated { .. }));
     let mut generated = 0;
@@ -69,9 +71,9 @@ pub(super) fn gather(
         Some(wanted) if short && simulated => {
             let folder = build_dir.join(lamp_build::SIMULATED_DEMOS_DIR);
             generated = generate_missing(spec, world, &folder, wanted, show)?;
-            find().map_err(|error| render(&error))?
+            find()?
         }
-        _ => found.map_err(|error| render(&error))?,
+        _ => found?,
     };
     let movable = movable_types(spec);
     let mut pool = Pool {
@@ -84,20 +86,21 @@ pub(super) fn gather(
     for path in &paths {
         let name = lamp_build::demo_name(path, spec_dir);
         let limit = crate::files::DEMONSTRATION_FILE_LIMIT;
-        let bytes = crate::files::read_limited(path, limit, "demonstration file")
-            .map_err(|error| format!("cannot read {}: {error}", path.display()))?;
-        let file =
-            bags.read(world, path, DemoFile { name, bytes }).map_err(|error| render(&error))?;
-        let reader = lamp_trajectory::TrajectoryReader::from_bytes(&file.bytes, file.name.as_str())
-            .map_err(|error| render(&error))?;
+        let bytes =
+            crate::files::read_limited(path, limit, "demonstration file").map_err(|error| {
+                Failure::Message(format!("cannot read {}: {error}", path.display()))
+            })?;
+        let file = bags.read(world, path, DemoFile { name, bytes })?;
+        let reader =
+            lamp_trajectory::TrajectoryReader::from_bytes(&file.bytes, file.name.as_str())?;
         let header = reader.header();
         let objects =
             header.bodies.iter().filter(|body| movable.contains(body.type_name.as_str())).count();
         pool.entries.push(PoolDemo { name: file.name.clone(), cut: is_cut(header), objects });
-        pool.demonstrations.push(adapter.demonstration(&file).map_err(|error| render(&error))?);
+        pool.demonstrations.push(adapter.demonstration(&file)?);
         pool.files.push(file);
     }
-    bags.check().map_err(|(_, error)| render(&error))?;
+    bags.check().map_err(|(_, error)| error)?;
     Ok(pool)
 }
 
@@ -110,11 +113,10 @@ fn generate_missing(
     folder: &Path,
     wanted: usize,
     show: &dyn Fn(&str),
-) -> Result<usize, String> {
-    let render = |error: &dyn miette::Diagnostic| crate::diagnostics::render_error(error, false);
-    let mut simulation = Simulation::from_spec(spec).map_err(|error| render(&error))?;
-    simulation.count = u32::try_from(wanted)
-        .map_err(|_| format!("{wanted} demonstrations are more than the simulator numbers"))?;
+) -> Result<usize, Failure> {
+    let mut simulation = Simulation::from_spec(spec)?;
+    simulation.count =
+        u32::try_from(wanted).map_err(|_| EvaluationError::TooManyDemonstrations { wanted })?;
     let missing: Vec<u32> = (0..simulation.count)
         .filter(|&index| !folder.join(file_name(&spec.domain, index)).is_file())
         .collect();
@@ -126,13 +128,11 @@ fn generate_missing(
     ));
     // Held while files are added: a `lampc demos` into the same folder must not replace it
     // meanwhile.
-    let _lock = crate::output::OutputFolder::new(folder)
-        .and_then(|demos| demos.lock("eval"))
-        .map_err(|error| crate::diagnostics::render_error(&error, false))?;
+    let _lock = crate::output::OutputFolder::new(folder).and_then(|demos| demos.lock("eval"))?;
     std::fs::create_dir_all(folder)
-        .map_err(|error| format!("cannot create {}: {error}", folder.display()))?;
+        .map_err(|error| EvaluationError::io("create", folder, error))?;
     let next = AtomicUsize::new(0);
-    let failure: Mutex<Option<String>> = Mutex::new(None);
+    let failure: Mutex<Option<Failure>> = Mutex::new(None);
     let threads = std::thread::available_parallelism().map_or(1, usize::from);
     std::thread::scope(|scope| {
         for _ in 0..threads {
@@ -142,19 +142,19 @@ fn generate_missing(
                     let Some(&index) = missing.get(slot) else { return };
                     // The same bytes `lampc demos` writes, standard channels included.
                     let written = lamp_demonstrators::generate(world, &simulation, index)
-                        .map_err(|error| render(&error))
+                        .map_err(Failure::from)
                         .and_then(|demonstration| {
                             let trajectory = &demonstration.trajectory;
                             crate::commands::demos::viewable_bytes(world, trajectory, None)
-                                .map_err(|error| render(error.as_ref()))
+                                .map_err(Failure::Report)
                         })
                         .and_then(|bytes| {
                             let name = file_name(&spec.domain, index);
-                            write_file(folder, &name, &bytes)
+                            Ok(write_file(folder, &name, &bytes)?)
                         });
-                    if let Err(message) = written {
+                    if let Err(error) = written {
                         let mut failure = failure.lock().unwrap_or_else(|p| p.into_inner());
-                        failure.get_or_insert(message);
+                        failure.get_or_insert(error);
                         next.store(missing.len(), Ordering::Relaxed);
                         return;
                     }
@@ -163,19 +163,24 @@ fn generate_missing(
         }
     });
     match failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
-        Some(message) => Err(message),
+        Some(error) => Err(error),
         None => Ok(missing.len()),
     }
 }
 
 /// Writes through a temporary file renamed into place, so a file is never seen half written.
-fn write_file(folder: &Path, name: &str, contents: &[u8]) -> Result<(), String> {
+fn write_file(folder: &Path, name: &str, contents: &[u8]) -> Result<(), EvaluationError> {
     let path = folder.join(name);
     let temporary = folder.join(format!(".{name}.tmp"));
     std::fs::write(&temporary, contents)
-        .map_err(|error| format!("cannot write {}: {error}", temporary.display()))?;
+        .map_err(|error| EvaluationError::io("write", &temporary, error))?;
     std::fs::rename(&temporary, &path).map_err(|error| {
         let _ = std::fs::remove_file(&temporary);
-        format!("cannot move {} to {}: {error}", temporary.display(), path.display())
+        EvaluationError::Io {
+            action: "move into place",
+            path: temporary.clone(),
+            error,
+            consequence: format!(" (as {})", path.display()),
+        }
     })
 }
