@@ -52,15 +52,10 @@ pub(crate) fn run(args: &Args) -> Outcome {
         }
         Err(stopped) => stopped,
     };
-    // A swap that failed half way says itself what became of the model folder.
-    let swapped = match stopped.failure.report_of::<OutputError>() {
-        Some(OutputError::Swap { state, .. }) => Some(state.clone()),
-        _ => None,
-    };
-    let outcome = swapped.unwrap_or_else(|| match model {
+    let outcome = match model {
         Some(model) if model.is_dir() => format!("the model in {} is unchanged", model.display()),
         _ => "no model was written".to_string(),
-    });
+    };
     Err(stopped.leaving(outcome))
 }
 
@@ -177,7 +172,19 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), S
         }
         emitted => emitted?,
     };
-    let replaced = timings.time("write", || write_all(&folder, &lock, &artifacts.files))?;
+    let replaced =
+        timings.time("write", || write_all(&folder, &lock, &artifacts.files)).map_err(|error| {
+            // A swap that failed half way says itself what became of the model folder.
+            let state = match &error {
+                OutputError::Swap { state, .. } => Some(state.clone()),
+                _ => None,
+            };
+            let stopped = Stopped::from(error);
+            match state {
+                Some(state) => stopped.leaving(state),
+                None => stopped,
+            }
+        })?;
     remove_failed_report(&build_dir);
     print_summary(&spec_file, folder.path(), &artifacts, &bags.absences(), &timings);
     for warning in &artifacts.summary.grab_warnings {

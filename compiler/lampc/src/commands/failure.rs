@@ -28,19 +28,6 @@ impl<E: Diagnostic + Send + Sync + 'static> From<E> for Failure {
     }
 }
 
-impl Failure {
-    /// The report, when it is an `E`: for a command whose last words depend on the error.
-    pub(crate) fn report_of<E: std::error::Error + 'static>(&self) -> Option<&E> {
-        match self {
-            Failure::Report(report) => {
-                let error: &(dyn std::error::Error + 'static) = report.as_ref();
-                error.downcast_ref::<E>()
-            }
-            Failure::Said | Failure::Message(_) => None,
-        }
-    }
-}
-
 /// A subcommand that stopped short: why, what followed from it, and what it left behind.
 pub(crate) struct Stopped {
     pub(crate) failure: Failure,
