@@ -8,9 +8,14 @@
 //! `clear_<t1>_<t2>_<k>(x)` assumes, and the actions learned with it say so (going to one object
 //! leaves the last). Where several secondaries pass one such region of one primary (a base in
 //! front of a place setting stands before all its markers; a gripper between two cans), only the
-//! one with the largest margin is in it (ties: the first participant); each other one is in its
+//! one with the largest margin is in it (ties: the first by name); each other one is in its
 //! best remaining region, or in `_0`. Without this rule the abstraction would report states the
 //! learned actions cannot leave: driving away from one marker deletes "at" that marker only.
+//!
+//! The atoms depend on the participants' names, types and poses and on what is held, never on
+//! the order the participants come in nor on their roles: the build abstracts scenes in the
+//! scene's order, the refiner its view of the world in name order, and both must agree on every
+//! state, tied ones included.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -116,6 +121,7 @@ fn passed_regions<C: RegionClassifier>(
 fn assign_regions(
     vocabulary: &[PairVocabulary],
     instances: &[Instance],
+    participants: &[Participant],
     passed: &mut [Vec<(usize, f64)>],
 ) -> Vec<usize> {
     loop {
@@ -128,11 +134,12 @@ fn assign_regions(
                 vocabulary[pair].has_clear(region).then_some((index, (pair, primary, region)))
             })
             .collect();
-        // The deeper of two instances: the larger margin, ties to the first secondary.
+        // The deeper of two instances: the larger margin, ties to the secondary first by name
+        // (names are unique), whatever order the participants come in.
         let deeper = |a: usize, b: usize| {
             let margin = |index: usize| best(index).map_or(f64::NEG_INFINITY, |(_, m)| m);
-            margin(a) > margin(b)
-                || (margin(a) == margin(b) && instances[a].secondary < instances[b].secondary)
+            let name = |index: usize| &participants[instances[index].secondary].name;
+            margin(a) > margin(b) || (margin(a) == margin(b) && name(a) < name(b))
         };
         let mut holder: BTreeMap<(usize, usize, usize), usize> = BTreeMap::new();
         for &(index, key) in &contested {
@@ -177,7 +184,7 @@ pub fn abstract_facts<C: RegionClassifier>(
             passed_regions(&vocabulary[instance.pair], &classifiers[instance.pair], &relative, g)
         })
         .collect();
-    let regions = assign_regions(vocabulary, &instances, &mut passed);
+    let regions = assign_regions(vocabulary, &instances, participants, &mut passed);
     for (&instance, region) in instances.iter().zip(regions) {
         let Instance { pair, primary, secondary } = instance;
         facts.insert(Fact::Relation { pair, region, primary, secondary });

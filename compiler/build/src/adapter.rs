@@ -11,7 +11,8 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use lamp_learn::{Demonstration, Participant, Pose, Role, Snapshot};
+use lamp_abstraction::{Participant, Pose, Role, Snapshot};
+use lamp_learn::Demonstration;
 use lamp_participants::{ParticipantMap, RobotParts};
 use lamp_robot::Robot;
 use lamp_spec::Spec;

@@ -18,7 +18,8 @@
 
 use std::collections::BTreeMap;
 
-use lamp_learn::{LearnConfig, Model, Pose, RegionClassifier};
+use lamp_abstraction::{Pose, RegionClassifier};
+use lamp_learn::{LearnConfig, Model};
 use lamp_spec::RelationAlias;
 
 use crate::error::BuildError;

@@ -9,7 +9,8 @@
 //! warns: the solver then needs more samples to land within it, and the final replay refuses a
 //! solution that does not.
 
-use lamp_learn::{Model, Pose, RegionClassifier};
+use lamp_abstraction::{Pose, RegionClassifier};
+use lamp_learn::Model;
 use lamp_pddl::Atom;
 use lamp_spec::{AtGoal, Problem, RelationAlias};
 use rand::SeedableRng;

@@ -6,7 +6,8 @@
 //! language has no minimum support, rotation share or sample count yet, so those keep
 //! lamp-learn's defaults.
 
-use lamp_learn::{LearnConfig, PinnedSettings, Switch, TypePair};
+use lamp_abstraction::TypePair;
+use lamp_learn::{LearnConfig, PinnedSettings, Switch};
 
 /// The learner's configuration for a spec: its pinned pair settings, ignored pairs and seed.
 pub fn learn_config(spec: &lamp_spec::Spec) -> LearnConfig {

@@ -114,7 +114,7 @@ fn grasps(demonstration: &Demonstration, gripper: &str) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use lamp_learn::{Participant, Pose, Role, Snapshot};
+    use lamp_abstraction::{Participant, Pose, Role, Snapshot};
 
     /// A gripper that closes on a can `distance` below it at step 1 and carries it.
     fn demonstration(distance: f64) -> Demonstration {

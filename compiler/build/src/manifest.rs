@@ -461,8 +461,8 @@ mod tests {
 
     #[test]
     fn pddl_from_other_demonstrations_than_the_samplers_is_refused() {
-        let artifact = lamp_learn::SamplerArtifact {
-            version: lamp_learn::SAMPLER_ARTIFACT_VERSION,
+        let artifact = lamp_abstraction::SamplerArtifact {
+            version: lamp_abstraction::SAMPLER_ARTIFACT_VERSION,
             seed: 1,
             pairs: Vec::new(),
         };

@@ -10,7 +10,8 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use lamp_learn::{GroundAtom, Model, Participant, Role, Snapshot, abstract_state, ground_atoms};
+use lamp_abstraction::{GroundAtom, Participant, Role, Snapshot};
+use lamp_learn::{Model, abstract_state, ground_atoms};
 use lamp_participants::scene_snapshot;
 use lamp_pddl::{Atom, Literal, Typed};
 use lamp_spec::Problem;

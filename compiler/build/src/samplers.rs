@@ -4,7 +4,7 @@
 //! The envelope is ours and lamp-abstraction's artifact stays as it is: the artifact has its own version,
 //! the envelope has `format` and `version` for the file around it.
 
-use lamp_learn::SamplerArtifact;
+use lamp_abstraction::SamplerArtifact;
 use serde::{Deserialize, Serialize};
 
 use crate::error::BuildError;

@@ -15,9 +15,10 @@
 
 use std::collections::BTreeSet;
 
+use lamp_abstraction::GroundAtom;
 use lamp_geometry::Pose;
 use lamp_geometry::math::relative_pose;
-use lamp_learn::{GroundAtom, Model, ShapeOracle as _, abstract_state};
+use lamp_learn::{Model, ShapeOracle as _, abstract_state};
 use lamp_participants::scene_snapshot;
 use lamp_pddl::Atom;
 use lamp_spec::Problem;
@@ -141,7 +142,7 @@ struct IssueContext<'a> {
 /// The goal state, for the findings about its relations.
 struct Found<'a> {
     context: &'a IssueContext<'a>,
-    participants: &'a [lamp_learn::Participant],
+    participants: &'a [lamp_abstraction::Participant],
     scene: &'a Scene,
 }
 

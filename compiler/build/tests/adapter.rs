@@ -4,8 +4,8 @@ mod support;
 
 use std::collections::BTreeMap;
 
+use lamp_abstraction::{Pose, Role};
 use lamp_build::{Adapter, BuildError, DemoFile};
-use lamp_learn::{Pose, Role};
 use lamp_trajectory::{
     BodyDescription, RobotDescription, RobotState, Step, Trajectory, TrajectoryError,
     TrajectoryHeader,

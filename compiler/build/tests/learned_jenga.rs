@@ -12,10 +12,9 @@ mod support;
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::LazyLock;
 
+use lamp_abstraction::{GroundAtom, Participant, Pose, Role, Snapshot};
 use lamp_build::Artifacts;
-use lamp_learn::{
-    Action, GroundAtom, LiftedAtom, Model, Participant, Pose, Role, Snapshot, abstract_state,
-};
+use lamp_learn::{Action, LiftedAtom, Model, abstract_state};
 use nalgebra::{Translation3, UnitQuaternion};
 
 use support::{artifact, regions};

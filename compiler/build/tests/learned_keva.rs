@@ -9,8 +9,9 @@ mod support;
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::LazyLock;
 
+use lamp_abstraction::{GroundAtom, Participant, Pose, Role, Snapshot};
 use lamp_build::{Artifacts, DemoFile};
-use lamp_learn::{Action, GroundAtom, Model, Participant, Pose, Role, Snapshot, abstract_state};
+use lamp_learn::{Action, Model, abstract_state};
 use lamp_spec::Spec;
 use lamp_world::SpecWorld;
 use nalgebra::Translation3;

@@ -7,10 +7,11 @@
 use std::collections::BTreeMap;
 use std::sync::LazyLock;
 
+use lamp_abstraction::{Participant, RegionClassifier, Role, Snapshot};
 use lamp_build::problems::ProblemContext;
 use lamp_build::{Adapter, ProblemOutcome, StructureIssue, problem_pddl};
 use lamp_geometry::Pose;
-use lamp_learn::{Demonstration, Model, Participant, RegionClassifier, Role, Snapshot};
+use lamp_learn::{Demonstration, Model};
 use lamp_spec::Spec;
 use lamp_world::SpecWorld;
 use nalgebra::{Translation3, UnitQuaternion, Vector3};

@@ -121,7 +121,7 @@ mod tests {
     #[test]
     fn every_built_in_is_made_from_its_preset_alone_and_refuses_an_unknown_option() {
         let artifact = serde_json::json!({
-            "version": lamp_learn::SAMPLER_ARTIFACT_VERSION,
+            "version": lamp_abstraction::SAMPLER_ARTIFACT_VERSION,
             "seed": 0,
             "pairs": [],
         });

@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Duration;
 
-use lamp_learn::SamplerArtifact;
+use lamp_abstraction::SamplerArtifact;
 use lamp_plugin_api::{MotionPlanner, Planner, PluginError, Refiner};
 use lamp_plugin_host::{LoadError, PluginLibrary};
 use lamp_spec::limits::{self, Limit, RangeError};

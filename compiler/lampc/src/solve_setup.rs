@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use lamp_learn::SamplerArtifact;
+use lamp_abstraction::SamplerArtifact;
 use lamp_plugin_api::{MotionBudget, MotionPlanner, PlanBudget, Planner, Refiner};
 use lamp_spec::Spec;
 use lamp_tamp::MotionSettings;

@@ -5,7 +5,7 @@ use crate::demo::Pose;
 use crate::discretise::Grid;
 use crate::regions::RegionCells;
 pub(crate) use lamp_abstraction::abstraction::{Fact, abstract_atoms, abstract_facts};
-pub use lamp_abstraction::abstraction::{GroundAtom, RegionClassifier};
+pub(crate) use lamp_abstraction::abstraction::{GroundAtom, RegionClassifier};
 
 /// The exact-cell membership test: a pose is in the region iff its (voxel, rotation) cell is.
 ///
@@ -174,6 +174,63 @@ pub(crate) mod tests {
         let names = names(&facts);
         assert!(names.contains(&"(gripper_can_1 g c1)".to_string()), "{names:?}");
         assert!(names.contains(&"(gripper_can_2 g c2)".to_string()), "{names:?}");
+    }
+
+    /// Both cans exactly at region 1's centre: a tie, which goes to the can first by name.
+    fn tied() -> Snapshot {
+        Snapshot {
+            poses: vec![
+                Pose::identity(),
+                Pose::translation(0.0, 0.0, -0.2),
+                Pose::translation(0.0, 0.0, -0.2),
+            ],
+            held: vec![],
+        }
+    }
+
+    /// The atoms of `snapshot` with the participants (and the snapshot's rows) in the order of
+    /// `order`, with every object's role replaced by `role`.
+    fn atoms_in_order(
+        snapshot: &Snapshot,
+        order: &[usize],
+        role: Option<Role>,
+    ) -> BTreeSet<GroundAtom> {
+        let all = participants();
+        let participants: Vec<Participant> = order
+            .iter()
+            .map(|&index| {
+                let participant = all[index].clone();
+                match (role, participant.role) {
+                    (Some(role), Role::Object { .. }) => Participant { role, ..participant },
+                    _ => participant,
+                }
+            })
+            .collect();
+        let position = |index: usize| order.iter().position(|&i| i == index).expect("permuted");
+        let permuted = Snapshot {
+            poses: order.iter().map(|&index| snapshot.poses[index]).collect(),
+            held: snapshot.held.iter().map(|&(a, b)| (position(a), position(b))).collect(),
+        };
+        abstract_atoms(&vocabulary(), &classifiers(), &participants, &permuted).expect("fits")
+    }
+
+    #[test]
+    fn the_atoms_of_a_tied_state_depend_on_names_never_on_order_or_roles() {
+        let orders = [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]];
+        let expected = atoms_in_order(&tied(), &[0, 1, 2], None);
+        let texts: Vec<String> = expected.iter().map(ToString::to_string).collect();
+        assert!(texts.contains(&"(gripper_can_1 g c1)".to_string()), "{texts:?}");
+        assert!(!texts.contains(&"(gripper_can_1 g c2)".to_string()), "{texts:?}");
+        for order in orders {
+            for role in [None, Some(Role::Object { movable: false })] {
+                assert_eq!(atoms_in_order(&tied(), &order, role), expected, "{order:?} {role:?}");
+            }
+        }
+        let held = Snapshot { held: vec![(0, 2)], ..tied() };
+        let expected = atoms_in_order(&held, &[0, 1, 2], None);
+        for order in orders {
+            assert_eq!(atoms_in_order(&held, &order, None), expected, "{order:?}");
+        }
     }
 
     #[test]

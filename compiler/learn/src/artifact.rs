@@ -1,7 +1,7 @@
 //! The sampler artifact of a learned model (the artifact itself is lamp-abstraction's).
 
 use crate::model::Model;
-pub use lamp_abstraction::artifact::{
+use lamp_abstraction::artifact::{
     ArtifactPair, ArtifactRegion, SAMPLER_ARTIFACT_VERSION, SamplerArtifact,
 };
 

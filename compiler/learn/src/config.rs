@@ -9,7 +9,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use crate::error::LearnError;
 use lamp_abstraction::FreeTurn;
 
-pub use lamp_abstraction::TypePair;
+pub(crate) use lamp_abstraction::TypePair;
 
 /// The settings one type pair is learned with, every one resolved.
 #[derive(Debug, Clone, PartialEq)]

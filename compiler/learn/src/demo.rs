@@ -5,7 +5,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use crate::error::LearnError;
-pub use lamp_abstraction::{Participant, Pose, Role, Snapshot};
+pub(crate) use lamp_abstraction::{Participant, Pose, Role, Snapshot};
 
 /// One recorded demonstration.
 #[derive(Debug, Clone, PartialEq)]

@@ -18,7 +18,7 @@ use rand::RngExt;
 
 use crate::config::PairSettings;
 use crate::demo::Pose;
-pub use lamp_abstraction::FreeTurn;
+pub(crate) use lamp_abstraction::FreeTurn;
 
 /// Rotation draws per sample before a too-long rotation vector is shortened onto the π sphere.
 const MAX_ROTATION_DRAWS: usize = 256;

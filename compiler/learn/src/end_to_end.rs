@@ -12,9 +12,10 @@ use crate::synthetic::{
     DiscShapes, GRASP_HEIGHT, packing_config, packing_demonstrations, packing_shapes,
 };
 use crate::{
-    Model, NoShapes, Pose, RegionSides, SideReason, Switch, TypePair, abstract_state, domain_text,
-    learn, vocabulary_report,
+    Model, NoShapes, RegionSides, SideReason, Switch, abstract_state, domain_text, learn,
+    vocabulary_report,
 };
+use lamp_abstraction::{AbstractionError, Pose, SamplerArtifact, TypePair};
 
 const DEMONSTRATIONS: usize = 40;
 const DEMONSTRATION_SEED: u64 = 11;
@@ -227,7 +228,7 @@ fn the_sampler_artifact_round_trips_and_abstracts_like_the_model() {
     let model = learned();
     let artifact = model.sampler_artifact();
     let text = serde_json::to_string(&artifact).expect("serialises");
-    let back: crate::SamplerArtifact = serde_json::from_str(&text).expect("deserialises");
+    let back: SamplerArtifact = serde_json::from_str(&text).expect("deserialises");
     assert_eq!(back, artifact);
     assert_eq!(back.validate(), Ok(()));
     let again = serde_json::to_string(&learned().sampler_artifact());
@@ -246,7 +247,7 @@ fn the_sampler_artifact_round_trips_and_abstracts_like_the_model() {
     assert!(nowhere_atoms > 0, "the artifact carries the nowhere sides");
     let mut old = back.clone();
     old.version += 1;
-    assert!(matches!(old.validate(), Err(crate::AbstractionError::ArtifactVersion { .. })));
+    assert!(matches!(old.validate(), Err(AbstractionError::ArtifactVersion { .. })));
     let mut rng = ChaCha8Rng::seed_from_u64(2);
     // The threshold accepts 99 % of the uniform fitting samples; the mixture's Gaussian tails reach past the
     // cells, so some 10 % of its own draws fall outside (a caller that needs members rejects by the margin).

@@ -8,7 +8,7 @@
 //! [`learn`] runs it all and returns a [`Model`]; [`abstract_state`] abstracts new snapshots with a model.
 //! The method and every sort key are documented in `docs/learning.md`. What the run time reads of a
 //! model (participants, vocabulary, region models, abstraction, the sampler artifact) lives in
-//! lamp-abstraction, re-exported here.
+//! lamp-abstraction, and its users name it there: this crate does not re-export it.
 
 pub mod abstraction;
 pub mod actions;
@@ -20,7 +20,7 @@ pub mod discretise;
 pub mod emit;
 pub mod error;
 mod existential;
-pub use lamp_abstraction::features;
+use lamp_abstraction::features;
 mod learner;
 mod lifted;
 pub mod model;
@@ -30,22 +30,20 @@ mod placements;
 pub mod region_model;
 pub mod regions;
 mod rigid;
-pub use lamp_abstraction::relations;
+use lamp_abstraction::relations;
 pub mod report;
 pub mod resting;
 pub mod selection;
 pub mod symmetry_choice;
 pub mod synthetic;
 
-pub use abstraction::{CellClassifier, GroundAtom, RegionClassifier};
+pub use abstraction::CellClassifier;
 pub use actions::{Action, LiftedAtom, Parameter, TransitionRef};
-pub use artifact::{SAMPLER_ARTIFACT_VERSION, SamplerArtifact};
 pub use capacity::{NoShapes, RegionSides, ShapeOracle, Side, SideReason};
-pub use config::{LearnConfig, PairSettings, PinnedSettings, Switch, TypePair};
-pub use demo::{Demonstration, Participant, Pose, Role, Snapshot};
+pub use config::{LearnConfig, PairSettings, PinnedSettings, Switch};
+pub use demo::Demonstration;
 pub use emit::{domain, domain_text, ground_atoms};
 pub use error::LearnError;
-pub use lamp_abstraction::AbstractionError;
 pub use learner::{PairRegions, RegionSummary};
 pub use model::{LearnedPair, Model, Region, abstract_state, learn};
 pub use report::vocabulary_report;

@@ -14,7 +14,7 @@ use rand_chacha::ChaCha8Rng;
 use crate::discretise::{RotationCell, Voxel};
 use crate::learner::PairRegions;
 use crate::regions::RegionCells;
-pub use lamp_abstraction::region_model::{EXTENT_DRAWS, RegionModel};
+pub(crate) use lamp_abstraction::region_model::RegionModel;
 
 /// The model of region `index` of a pair, fitted to `samples` poses drawn uniformly over its cells with `rng`.
 pub fn fit(

@@ -73,6 +73,9 @@ impl WorldView {
             }
         }
         participants.sort();
+        // The wire does not say which objects are movable, and need not: the abstraction reads
+        // names, types, poses and holds, never roles or the participants' order (lamp-abstraction
+        // breaks ties by name), so this view abstracts every state as the build and the solver do.
         let mut objects: Vec<Participant> = world
             .objects
             .iter()

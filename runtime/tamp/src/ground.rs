@@ -3,7 +3,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use lamp_learn::GroundAtom;
+use lamp_abstraction::GroundAtom;
 use lamp_pddl::{Atom, Condition, Domain, Problem, Term};
 use lamp_plugin_api::{GroundAtom as WireAtom, GroundedAction, PlanStep};
 

@@ -3,7 +3,7 @@
 
 use std::collections::BTreeSet;
 
-use lamp_learn::{GroundAtom, ground_atoms};
+use lamp_abstraction::GroundAtom;
 use lamp_pddl::{Condition, Domain, Problem, write_domain, write_problem};
 use lamp_plugin_api::{GroundedAction, HostServices, Plan, PlanRequest, PlanStatus};
 
@@ -81,7 +81,13 @@ pub fn plan_from(
     settings: &SolveSettings<'_>,
 ) -> Result<Rest, SolveError> {
     let mut from = problem.clone();
-    from.init = ground_atoms(state);
+    from.init = state
+        .iter()
+        .map(|atom| {
+            let objects: Vec<&str> = atom.arguments.iter().map(String::as_str).collect();
+            lamp_pddl::Atom::ground(atom.predicate.clone(), &objects)
+        })
+        .collect();
     let found = match plans(plugins, domain, &from, 1, settings)? {
         Planned::Plans(found) => found,
         Planned::NoPlan(_) => return Ok(Rest::Unreachable),

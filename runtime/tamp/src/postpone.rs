@@ -17,7 +17,7 @@
 use std::collections::{BTreeSet, HashMap};
 use std::ops::RangeInclusive;
 
-use lamp_learn::GroundAtom;
+use lamp_abstraction::GroundAtom;
 use lamp_plugin_api::GroundedAction;
 
 /// A plan's steps from some point on, as tried: the step texts, `(name args…)`.

@@ -19,8 +19,8 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+use lamp_abstraction::{GroundAtom, SamplerArtifact};
 use lamp_geometry::Pose;
-use lamp_learn::{GroundAtom, SamplerArtifact};
 use lamp_participants::ParticipantMap;
 use lamp_pddl::{Domain, Problem};
 use lamp_plugin_api::{Candidate, CandidateStream, GroundedAction, RefineRequest};

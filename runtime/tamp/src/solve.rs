@@ -6,7 +6,7 @@
 use std::collections::BTreeSet;
 use std::time::Instant;
 
-use lamp_learn::{GroundAtom, SamplerArtifact};
+use lamp_abstraction::{GroundAtom, SamplerArtifact};
 use lamp_participants::ParticipantMap;
 use lamp_pddl::{Domain, Problem, parse_domain, parse_problem};
 use lamp_plugin_api::GroundedAction;

@@ -2,7 +2,7 @@
 
 use std::collections::BTreeSet;
 
-use lamp_learn::{GroundAtom, SamplerArtifact};
+use lamp_abstraction::{GroundAtom, SamplerArtifact};
 use lamp_participants::{ParticipantMap, part_participant_name, scene_snapshot};
 use lamp_plugin_api::{HeldObject, ObjectState, RobotPart, RobotState, WorldState};
 use lamp_world::Scene;

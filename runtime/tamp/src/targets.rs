@@ -9,7 +9,7 @@
 
 use std::collections::BTreeSet;
 
-use lamp_learn::GroundAtom;
+use lamp_abstraction::GroundAtom;
 use lamp_spec::AtGoal;
 use lamp_world::Scene;
 

@@ -9,7 +9,7 @@
 
 use std::collections::BTreeSet;
 
-use lamp_learn::{GroundAtom, SamplerArtifact};
+use lamp_abstraction::{GroundAtom, SamplerArtifact};
 use lamp_participants::ParticipantMap;
 use lamp_spec::AtGoal;
 use lamp_trajectory::Step;

@@ -7,8 +7,8 @@
 
 use std::collections::BTreeSet;
 
+use lamp_abstraction::{Participant, Pose, RegionClassifier, Role, SamplerArtifact, Snapshot};
 use lamp_build::SamplersFile;
-use lamp_learn::{Participant, Pose, RegionClassifier, Role, SamplerArtifact, Snapshot};
 use nalgebra::{Isometry3, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -110,10 +110,10 @@ fn is_finite(pose: &Pose) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use lamp_abstraction::RegionModel;
+    use lamp_abstraction::SAMPLER_ARTIFACT_VERSION;
+    use lamp_abstraction::{ArtifactPair, ArtifactRegion};
     use lamp_build::Provenance;
-    use lamp_learn::SAMPLER_ARTIFACT_VERSION;
-    use lamp_learn::artifact::{ArtifactPair, ArtifactRegion};
-    use lamp_learn::region_model::RegionModel;
 
     /// A region model: one standard normal component over the 9 features, at the identity
     /// rotation and a can's height, inside a 20 cm box.
