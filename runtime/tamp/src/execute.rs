@@ -4,7 +4,8 @@
 //! every motion checked state by state.
 
 use lamp_plugin_api::{
-    Candidate, HostServices, MotionOutcome, MotionPlanner, MotionRequest, NoPathReason,
+    Candidate, GraspChange, HostServices, MotionOutcome, MotionPlanner, MotionRequest,
+    NoPathReason, RobotTarget,
 };
 use lamp_robot::{IkConfig, Mount, Robot};
 use lamp_world::{
@@ -78,16 +79,49 @@ pub fn execute(
     seed: u64,
     counts: &mut MotionCounts,
 ) -> Result<(), Rejection> {
-    let robot_index = |scene: &Scene, name: &str| {
-        scene.robot_index(name).ok_or_else(|| {
+    let planning = Planning { motion, settings, counts };
+    let mut execution = Execution { scene, recorder, planning, seed };
+    for change in &candidate.releases {
+        execution.release(change)?;
+    }
+    for (offset, target) in candidate.targets.iter().enumerate() {
+        execution.move_to(offset, target)?;
+    }
+    for change in &candidate.grabs {
+        execution.grab(change)?;
+    }
+    Ok(())
+}
+
+/// What carrying out one candidate works with.
+struct Execution<'e, 's> {
+    scene: &'e mut Scene,
+    recorder: &'e mut Recorder,
+    planning: Planning<'e, 's>,
+    seed: u64,
+}
+
+/// The motion planner with what its calls are made with and counted in.
+struct Planning<'e, 's> {
+    motion: &'e mut dyn MotionPlanner,
+    settings: &'e SolveSettings<'s>,
+    counts: &'e mut MotionCounts,
+}
+
+impl Execution<'_, '_> {
+    fn robot_index(&self, name: &str) -> Result<usize, Rejection> {
+        self.scene.robot_index(name).ok_or_else(|| {
             Rejection::Fatal(SolveError::PluginAnswer {
                 kind: "refiner",
                 reason: format!("it names robot `{name}`, which is not in the scene"),
             })
         })
-    };
-    for change in &candidate.releases {
-        let robot = robot_index(scene, &change.robot)?;
+    }
+
+    /// Opens the fingers on the object `change` names and lets go of it, where it rests.
+    fn release(&mut self, change: &GraspChange) -> Result<(), Rejection> {
+        let robot = self.robot_index(&change.robot)?;
+        let scene = &mut *self.scene;
         let held = scene.held(robot).map(|held| scene.bodies()[held.body].name.clone());
         if held.as_deref() != Some(change.object.as_str()) {
             return Err(Rejection::because(Cause::Other {
@@ -96,10 +130,11 @@ pub fn execute(
         }
         // The fingers open while they still hold the object (they may touch it, nothing else),
         // then it is let go.
-        let opening = finger_path(scene, robot, FingerMove::Open, &settings.motion.config)
-            .map_err(|error| Rejection::candidate(&error))?;
+        let opening =
+            finger_path(scene, robot, FingerMove::Open, &self.planning.settings.motion.config)
+                .map_err(|error| Rejection::candidate(&error))?;
         if opening.len() > 1 {
-            recorder.follow(scene, robot, &opening);
+            self.recorder.follow(scene, robot, &opening);
         }
         scene.release_at_rest(robot).map_err(|error| match error.lacks_support() {
             Some(object) => {
@@ -107,12 +142,17 @@ pub fn execute(
             }
             None => Rejection::candidate(&error),
         })?;
-        recorder.record(scene);
+        self.recorder.record(scene);
+        Ok(())
     }
-    for (offset, target) in candidate.targets.iter().enumerate() {
-        let robot = robot_index(scene, &target.robot)?;
-        let model = scene.robots()[robot].robot().clone();
-        let start = scene.robots()[robot].configuration().to_vec();
+
+    /// Moves a robot to `target` (the candidate's `offset`-th), along a straight line where
+    /// one is free, else along the motion planner's path, checked state by state.
+    fn move_to(&mut self, offset: usize, target: &RobotTarget) -> Result<(), Rejection> {
+        let robot = self.robot_index(&target.robot)?;
+        let config = &self.planning.settings.motion.config;
+        let model = self.scene.robots()[robot].robot().clone();
+        let start = self.scene.robots()[robot].configuration().to_vec();
         if target.configuration.len() != start.len() {
             return Err(Rejection::Fatal(SolveError::PluginAnswer {
                 kind: "refiner",
@@ -126,116 +166,96 @@ pub fn execute(
         // The fingers move only at grasp changes: a target keeps them where they are (closed on
         // a held object, open otherwise), whatever finger values the refiner gave.
         let mut goal = target.configuration.clone();
-        for &(finger, _) in scene.robots()[robot].open_fingers() {
+        for &(finger, _) in self.scene.robots()[robot].open_fingers() {
             goal[finger] = start[finger];
         }
         let goal = &goal;
         if model.distance(&start, goal) < SAME_CONFIGURATION {
-            continue;
+            return Ok(());
         }
         let group = motion_group(&model, &start, goal);
         let request = MotionRequest {
             robot: target.robot.clone(),
             start: start.clone(),
             goal: goal.clone(),
-            budget: settings.motion.budget,
-            seed: seed.wrapping_add(offset as u64),
+            budget: self.planning.settings.motion.budget,
+            seed: self.seed.wrapping_add(offset as u64),
         };
         // A carry leaves its support straight up and comes down onto its place straight down,
         // as a robot picks and places: a path that slides the object along what it stood on, or
         // skims a wall on the way down, is collision-free only at the world's zero clearance.
-        let carrying = scene.held(robot).is_some();
+        let carrying = self.scene.held(robot).is_some();
         let carried = if carrying {
-            let space = RobotSpace::new(scene, robot, group, &start, goal, &settings.motion.config)
+            let space = RobotSpace::new(self.scene, robot, group, &start, goal, config)
                 .map_err(|error| Rejection::candidate(&error))?;
-            let host = GroupHost::new(&target.robot, &model, space, settings.cancelled);
-            let ends = Lifted { scene, robot, group, start: &start, goal };
-            ends.plan(motion, &request, &host, &settings.motion.config, counts)?
+            let host =
+                GroupHost::new(&target.robot, &model, space, self.planning.settings.cancelled);
+            let ends = Lifted { scene: self.scene, robot, group, start: &start, goal };
+            ends.plan(self.planning.motion, &request, &host, config, self.planning.counts)?
         } else {
             None
         };
-        let waypoints = if let Some(path) = carried {
-            path
-        } else {
-            if let Some(path) =
-                straight_first(scene, robot, group, &start, goal, &settings.motion.config)
-            {
-                let states = densify(&model, &path, &settings.motion.config)
-                    .map_err(|error| Rejection::candidate(&error))?;
-                recorder.follow(scene, robot, &states);
-                scene.set_configuration(robot, states.last().unwrap_or(&start));
-                continue;
-            }
-            let space = RobotSpace::new(scene, robot, group, &start, goal, &settings.motion.config)
-                .map_err(|error| Rejection::candidate(&error))?;
-            let host = GroupHost::new(&target.robot, &model, space, settings.cancelled);
-            counts.calls += 1;
-            match motion.plan_path(&request, &host) {
-                Ok(MotionOutcome::Path(waypoints)) => waypoints,
-                Ok(MotionOutcome::NoPath { reason, message }) => {
-                    counts.failures += 1;
-                    // A carry was tried from above its ends already.
-                    let lifted = if reason == NoPathReason::BudgetExhausted && !carrying {
-                        let ends = Lifted { scene, robot, group, start: &start, goal };
-                        ends.plan(motion, &request, &host, &settings.motion.config, counts)?
-                    } else {
-                        None
-                    };
-                    let Some(waypoints) = lifted else {
-                        let blocked = match reason {
-                            NoPathReason::StartInvalid => scene.first_contact(robot, &start),
-                            NoPathReason::GoalInvalid => scene.first_contact(robot, goal),
-                            NoPathReason::BudgetExhausted | NoPathReason::Other => None,
-                        };
-                        let cause = match blocked {
-                            Some(contact) => Cause::of_contact(&target.robot, contact, scene),
-                            None => Cause::NoPath {
-                                robot: target.robot.clone(),
-                                group: group.to_string(),
-                            },
-                        };
-                        let why = format!(
-                            "no {group} path for `{}` ({reason:?}{}{message})",
-                            target.robot,
-                            if message.is_empty() { "" } else { ": " }
-                        );
-                        return Err(Rejection::Candidate { cause, why });
-                    };
-                    waypoints
+        let waypoints = match carried {
+            Some(path) => path,
+            None => {
+                if let Some(path) = straight_first(self.scene, robot, group, &start, goal, config) {
+                    let states = densify(&model, &path, config)
+                        .map_err(|error| Rejection::candidate(&error))?;
+                    self.recorder.follow(self.scene, robot, &states);
+                    self.scene.set_configuration(robot, states.last().unwrap_or(&start));
+                    return Ok(());
                 }
-                Err(error) => {
-                    return Err(Rejection::Fatal(SolveError::from_plugin("motion", error)));
-                }
+                let ends = Lifted { scene: self.scene, robot, group, start: &start, goal };
+                self.planning.plan_path(&ends, &model, &request, carrying)?
             }
         };
-        if let Some(reason) = malformed_waypoint(&waypoints, start.len()) {
+        self.follow_path(robot, &model, &waypoints, (&start, goal))
+    }
+
+    /// Follows a motion planner's `waypoints` from the first to the second of `ends`, densified
+    /// to the checking resolution and checked state by state, and records it.
+    fn follow_path(
+        &mut self,
+        robot: usize,
+        model: &Robot,
+        waypoints: &[Vec<f64>],
+        ends: (&[f64], &[f64]),
+    ) -> Result<(), Rejection> {
+        let (start, goal) = ends;
+        if let Some(reason) = malformed_waypoint(waypoints, start.len()) {
             return Err(bad_path(&reason));
         }
-        let states = densify(&model, &waypoints, &settings.motion.config)
+        let states = densify(model, waypoints, &self.planning.settings.motion.config)
             .map_err(|error| Rejection::candidate(&error))?;
         let joins = |a: &[f64], b: &[f64]| model.distance(a, b) < PATH_END_TOLERANCE;
         let (Some(first), Some(last)) = (states.first(), states.last().cloned()) else {
             return Err(bad_path("it is empty"));
         };
-        if !joins(first, &start) || !joins(&last, goal) {
+        if !joins(first, start) || !joins(&last, goal) {
             return Err(bad_path("it does not run from the start to the goal"));
         }
         for (index, q) in states.iter().enumerate() {
             // Up to MAX_EDGE_STEPS states per edge, each a collision check: poll on the way.
-            if (settings.cancelled)() {
+            if (self.planning.settings.cancelled)() {
                 return Err(Rejection::Fatal(SolveError::cancelled()));
             }
-            if !scene.is_valid(robot, q) {
+            if !self.scene.is_valid(robot, q) {
                 return Err(bad_path(&format!("its state {index} collides or leaves the limits")));
             }
         }
-        recorder.follow(scene, robot, &states);
+        self.recorder.follow(self.scene, robot, &states);
         // Where the recording ends (within PATH_END_TOLERANCE of the goal), so that what
         // happens next, an object let go of and settled, happens as the replay will see it.
-        scene.set_configuration(robot, &last);
+        self.scene.set_configuration(robot, &last);
+        Ok(())
     }
-    for change in &candidate.grabs {
-        let robot = robot_index(scene, &change.robot)?;
+
+    /// Takes hold of the object `change` names, within the grab range (coming to contact first
+    /// with a gripper that holds by contact), and closes the fingers on it.
+    fn grab(&mut self, change: &GraspChange) -> Result<(), Rejection> {
+        let robot = self.robot_index(&change.robot)?;
+        let config = &self.planning.settings.motion.config;
+        let scene = &mut *self.scene;
         let Some(body) = scene.body_index(&change.object) else {
             return Err(Rejection::because(Cause::Other {
                 reason: format!("no body `{}`", change.object),
@@ -244,15 +264,14 @@ pub fn execute(
         // A magnet or a suction cup holds only what it touches: it comes straight to the object
         // first (fingers close after the grab instead).
         if scene.holds_by_contact(robot) {
-            let approach =
-                contact_approach(scene, robot, body, &settings.motion.config).map_err(|error| {
-                    Rejection::Candidate {
-                        cause: Cause::OutOfGrabRange { object: change.object.clone() },
-                        why: error.to_string(),
-                    }
-                })?;
+            let approach = contact_approach(scene, robot, body, config).map_err(|error| {
+                Rejection::Candidate {
+                    cause: Cause::OutOfGrabRange { object: change.object.clone() },
+                    why: error.to_string(),
+                }
+            })?;
             if let [_, .., last] = approach.as_slice() {
-                recorder.follow(scene, robot, &approach);
+                self.recorder.follow(scene, robot, &approach);
                 scene.set_configuration(robot, last);
             }
         }
@@ -260,8 +279,9 @@ pub fn execute(
             scene.gripper_pose(robot, scene.robots()[robot].configuration()).map(|gripper| {
                 (gripper.translation.vector - scene.body_pose(body).translation.vector).norm()
             });
+        let ranges = &self.planning.settings.motion.grab_ranges;
         if let (Some(distance), Some((_, (low, high)))) =
-            (reach, settings.motion.grab_ranges.iter().find(|(name, _)| name == &change.robot))
+            (reach, ranges.iter().find(|(name, _)| name == &change.robot))
             && !(*low..=*high).contains(&distance)
         {
             return Err(Rejection::Candidate {
@@ -279,15 +299,62 @@ pub fn execute(
                 reason: format!("taking `{}`: {left}", change.object),
             }));
         }
-        recorder.record(scene);
+        self.recorder.record(scene);
         // Held first, so that the fingers may touch the object as they close onto it.
-        let closing = finger_path(scene, robot, FingerMove::Close, &settings.motion.config)
+        let closing = finger_path(scene, robot, FingerMove::Close, config)
             .map_err(|error| Rejection::candidate(&error))?;
         if closing.len() > 1 {
-            recorder.follow(scene, robot, &closing);
+            self.recorder.follow(scene, robot, &closing);
         }
+        Ok(())
     }
-    Ok(())
+}
+
+impl Planning<'_, '_> {
+    /// The motion planner's path for `request` between `ends`; a free move it cannot plan is
+    /// tried once more from above its ends. A refusal names what is in the way, if anything.
+    fn plan_path(
+        &mut self,
+        ends: &Lifted<'_>,
+        model: &Robot,
+        request: &MotionRequest,
+        carrying: bool,
+    ) -> Result<Vec<Vec<f64>>, Rejection> {
+        let Lifted { scene, robot, group, start, goal } = *ends;
+        let config = &self.settings.motion.config;
+        let space = RobotSpace::new(scene, robot, group, start, goal, config)
+            .map_err(|error| Rejection::candidate(&error))?;
+        let host = GroupHost::new(&request.robot, model, space, self.settings.cancelled);
+        self.counts.calls += 1;
+        let (reason, message) = match self.motion.plan_path(request, &host) {
+            Ok(MotionOutcome::Path(waypoints)) => return Ok(waypoints),
+            Ok(MotionOutcome::NoPath { reason, message }) => (reason, message),
+            Err(error) => return Err(Rejection::Fatal(SolveError::from_plugin("motion", error))),
+        };
+        self.counts.failures += 1;
+        // A carry was tried from above its ends already.
+        if reason == NoPathReason::BudgetExhausted
+            && !carrying
+            && let Some(waypoints) = ends.plan(self.motion, request, &host, config, self.counts)?
+        {
+            return Ok(waypoints);
+        }
+        let blocked = match reason {
+            NoPathReason::StartInvalid => scene.first_contact(robot, start),
+            NoPathReason::GoalInvalid => scene.first_contact(robot, goal),
+            NoPathReason::BudgetExhausted | NoPathReason::Other => None,
+        };
+        let cause = match blocked {
+            Some(contact) => Cause::of_contact(&request.robot, contact, scene),
+            None => Cause::NoPath { robot: request.robot.clone(), group: group.to_string() },
+        };
+        let why = format!(
+            "no {group} path for `{}` ({reason:?}{}{message})",
+            request.robot,
+            if message.is_empty() { "" } else { ": " }
+        );
+        Err(Rejection::Candidate { cause, why })
+    }
 }
 
 /// What is wrong with a motion plugin's waypoint, if anything: a waypoint with another number of

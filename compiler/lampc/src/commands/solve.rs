@@ -222,16 +222,7 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
     };
     let mut plugins =
         solve_setup::plugins(spec, spec_dir, &checked.file_name, &overrides, &samplers.artifact)?;
-    let deadline = match args.timeout {
-        None => None,
-        Some(seconds) => {
-            let limit = lamp_spec::limits::duration(seconds)
-                .map_err(|error| Failure::Message(format!("--timeout: {error}")))?;
-            let deadline = Instant::now().checked_add(limit);
-            let beyond = || Failure::Message("--timeout: beyond the clock's range".to_string());
-            Some(deadline.ok_or_else(beyond)?)
-        }
-    };
+    let deadline = args.timeout.map(deadline_after).transpose()?;
     let out_of_time = || deadline.is_some_and(|deadline| Instant::now() >= deadline);
     let cancelled = || INTERRUPTED.load(Ordering::Relaxed) || out_of_time();
     let settings = solve_setup::settings(spec, &plugins.runtime, &overrides, &cancelled);
@@ -278,19 +269,9 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
         Stopped { notes, ..Stopped::from(error) }
     })?;
 
-    let picture =
-        lamp_render::render_trajectory(&world, &solution.trajectory, None, &Default::default())?;
-    let summary = &solution.summary;
-    let plan = (solution.step_starts.as_slice(), summary.plan.as_slice());
-    let mcap = crate::commands::demos::viewable_bytes(&world, &solution.trajectory, Some(plan))
-        .map_err(Failure::Report)?;
-    let mut summary_json = serde_json::to_string_pretty(summary)
-        .map_err(|error| Failure::Message(error.to_string()))?;
-    summary_json.push('\n');
-    let plan_text = summary.plan_text();
-    let contents: [&[u8]; 4] =
-        [&mcap, plan_text.as_bytes(), summary_json.as_bytes(), picture.as_bytes()];
-    let files: Vec<(&Path, &[u8])> = SOLUTION_FILES.iter().map(Path::new).zip(contents).collect();
+    let contents = solution_contents(&world, &solution)?;
+    let files: Vec<(&Path, &[u8])> =
+        SOLUTION_FILES.iter().map(Path::new).zip(contents.iter().map(Vec::as_slice)).collect();
     // Checked again: the folder may have changed while the solve ran.
     replaceable(&out)?;
     let replaced = folder.replace(&lock, &files).inspect_err(|error| {
@@ -299,7 +280,7 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
         }
     })?;
     remove_failure_report(&failed_folder);
-    print_summary(summary, &out);
+    print_summary(&solution.summary, &out);
     if let Some((kept, reason)) = replaced.kept {
         eprintln!(
             "lampc solve: warning: the previous solution, moved to {}, could not be removed: {reason}",
@@ -307,6 +288,33 @@ fn solve(args: &Args, colour: bool, left: &mut String) -> Result<lamp_tamp::Summ
         );
     }
     Ok(solution.summary)
+}
+
+/// The instant `seconds` (`--timeout`) from now.
+fn deadline_after(seconds: f64) -> Result<Instant, Failure> {
+    let limit = lamp_spec::limits::duration(seconds)
+        .map_err(|error| Failure::Message(format!("--timeout: {error}")))?;
+    Instant::now()
+        .checked_add(limit)
+        .ok_or_else(|| Failure::Message("--timeout: beyond the clock's range".to_string()))
+}
+
+/// The contents of the solution files, in the order of [`SOLUTION_FILES`]: the trajectory with
+/// its standard and execution channels, the plan, the summary and the picture.
+fn solution_contents(
+    world: &SpecWorld,
+    solution: &lamp_tamp::Solution,
+) -> Result<[Vec<u8>; 4], Failure> {
+    let picture =
+        lamp_render::render_trajectory(world, &solution.trajectory, None, &Default::default())?;
+    let summary = &solution.summary;
+    let plan = (solution.step_starts.as_slice(), summary.plan.as_slice());
+    let mcap = crate::commands::demos::viewable_bytes(world, &solution.trajectory, Some(plan))
+        .map_err(Failure::Report)?;
+    let mut summary_json = serde_json::to_string_pretty(summary)
+        .map_err(|error| Failure::Message(error.to_string()))?;
+    summary_json.push('\n');
+    Ok([mcap, summary.plan_text().into_bytes(), summary_json.into_bytes(), picture.into_bytes()])
 }
 
 /// The folder of a failed solve's report, beside the solution folder `out`:
