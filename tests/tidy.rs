@@ -108,6 +108,59 @@ fn internal_dependencies_follow_the_code_map() {
     assert!(violations.is_empty(), "{}", violations.join("\n"));
 }
 
+/// The top-level folders in the order of `docs/ARCHITECTURE.md`'s "Folders, from the bottom
+/// up" line.
+fn documented_folder_order() -> Vec<String> {
+    let text = fs::read_to_string(workspace_root().join("docs/ARCHITECTURE.md"))
+        .expect("docs/ARCHITECTURE.md exists");
+    let line = text
+        .lines()
+        .find(|line| line.starts_with("Folders, from the bottom up:"))
+        .expect("a `Folders, from the bottom up:` line");
+    line.split('`')
+        .skip(1)
+        .step_by(2)
+        .map(|folder| folder.trim_end_matches('/').to_string())
+        .collect()
+}
+
+#[test]
+fn folders_depend_only_on_their_own_or_the_ones_below() {
+    let order = documented_folder_order();
+    let root = workspace_root();
+    let manifests = workspace_manifests();
+    let folder_of = |dir: &Path| -> String {
+        let relative = dir.strip_prefix(&root).expect("members lie in the workspace");
+        relative
+            .components()
+            .next()
+            .map_or_else(String::new, |first| first.as_os_str().to_string_lossy().into_owned())
+    };
+    let rank: BTreeMap<String, usize> = manifests
+        .iter()
+        .map(|manifest| {
+            let folder = folder_of(&manifest.dir);
+            let rank = order.iter().position(|known| *known == folder).unwrap_or_else(|| {
+                panic!("{}'s folder `{folder}` is not in the documented order", manifest.name)
+            });
+            (manifest.name.clone(), rank)
+        })
+        .collect();
+    let mut violations = Vec::new();
+    for manifest in &manifests {
+        for dependency in dependency_names(manifest, "dependencies") {
+            let Some(&below) = rank.get(&dependency) else { continue };
+            if below > rank[&manifest.name] {
+                violations.push(format!(
+                    "{} in {}/ depends on {dependency} in {}/, a folder above it",
+                    manifest.name, order[rank[&manifest.name]], order[below]
+                ));
+            }
+        }
+    }
+    assert!(violations.is_empty(), "{}", violations.join("\n"));
+}
+
 #[test]
 fn sensitive_dependencies_stay_in_their_crate() {
     let mut violations = Vec::new();
