@@ -6,6 +6,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 use lamp_tests::workspace_root;
+use petgraph::graphmap::DiGraphMap;
 use proc_macro2::{TokenStream, TokenTree};
 use syn::visit::{self, Visit};
 
@@ -625,43 +626,42 @@ fn module_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
     module_graph_of(&root, &modules)
 }
 
-/// A cycle through `start`, if there is one, as the modules along it.
-fn cycle_through(graph: &BTreeMap<String, BTreeSet<String>>, start: &str) -> Option<Vec<String>> {
-    let mut stack = vec![(start.to_string(), vec![start.to_string()])];
-    let mut seen = BTreeSet::new();
-    while let Some((module, path)) = stack.pop() {
-        for next in graph.get(&module).into_iter().flatten() {
-            if next == start {
-                return Some(path.clone());
-            }
-            if seen.insert(next.clone()) {
-                let mut longer = path.clone();
-                longer.push(next.clone());
-                stack.push((next.clone(), longer));
-            }
+/// Every import loop of a module graph: each set of modules that reach one another (a strongly
+/// connected component of two or more, or a module that names itself), sorted.
+fn import_loops(graph: &BTreeMap<String, BTreeSet<String>>) -> Vec<Vec<String>> {
+    let mut edges = DiGraphMap::<&str, ()>::new();
+    for (module, names) in graph {
+        edges.add_node(module);
+        for name in names {
+            edges.add_edge(module, name, ());
         }
     }
-    None
+    let mut loops: Vec<Vec<String>> = petgraph::algo::tarjan_scc(&edges)
+        .into_iter()
+        .filter(|component| component.len() > 1 || edges.contains_edge(component[0], component[0]))
+        .map(|component| {
+            let mut modules: Vec<String> = component.into_iter().map(str::to_string).collect();
+            modules.sort();
+            modules
+        })
+        .collect();
+    loops.sort();
+    loops
 }
 
 #[test]
 fn no_crate_has_an_import_loop_between_its_modules() {
-    let mut loops = BTreeSet::new();
+    let mut loops = Vec::new();
     for manifest in workspace_manifests() {
         let graph = module_graph(&manifest.dir.join("src"));
-        for module in graph.keys() {
-            if let Some(mut cycle) = cycle_through(&graph, module) {
-                // One entry per loop, however it is entered.
-                let smallest = cycle.iter().enumerate().min_by_key(|(_, m)| *m).map(|(i, _)| i);
-                cycle.rotate_left(smallest.unwrap_or(0));
-                loops.insert(format!("{}: {}", manifest.name, cycle.join(" → ")));
-            }
+        for modules in import_loops(&graph) {
+            loops.push(format!("{}: {}", manifest.name, modules.join(", ")));
         }
     }
     assert!(
         loops.is_empty(),
         "modules that import each other (move what they share into a leaf module):\n{}",
-        loops.into_iter().collect::<Vec<_>>().join("\n")
+        loops.join("\n")
     );
 }
 
@@ -677,7 +677,7 @@ fn the_import_loop_rule_follows_crate_root_reexports() {
     let model = code_of("impl Domain { fn text(&self) -> String { crate::write_domain(self) } }");
     let write = code_of("use crate::{Domain}; pub fn write_domain(_: &Domain) -> String { 1 }");
     let graph = module_graph_of(&root, &[("model".into(), model), ("write".into(), write)]);
-    assert_eq!(cycle_through(&graph, "model"), Some(vec!["model".into(), "write".into()]));
+    assert_eq!(import_loops(&graph), [["model".to_string(), "write".to_string()]]);
 }
 
 #[test]
