@@ -14,6 +14,7 @@ mod plugin_setup;
 mod solve_setup;
 mod spec_input;
 mod terminal;
+mod viewable;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;

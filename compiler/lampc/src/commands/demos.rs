@@ -67,8 +67,8 @@ fn demos(args: &Args, colour: bool) -> Result<(), Failure> {
     let (mut steps, mut cut) = (0, 0);
     let mut files = Vec::with_capacity(demonstrations.len());
     for demonstration in &demonstrations {
-        let contents =
-            viewable_bytes(&world, &demonstration.trajectory, None).map_err(Failure::Report)?;
+        let contents = crate::viewable::mcap_bytes(&world, &demonstration.trajectory, None)
+            .map_err(Failure::Report)?;
         files.push((PathBuf::from(file_name(&spec.domain, demonstration.index)), contents));
         steps += demonstration.trajectory.steps.len();
         cut += usize::from(demonstration.cut_at.is_some());
@@ -132,24 +132,6 @@ fn is_demonstration_name(name: &str, domain: &str) -> bool {
         .and_then(|rest| rest.strip_prefix('_'))
         .and_then(|rest| rest.strip_suffix(".mcap"))
         .is_some_and(|digits| digits.len() >= 4 && digits.bytes().all(|b| b.is_ascii_digit()))
-}
-
-/// The file's bytes with the standard ROS 2 and Foxglove channels beside `/lamp/world`, so
-/// that Foxglove and RViz show the robot and the objects (`docs/formats.md`); with `plan`
-/// (each plan step's first trajectory step and its text), the step being executed on
-/// `/lamp/step`, and the channels a controller executes (a solution's joint trajectories and
-/// gripper commands: it is timed within the robots' limits, which a demonstration is not).
-pub(crate) fn viewable_bytes(
-    world: &lamp_world::SpecWorld,
-    trajectory: &lamp_trajectory::Trajectory,
-    plan: Option<(&[usize], &[String])>,
-) -> Result<Vec<u8>, Box<dyn miette::Diagnostic + Send + Sync>> {
-    let (mut channels, mut values) = lamp_world::standard_channels(world, trajectory)?;
-    if let Some((starts, steps)) = plan {
-        lamp_world::label_plan_steps(&mut channels, &mut values, starts, steps);
-        lamp_world::execution_channels(world, trajectory, &mut channels, &mut values)?;
-    }
-    Ok(trajectory.to_bytes_with(&channels, &values)?)
 }
 
 fn demo_failure(error: DemoError) -> Failure {

@@ -309,7 +309,7 @@ fn solution_contents(
         lamp_render::render_trajectory(world, &solution.trajectory, None, &Default::default())?;
     let summary = &solution.summary;
     let plan = (solution.step_starts.as_slice(), summary.plan.as_slice());
-    let mcap = crate::commands::demos::viewable_bytes(world, &solution.trajectory, Some(plan))
+    let mcap = crate::viewable::mcap_bytes(world, &solution.trajectory, Some(plan))
         .map_err(Failure::Report)?;
     let mut summary_json = serde_json::to_string_pretty(summary)
         .map_err(|error| Failure::Message(error.to_string()))?;

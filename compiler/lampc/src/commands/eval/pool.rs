@@ -145,7 +145,7 @@ fn generate_missing(
                         .map_err(Failure::from)
                         .and_then(|demonstration| {
                             let trajectory = &demonstration.trajectory;
-                            crate::commands::demos::viewable_bytes(world, trajectory, None)
+                            crate::viewable::mcap_bytes(world, trajectory, None)
                                 .map_err(Failure::Report)
                         })
                         .and_then(|bytes| {
