@@ -193,32 +193,8 @@ pub fn select(
         None => (keyframes::keyframes(tracks, stillness), None),
     };
     let fixed_axes = fixed_axes::fixed_axes(tracks, stillness);
-    let mut found: Vec<(u8, Vec<keyframes::Keyframe>, f64)> = Vec::new();
-    // Rests are told apart by pose: the secondary's shape turned another way is another rest.
-    let origin = pose_distance::Probes::origin();
-    let probes = shape.probes.unwrap_or(&origin);
-    for g in [0u8, 1] {
-        let slice: Vec<keyframes::Keyframe> =
-            keyframes.iter().filter(|k| k.g == g).copied().collect();
-        let placed: Vec<pose_distance::Placed> =
-            slice.iter().map(|k| probes.placed(&k.pose, fixed_axes)).collect();
-        let distance = |i: usize, j: usize| pose_distance::distance(&placed[i], &placed[j]);
-        let sources: Vec<usize> = slice.iter().map(|k| k.demonstration).collect();
-        for cluster in
-            clusters::stable_clusters(slice.len(), distance, &sources, min_support, demonstrations)
-        {
-            let members = cluster.members.iter().map(|&i| slice[i]).collect();
-            found.push((g, members, cluster.scale));
-        }
-    }
-    let support = |members: &[keyframes::Keyframe]| {
-        members.iter().map(|k| k.demonstration).collect::<BTreeSet<_>>().len()
-    };
-    let best = found.iter().map(|(_, members, _)| support(members)).max().unwrap_or(0);
-    let before = found.len();
-    found.retain(|(_, members, _)| support(members) as f64 >= MIN_RELATIVE_SUPPORT * best as f64);
-    let dropped = before - found.len();
-    found.sort_by_key(|(g, members, _)| (*g, std::cmp::Reverse(support(members))));
+    let (found, dropped) =
+        keyframe_groups(&keyframes, fixed_axes, shape.probes, min_support, demonstrations);
 
     let fallback = pinned.resolve(&PairSettings::DEFAULT);
     if found.is_empty() {
@@ -247,69 +223,11 @@ pub fn select(
                 if members.iter().any(|k| k.grip) { release_tolerance } else { PLACEMENT_TOLERANCE }
             })
             .collect();
-    let mut half_range = [0.0; 3];
-    let mut position_bins = [1; 3];
-    let mut margins = [0.0; 3];
-    for axis in 0..3 {
-        let (intervals, bins): (Vec<(f64, f64)>, Option<usize>) = if fixed_axes[axis] {
-            // One cell across every value the demonstrations show.
-            (
-                vec![padded_span(&extents, &floors, axis)],
-                Some(pinned.position_bins.map_or(1, |bins| bins[axis])),
-            )
-        } else {
-            let intervals = extents
-                .iter()
-                .zip(&floors)
-                .map(|((low, high), floor)| padded(low[axis], high[axis], *floor))
-                .collect();
-            (intervals, pinned.position_bins.map(|bins| bins[axis]))
-        };
-        let choice = grid_choice::choose_axis(
-            &intervals,
-            pinned.half_range.map(|range| range[axis]),
-            bins,
-            PLACEMENT_TOLERANCE,
-        );
-        half_range[axis] = choice.half_range;
-        position_bins[axis] = choice.bins;
-        margins[axis] = choice.margin;
-    }
+    let (half_range, position_bins, mut margins) =
+        position_grid(pinned, &extents, &floors, fixed_axes);
     let (rotation_bins, free_turn) = match pinned.rotation_bins {
         Some(bins) => (bins, None),
-        None => {
-            let rotations: Vec<Vec<(usize, crate::demo::Pose)>> = found
-                .iter()
-                .map(|(_, members, _)| members.iter().map(|k| (k.demonstration, k.pose)).collect())
-                .collect();
-            let most = PairSettings::DEFAULT.rotation_bins;
-            let plain = grid_choice::choose_rotation_bins(
-                &rotations,
-                rotation_share,
-                most,
-                None,
-                shape.round,
-            );
-            // A free turn only where plain cells tell no rotation apart: one bin per component
-            // admits an object held on its side as well as upright. Where plain cells keep some
-            // rotation (a can on a table at any yaw is a turn about one fixed axis, which a few
-            // bins of one component hold), they stay: the region's mixture then splits a wide top
-            // along the turn, which it cannot once the turn is taken out.
-            let turn = if plain == 1 { free_turn_of(&found) } else { None };
-            match turn {
-                Some(turn) => (
-                    grid_choice::choose_rotation_bins(
-                        &rotations,
-                        rotation_share,
-                        most,
-                        Some(turn),
-                        None,
-                    ),
-                    Some(turn),
-                ),
-                None => (plain, None),
-            }
-        }
+        None => rotation_choice(&found, rotation_share, shape.round),
     };
     let mut settings =
         PairSettings { position_bins, half_range, rotation_bins, free_turn, ..fallback };
@@ -360,6 +278,116 @@ pub fn select(
         fixed_axes,
         cells,
         boxes: grid.boxes().to_vec(),
+    }
+}
+
+/// The keyframe groups of each held flag (flag, members, scale), every group that too few
+/// demonstrations show dropped (how many is the second value), sorted by flag and then by support,
+/// most first.
+fn keyframe_groups(
+    keyframes: &[keyframes::Keyframe],
+    fixed_axes: [bool; 3],
+    probes: Option<&pose_distance::Probes>,
+    min_support: usize,
+    demonstrations: usize,
+) -> (Vec<FoundGroup>, usize) {
+    let mut found: Vec<FoundGroup> = Vec::new();
+    // Rests are told apart by pose: the secondary's shape turned another way is another rest.
+    let origin = pose_distance::Probes::origin();
+    let probes = probes.unwrap_or(&origin);
+    for g in [0u8, 1] {
+        let slice: Vec<keyframes::Keyframe> =
+            keyframes.iter().filter(|k| k.g == g).copied().collect();
+        let placed: Vec<pose_distance::Placed> =
+            slice.iter().map(|k| probes.placed(&k.pose, fixed_axes)).collect();
+        let distance = |i: usize, j: usize| pose_distance::distance(&placed[i], &placed[j]);
+        let sources: Vec<usize> = slice.iter().map(|k| k.demonstration).collect();
+        for cluster in
+            clusters::stable_clusters(slice.len(), distance, &sources, min_support, demonstrations)
+        {
+            let members = cluster.members.iter().map(|&i| slice[i]).collect();
+            found.push((g, members, cluster.scale));
+        }
+    }
+    let best = found.iter().map(|(_, members, _)| support(members)).max().unwrap_or(0);
+    let before = found.len();
+    found.retain(|(_, members, _)| support(members) as f64 >= MIN_RELATIVE_SUPPORT * best as f64);
+    let dropped = before - found.len();
+    found.sort_by_key(|(g, members, _)| (*g, std::cmp::Reverse(support(members))));
+    (found, dropped)
+}
+
+/// A keyframe group: its held flag, its members and its scale.
+type FoundGroup = (u8, Vec<keyframes::Keyframe>, f64);
+
+/// How many demonstrations show a group's keyframes.
+fn support(members: &[keyframes::Keyframe]) -> usize {
+    members.iter().map(|k| k.demonstration).collect::<BTreeSet<_>>().len()
+}
+
+/// The position grid (half range, bins and margin per axis) that keeps every group's padded
+/// interval whole, or what `pinned` says.
+fn position_grid(
+    pinned: &PinnedSettings,
+    extents: &[([f64; 3], [f64; 3])],
+    floors: &[f64],
+    fixed_axes: [bool; 3],
+) -> ([f64; 3], [usize; 3], [f64; 3]) {
+    let mut half_range = [0.0; 3];
+    let mut position_bins = [1; 3];
+    let mut margins = [0.0; 3];
+    for axis in 0..3 {
+        let (intervals, bins): (Vec<(f64, f64)>, Option<usize>) = if fixed_axes[axis] {
+            // One cell across every value the demonstrations show.
+            (
+                vec![padded_span(extents, floors, axis)],
+                Some(pinned.position_bins.map_or(1, |bins| bins[axis])),
+            )
+        } else {
+            let intervals = extents
+                .iter()
+                .zip(floors)
+                .map(|((low, high), floor)| padded(low[axis], high[axis], *floor))
+                .collect();
+            (intervals, pinned.position_bins.map(|bins| bins[axis]))
+        };
+        let choice = grid_choice::choose_axis(
+            &intervals,
+            pinned.half_range.map(|range| range[axis]),
+            bins,
+            PLACEMENT_TOLERANCE,
+        );
+        half_range[axis] = choice.half_range;
+        position_bins[axis] = choice.bins;
+        margins[axis] = choice.margin;
+    }
+    (half_range, position_bins, margins)
+}
+
+/// The rotation bins, and the free turn where plain cells tell no rotation apart.
+fn rotation_choice(
+    found: &[FoundGroup],
+    rotation_share: f64,
+    round: Option<usize>,
+) -> (usize, Option<FreeTurn>) {
+    let rotations: Vec<Vec<(usize, crate::demo::Pose)>> = found
+        .iter()
+        .map(|(_, members, _)| members.iter().map(|k| (k.demonstration, k.pose)).collect())
+        .collect();
+    let most = PairSettings::DEFAULT.rotation_bins;
+    let plain = grid_choice::choose_rotation_bins(&rotations, rotation_share, most, None, round);
+    // A free turn only where plain cells tell no rotation apart: one bin per component
+    // admits an object held on its side as well as upright. Where plain cells keep some
+    // rotation (a can on a table at any yaw is a turn about one fixed axis, which a few
+    // bins of one component hold), they stay: the region's mixture then splits a wide top
+    // along the turn, which it cannot once the turn is taken out.
+    let turn = if plain == 1 { free_turn_of(found) } else { None };
+    match turn {
+        Some(turn) => (
+            grid_choice::choose_rotation_bins(&rotations, rotation_share, most, Some(turn), None),
+            Some(turn),
+        ),
+        None => (plain, None),
     }
 }
 
@@ -432,10 +460,7 @@ fn box_margins(boxes: &[Bounds], extents: &[([f64; 3], [f64; 3])]) -> [f64; 3] {
 
 /// The turn the groups leave free, if any, measured from the first keyframe of the
 /// best-supported group (ties: the earlier group).
-fn free_turn_of(found: &[(u8, Vec<keyframes::Keyframe>, f64)]) -> Option<FreeTurn> {
-    let support = |members: &[keyframes::Keyframe]| {
-        members.iter().map(|k| k.demonstration).collect::<BTreeSet<_>>().len()
-    };
+fn free_turn_of(found: &[FoundGroup]) -> Option<FreeTurn> {
     let best = (0..found.len()).max_by_key(|&i| (support(&found[i].1), std::cmp::Reverse(i)));
     let order = best.into_iter().chain((0..found.len()).filter(|i| Some(*i) != best));
     let groups: Vec<free_turn::GroupRotations> = order
