@@ -836,6 +836,37 @@ fn a_run_whose_build_fails_keeps_what_it_learned() {
     assert!(report.contains("### `surface_can`"), "{report}");
 }
 
+/// A goal that one problem cannot state with the learned model (an AtGoal, where no
+/// demonstration put a can onto a marker) fails that problem's solves only: the problems are
+/// written on their own when they cannot be written together, and every other problem is solved.
+#[test]
+fn a_problem_whose_goal_cannot_be_written_fails_only_its_own_solves() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let spec = scratch_spec(scratch.path());
+    let mut text = std::fs::read_to_string(&spec).expect("the spec");
+    text.push_str("type spot {\n  marker\n}\n");
+    text.push_str(concat!(
+        "problem placed {\n  scene {\n    table table1 at (0, 0, 0) m\n",
+        "    surface box1 at (0.25, 0.15, 0) m rpy (0, 0, 30) deg\n",
+        "    can can1 at (-0.25, -0.2, 0.001) m\n",
+        "    robot gripper at (0, 0, 0.45) m rpy (180, 0, 0) deg\n  }\n",
+        "  goal {\n    at can1 (-0.3, 0.2, 0.001) m within 0.02 m 180 deg\n  }\n}\n",
+    ));
+    std::fs::write(&spec, text).expect("writes the spec");
+    let out = scratch.path().join("eval");
+    let output = quick_eval_of(&spec, &out, &[], "pack2,placed", "30");
+    assert!(output.status.success(), "{}", stderr(&output));
+    let document = read_json(&out.join("eval.json"));
+    let rows = document["rows"].as_array().expect("rows");
+    let row = |problem: &str| {
+        rows.iter().find(|row| row["problem"] == problem).unwrap_or_else(|| panic!("{rows:?}"))
+    };
+    assert_eq!(row("placed")["outcome"], "build_failed", "{rows:?}");
+    let reason = row("placed")["reason"].as_str().expect("a reason");
+    assert!(reason.contains("lamp::build::at_goal: problem `placed`"), "{reason}");
+    assert_ne!(row("pack2")["outcome"], "build_failed", "{rows:?}");
+}
+
 /// A Ray cluster of two nodes on this machine (`ray start --head`, then a second node joining
 /// it), one CPU each, stopped when dropped. `ray stop` stops every Ray process of the user on the
 /// machine, so no other test may start a cluster.

@@ -670,7 +670,9 @@ fn plugin_text(choice: &PluginChoice) -> String {
     format!("{name} ({})", options.join(", "))
 }
 
-/// Learns a subset's model and takes the artifacts a solve reads out of the build's.
+/// Learns a subset's model and takes the artifacts a solve reads out of the build's: the
+/// problems of the subset's solves are written together, and, when that fails, each on its own,
+/// so that a goal one problem cannot state fails that problem's solves only.
 fn learn(
     context: &BuildContext<'_>,
     demonstrations: &[lamp_learn::Demonstration],
@@ -682,53 +684,43 @@ fn learn(
     let subset: Vec<lamp_learn::Demonstration> =
         work.indices.iter().map(|&index| demonstrations[index].clone()).collect();
     let model = lamp_build::learn_model(context.spec, context.world, &subset)
+        .map_err(|error| reason(&error))
         .and_then(|model| {
-            let emitted = lamp_build::artifacts(context, &model, &subset, work.digest);
-            if let (Err(_), Some(kept_models)) = (&emitted, kept_models) {
-                let report = lamp_build::learned_vocabulary(context, &model, &subset, work.digest);
-                kept_models.write_failed(work, &report, render);
-            }
-            emitted
-        })
-        .map_err(|error| {
-            let code = error.code().map(|code| format!("{code}: ")).unwrap_or_default();
-            one_line(&format!("{code}{error}"))
-        })
-        .inspect(|artifacts| {
+            let names: Vec<&str> = work.problems.iter().map(String::as_str).collect();
+            let selected = with_problems(context.spec, &names);
+            let together = BuildContext { spec: &selected, ..*context };
+            let emitted = lamp_build::artifacts(&together, &model, &subset, work.digest);
             if let Some(kept_models) = kept_models {
-                kept_models.write(work, &artifacts.files, render);
+                match &emitted {
+                    Ok(artifacts) => kept_models.write(work, &artifacts.files, render),
+                    Err(_) => {
+                        let report =
+                            lamp_build::learned_vocabulary(&together, &model, &subset, work.digest);
+                        kept_models.write_failed(work, &report, render);
+                    }
+                }
             }
-        })
-        .and_then(|artifacts| {
-            let text = |path: &Path| {
-                artifacts
-                    .files
-                    .iter()
-                    .find(|file| file.path == path)
-                    .map(|file| file.contents.clone())
-            };
-            let missing = |what: &str| format!("the build wrote no {what}");
-            let domain =
-                text(Path::new(lamp_build::DOMAIN_FILE)).ok_or_else(|| missing("domain"))?;
-            let samplers = text(Path::new(lamp_build::SAMPLERS_FILE))
-                .ok_or_else(|| missing("sampler file"))?;
-            let problems = work
-                .problems
-                .iter()
-                .map(|name| {
-                    let path = Path::new(lamp_build::PROBLEMS_DIR).join(format!("{name}.pddl"));
-                    let skipped =
-                        artifacts.summary.problems_skipped.iter().find(|(n, _)| n == name);
-                    let pddl = text(&path).ok_or_else(|| {
-                        skipped.map_or_else(
-                            || "not written".to_string(),
-                            |(_, reason)| one_line(reason),
-                        )
-                    });
-                    (name.clone(), pddl)
-                })
-                .collect();
-            Ok(Model { domain, samplers, problems })
+            match emitted {
+                Ok(artifacts) => model_of(&artifacts, &work.problems),
+                Err(error) => {
+                    let emit = |names: &[&str]| {
+                        let spec = with_problems(context.spec, names);
+                        let alone = BuildContext { spec: &spec, ..*context };
+                        lamp_build::artifacts(&alone, &model, &subset, work.digest)
+                    };
+                    // Without any problem, a failure is the model's own, and every solve's.
+                    let base = emit(&[]).map_err(|_| reason(&error))?;
+                    let mut written = model_of(&base, &[])?;
+                    for name in &names {
+                        let problem = match emit(&[name]) {
+                            Ok(artifacts) => problem_of(&artifacts, name),
+                            Err(error) => Err(reason(&error)),
+                        };
+                        written.problems.insert((*name).to_string(), problem);
+                    }
+                    Ok(written)
+                }
+            }
         });
     let models = work
         .problems
@@ -752,6 +744,45 @@ fn learn(
         models,
         journaled: work.journaled.clone(),
     }
+}
+
+/// `spec` with only the problems named in `names`, in the spec's order.
+fn with_problems(spec: &Spec, names: &[&str]) -> Spec {
+    let problems =
+        spec.problems.iter().filter(|problem| names.contains(&problem.name.as_str())).cloned();
+    Spec { problems: problems.collect(), ..spec.clone() }
+}
+
+/// Why a model or a problem could not be written, on one line with its code.
+fn reason(error: &lamp_build::BuildError) -> String {
+    let code = error.code().map(|code| format!("{code}: ")).unwrap_or_default();
+    one_line(&format!("{code}{error}"))
+}
+
+/// The text of the build's file at `path`, if it wrote one.
+fn text_of(artifacts: &lamp_build::Artifacts, path: &Path) -> Option<String> {
+    artifacts.files.iter().find(|file| file.path == path).map(|file| file.contents.clone())
+}
+
+/// What a solve reads of a build: the domain, the sampler file and each of `problems`.
+fn model_of(artifacts: &lamp_build::Artifacts, problems: &[String]) -> Result<Model, String> {
+    let missing = |what: &str| format!("the build wrote no {what}");
+    let domain =
+        text_of(artifacts, Path::new(lamp_build::DOMAIN_FILE)).ok_or_else(|| missing("domain"))?;
+    let samplers = text_of(artifacts, Path::new(lamp_build::SAMPLERS_FILE))
+        .ok_or_else(|| missing("sampler file"))?;
+    let problems =
+        problems.iter().map(|name| (name.clone(), problem_of(artifacts, name))).collect();
+    Ok(Model { domain, samplers, problems })
+}
+
+/// The PDDL of problem `name`, or why the build skipped it.
+fn problem_of(artifacts: &lamp_build::Artifacts, name: &str) -> Result<String, String> {
+    let path = Path::new(lamp_build::PROBLEMS_DIR).join(format!("{name}.pddl"));
+    let skipped = artifacts.summary.problems_skipped.iter().find(|(n, _)| n == name);
+    text_of(artifacts, &path).ok_or_else(|| {
+        skipped.map_or_else(|| "not written".to_string(), |(_, reason)| one_line(reason))
+    })
 }
 
 /// Writes the five outputs as one set: every one into a temporary file beside it first, and only
