@@ -23,7 +23,7 @@ use crate::codec::{BodyLookup, decode_step};
 use crate::error::TrajectoryError;
 use crate::model::{Step, Trajectory, TrajectoryHeader};
 pub use crate::record::MAXIMUM_RECORD_BYTES;
-use crate::record::{error_chain, parse_used_record};
+use crate::record::{error_chain, parse_chunk, parse_used_record};
 use crate::schema::{
     MESSAGE_ENCODING, METADATA_NAME, MetadataProblem, SCHEMA_ENCODING, WORLD_STEP_SCHEMA_NAME,
     WORLD_TOPIC, header_from_metadata,
@@ -109,12 +109,12 @@ impl<R: Read> RecordSource<R> {
                 }
                 Ok(LinearReadEvent::Record { data, opcode }) => {
                     let record = if opcode == op::CHUNK {
-                        match mcap::parse_record(opcode, data) {
+                        match parse_chunk(data) {
                             Ok(Record::Chunk { header, data }) => {
                                 ChunkRecords::open(&header, &data).map(FileRecord::Chunk)
                             }
                             Ok(_) => Err("a chunk record does not parse as a chunk".to_string()),
-                            Err(error) => Err(error_chain(&error)),
+                            Err(reason) => Err(reason),
                         }
                     } else {
                         parse_used_record(opcode, data).map(FileRecord::Record)

@@ -149,6 +149,16 @@ fn a_field_longer_than_its_record_is_corrupt_before_memory_is_reserved_for_it() 
     assert!(matches!(error, TrajectoryError::Corrupt { record: 0, .. }), "{error:?}");
     let expected = "the name field of a record says 4294967280 bytes, 4 are left in the record";
     assert!(error.to_string().contains(expected), "{error}");
+    // A chunk whose compression name says 4 GiB (found the same way, in a chunk header).
+    let mut chunk = vec![0; 8 + 8 + 8 + 4];
+    chunk.extend_from_slice(&0xffff_fff0_u32.to_le_bytes());
+    chunk.extend_from_slice(b"zstd");
+    chunk.extend_from_slice(&0u64.to_le_bytes());
+    let bytes = records(&[(mcap::records::op::CHUNK, chunk)]);
+    let error = Trajectory::from_bytes(&bytes, "chunk.mcap").unwrap_err();
+    assert!(matches!(error, TrajectoryError::Corrupt { record: 0, .. }), "{error:?}");
+    let expected = "the compression field of a record says 4294967280 bytes, 12 are left";
+    assert!(error.to_string().contains(expected), "{error}");
     // A key of a channel's metadata map that runs past the map.
     let mut channel = vec![1, 0, 1, 0];
     channel.extend(string(b"/lamp/world"));
