@@ -59,6 +59,37 @@ pub(crate) fn run(args: &Args) -> Outcome {
     Err(stopped.leaving(outcome))
 }
 
+/// Reads the demonstration files at `paths` (named relative to `names_base`), bags of standard
+/// messages through the spec's mappings, with a progress bar: the files and the learner's
+/// demonstrations made from them.
+fn read_demonstrations(
+    paths: &[PathBuf],
+    names_base: &Path,
+    bags: &mut BagMappings<'_>,
+    world: &lamp_world::SpecWorld,
+    adapter: &Adapter,
+) -> Result<(Vec<DemoFile>, Vec<lamp_learn::Demonstration>), BuildError> {
+    let progress = progress_bar(paths.len() as u64, "reading demonstrations");
+    let mut files = Vec::with_capacity(paths.len());
+    let mut demonstrations = Vec::with_capacity(paths.len());
+    for path in paths {
+        let name = lamp_build::demo_name(path, names_base);
+        progress.set_message(name.clone());
+        let limit = crate::files::DEMONSTRATION_FILE_LIMIT;
+        let read = crate::files::read_limited(path, limit, "demonstration file");
+        let bytes = read.map_err(|error| BuildError::Read {
+            file: path.display().to_string(),
+            reason: error.to_string(),
+        })?;
+        let file = bags.read(world, path, DemoFile { name, bytes })?;
+        demonstrations.push(adapter.demonstration(&file)?);
+        files.push(file);
+        progress.inc(1);
+    }
+    progress.finish_and_clear();
+    Ok((files, demonstrations))
+}
+
 /// Runs the build; `model` is set to the model folder as soon as it is known, for the last message.
 fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), Stopped> {
     let mut timings = Timings::default();
@@ -103,27 +134,8 @@ fn build(args: &Args, colour: bool, model: &mut Option<PathBuf>) -> Result<(), S
     folder.remove_leftovers(&lock);
     let names_base = args.demos.clone().unwrap_or_else(|| spec_dir.clone());
 
-    let (files, demonstrations) = timings.time("read", || {
-        let progress = progress_bar(paths.len() as u64, "reading demonstrations");
-        let mut files = Vec::with_capacity(paths.len());
-        let mut demonstrations = Vec::with_capacity(paths.len());
-        for path in &paths {
-            let name = lamp_build::demo_name(path, &names_base);
-            progress.set_message(name.clone());
-            let limit = crate::files::DEMONSTRATION_FILE_LIMIT;
-            let read = crate::files::read_limited(path, limit, "demonstration file");
-            let bytes = read.map_err(|error| BuildError::Read {
-                file: path.display().to_string(),
-                reason: error.to_string(),
-            })?;
-            let file = bags.read(&world, path, DemoFile { name, bytes })?;
-            demonstrations.push(adapter.demonstration(&file)?);
-            files.push(file);
-            progress.inc(1);
-        }
-        progress.finish_and_clear();
-        Ok::<_, BuildError>((files, demonstrations))
-    })?;
+    let (files, demonstrations) = timings
+        .time("read", || read_demonstrations(&paths, &names_base, &mut bags, &world, &adapter))?;
     if let Err((source, error)) = bags.check() {
         let place = match &error {
             lamp_build::Ros2Error::FrameInNoBag { object, .. } => {
