@@ -58,11 +58,11 @@ pub(crate) fn run() -> crate::commands::Outcome {
     let started = Instant::now();
     let mut input = String::new();
     if let Err(error) = std::io::stdin().read_to_string(&mut input) {
-        return Err(said(format!("cannot read the job: {error}")));
+        return Err(worker_failure(format!("cannot read the job: {error}")));
     }
     let job: Job = match serde_json::from_str(&input) {
         Ok(job) => job,
-        Err(error) => return Err(said(format!("the job does not parse: {error}"))),
+        Err(error) => return Err(worker_failure(format!("the job does not parse: {error}"))),
     };
     drop(input);
     // A panic in the solver is a property of this lampc and the job, as repeatable as any other
@@ -72,7 +72,7 @@ pub(crate) fn run() -> crate::commands::Outcome {
     let mut result = match solved {
         Ok(Ok(result)) => result,
         Ok(Err(NotHere(reason))) => {
-            return Err(said(format!("cannot run this job here: {reason}")));
+            return Err(worker_failure(format!("cannot run this job here: {reason}")));
         }
         Err(payload) => {
             let message = payload
@@ -90,12 +90,12 @@ pub(crate) fn run() -> crate::commands::Outcome {
             println!("{line}");
             Ok(Finished::Done)
         }
-        Err(error) => Err(said(format!("cannot write the result: {error}"))),
+        Err(error) => Err(worker_failure(format!("cannot write the result: {error}"))),
     }
 }
 
 /// A worker's stop: one line that the evaluation quotes as the executor's failure.
-fn said(reason: String) -> Stopped {
+fn worker_failure(reason: String) -> Stopped {
     Stopped::from(Failure::Message(format!("lampc eval-worker: {reason}")))
 }
 
