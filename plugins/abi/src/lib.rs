@@ -22,6 +22,18 @@
 //!
 //! # Threads
 //! One plugin instance is called from one thread at a time, but not always the same thread.
+//!
+//! # The safety argument
+//! Every `unsafe` block of the host and of lamp-plugin-sdk relies on these rules and names the
+//! one it uses ("ABI rule"); nothing else is assumed of the peer.
+//! 1. What a caller lends (slices, requests, the host table and its context) is valid for reads
+//!    during the one call; a slice's `data` may be null only when its `len` is 0.
+//! 2. An output slot or buffer a caller lends is null or valid for writes during the call; a
+//!    callee writes at most a buffer's `capacity` and reports what it wrote in `len`.
+//! 3. Memory a plugin hands out goes back to that plugin's own `free_*`, exactly once.
+//! 4. A field is read only when the writer's `struct_size` covers it.
+//! 5. No unwinding crosses the boundary: every callback and trampoline catches panics.
+//! 6. An instance sees one call at a time (see Threads).
 
 #![no_std]
 // The ABI is a set of `#[repr(C)]` declarations holding raw pointers; a few `unsafe impl Sync`
@@ -198,104 +210,110 @@ pub struct ErrorBuffer {
     pub len: usize,
 }
 
-/// The host's services, passed by the host with every plugin call and valid during that call only.
-/// Every callback takes the `context` pointer the host passed alongside this table.
-/// Fallible callbacks return a [`Status`] and write a message into `error` on failure.
-#[repr(C)]
-#[derive(Clone, Copy, Debug)]
-pub struct HostVtable {
-    /// `size_of::<HostVtable>()` as the host knows it. Since v1.0.
-    pub struct_size: usize,
-    /// Reports progress in [0, 1] with a short UTF-8 message. Since v1.0.
-    pub report_progress:
-        Option<unsafe extern "C" fn(context: *mut c_void, fraction: f64, message: ByteSlice)>,
-    /// Whether the host asks the plugin to stop; a plugin polls it in long loops. Since v1.0.
-    pub is_cancelled: Option<unsafe extern "C" fn(context: *mut c_void) -> bool>,
-    /// Whether configuration `q` of robot `robot` is within limits and collision-free.
-    /// Since v1.0.
-    pub configuration_is_valid: Option<
-        unsafe extern "C" fn(
-            context: *mut c_void,
-            robot: ByteSlice,
-            q: F64Slice,
-            out_valid: *mut bool,
-            error: *mut ErrorBuffer,
-        ) -> Status,
-    >,
-    /// Whether the straight segment from `a` to `b` (in the host's interpolation) is valid.
-    /// Since v1.0.
-    pub edge_is_valid: Option<
-        unsafe extern "C" fn(
-            context: *mut c_void,
-            robot: ByteSlice,
-            a: F64Slice,
-            b: F64Slice,
-            out_valid: *mut bool,
-            error: *mut ErrorBuffer,
-        ) -> Status,
-    >,
-    /// Inverse kinematics of link `link` to `target`, starting from `seed_q`. Sets `out_found`;
-    /// when found, writes the configuration into `out_q`. Since v1.0.
-    pub solve_ik: Option<
-        unsafe extern "C" fn(
-            context: *mut c_void,
-            robot: ByteSlice,
-            link: ByteSlice,
-            target: *const Pose,
-            seed_q: F64Slice,
-            out_found: *mut bool,
-            out_q: *mut F64Buffer,
-            error: *mut ErrorBuffer,
-        ) -> Status,
-    >,
-    /// World pose of link `link` at configuration `q`. Since v1.0.
-    pub forward_kinematics: Option<
-        unsafe extern "C" fn(
-            context: *mut c_void,
-            robot: ByteSlice,
-            q: F64Slice,
-            link: ByteSlice,
-            out_pose: *mut Pose,
-            error: *mut ErrorBuffer,
-        ) -> Status,
-    >,
-    /// The host's configuration-space distance between `a` and `b`. Since v1.0.
-    pub distance: Option<
-        unsafe extern "C" fn(
-            context: *mut c_void,
-            robot: ByteSlice,
-            a: F64Slice,
-            b: F64Slice,
-            out_distance: *mut f64,
-            error: *mut ErrorBuffer,
-        ) -> Status,
-    >,
-    /// The configuration a fraction `t` in [0, 1] of the way from `a` to `b`. Since v1.0.
-    pub interpolate: Option<
-        unsafe extern "C" fn(
-            context: *mut c_void,
-            robot: ByteSlice,
-            a: F64Slice,
-            b: F64Slice,
-            t: f64,
-            out_q: *mut F64Buffer,
-            error: *mut ErrorBuffer,
-        ) -> Status,
-    >,
-    /// A configuration of `robot` drawn uniformly over its sampling space by the host's own
-    /// generator seeded with `seed` (the same seed gives the same configuration), written into
-    /// `out_q`. A plugin calls it only when the host's `struct_size` covers this field (see
-    /// [`v1_1_sizes::HOST`]). Since v1.1.
-    pub sample_configuration: Option<
-        unsafe extern "C" fn(
-            context: *mut c_void,
-            robot: ByteSlice,
-            seed: u64,
-            out_q: *mut F64Buffer,
-            error: *mut ErrorBuffer,
-        ) -> Status,
-    >,
+/// Calls the macro `$then` with the description of every fallible host service, in the order of
+/// their fields in [`HostVtable`]: the one place a service's C signature is written.
+///
+/// Each entry reads
+/// `fn name(argument: AbiType as RustType, ...) writes (output: *mut Slot, ...) as Answer;`:
+/// the callback takes the host's `context`, then the arguments, then the output slots, then an
+/// [`ErrorBuffer`], and returns a [`Status`]; the `as` types are the
+/// `lamp_plugin_api::HostServices` method's argument and answer types. This crate declares the
+/// table from it; the host generates its `extern "C"` callbacks and the SDK its calls through the
+/// table, so a signature cannot differ between the three. `report_progress` and `is_cancelled`
+/// cannot fail and have no outputs; they are written out by hand beside it.
+///
+/// A new service goes at the end, with the minor version it appeared in: a peer reads a field
+/// only when the other side's `struct_size` covers it.
+#[macro_export]
+macro_rules! for_each_host_service {
+    ($then:ident) => {
+        $then! {
+            /// Whether configuration `q` of robot `robot` is within limits and collision-free.
+            /// Since v1.0.
+            fn configuration_is_valid(robot: $crate::ByteSlice as &str, q: $crate::F64Slice as &[f64])
+                writes (out_valid: *mut bool) as bool;
+            /// Whether the straight segment from `a` to `b` (in the host's interpolation) is
+            /// valid. Since v1.0.
+            fn edge_is_valid(
+                robot: $crate::ByteSlice as &str,
+                a: $crate::F64Slice as &[f64],
+                b: $crate::F64Slice as &[f64]
+            ) writes (out_valid: *mut bool) as bool;
+            /// Inverse kinematics of link `link` to `target`, starting from `seed_q`. Sets
+            /// `out_found`; when found, writes the configuration into `out_q`. Since v1.0.
+            fn solve_ik(
+                robot: $crate::ByteSlice as &str,
+                link: $crate::ByteSlice as &str,
+                target: *const $crate::Pose as &$crate::Pose,
+                seed_q: $crate::F64Slice as &[f64]
+            ) writes (out_found: *mut bool, out_q: *mut $crate::F64Buffer) as Option<Vec<f64>>;
+            /// World pose of link `link` at configuration `q`. Since v1.0.
+            fn forward_kinematics(
+                robot: $crate::ByteSlice as &str,
+                q: $crate::F64Slice as &[f64],
+                link: $crate::ByteSlice as &str
+            ) writes (out_pose: *mut $crate::Pose) as $crate::Pose;
+            /// The host's configuration-space distance between `a` and `b`. Since v1.0.
+            fn distance(
+                robot: $crate::ByteSlice as &str,
+                a: $crate::F64Slice as &[f64],
+                b: $crate::F64Slice as &[f64]
+            ) writes (out_distance: *mut f64) as f64;
+            /// The configuration a fraction `t` in [0, 1] of the way from `a` to `b`. Since v1.0.
+            fn interpolate(
+                robot: $crate::ByteSlice as &str,
+                a: $crate::F64Slice as &[f64],
+                b: $crate::F64Slice as &[f64],
+                t: f64 as f64
+            ) writes (out_q: *mut $crate::F64Buffer) as Vec<f64>;
+            /// A configuration of `robot` drawn uniformly over its sampling space by the host's
+            /// own generator seeded with `seed` (the same seed gives the same configuration),
+            /// written into `out_q`. A plugin calls it only when the host's `struct_size` covers
+            /// this field (see [`v1_1_sizes::HOST`]). Since v1.1.
+            fn sample_configuration(robot: $crate::ByteSlice as &str, seed: u64 as u64)
+                writes (out_q: *mut $crate::F64Buffer) as Vec<f64>;
+        }
+    };
 }
+
+/// Declares [`HostVtable`] from the service descriptions.
+macro_rules! host_vtable {
+    ($(
+        $(#[$doc:meta])*
+        fn $name:ident($($argument:ident: $raw:ty as $rust:ty),* $(,)?)
+            writes ($($output:ident: $slot:ty),*) as $answer:ty;
+    )*) => {
+        /// The host's services, passed by the host with every plugin call and valid during that
+        /// call only. Every callback takes the `context` pointer the host passed alongside this
+        /// table. Fallible callbacks (see [`for_each_host_service!`]) return a [`Status`] and
+        /// write a message into `error` on failure.
+        #[repr(C)]
+        #[derive(Clone, Copy, Debug)]
+        pub struct HostVtable {
+            /// `size_of::<HostVtable>()` as the host knows it. Since v1.0.
+            pub struct_size: usize,
+            /// Reports progress in [0, 1] with a short UTF-8 message. Since v1.0.
+            pub report_progress:
+                Option<unsafe extern "C" fn(context: *mut c_void, fraction: f64, message: ByteSlice)>,
+            /// Whether the host asks the plugin to stop; a plugin polls it in long loops.
+            /// Since v1.0.
+            pub is_cancelled: Option<unsafe extern "C" fn(context: *mut c_void) -> bool>,
+            $(
+                $(#[$doc])*
+                pub $name: Option<
+                    unsafe extern "C" fn(
+                        context: *mut c_void,
+                        $($argument: $raw,)*
+                        $($output: $slot,)*
+                        error: *mut ErrorBuffer,
+                    ) -> Status,
+                >,
+            )*
+        }
+    };
+}
+
+for_each_host_service!(host_vtable);
 
 /// A planning request, owned by the host and borrowed for one call.
 #[repr(C)]

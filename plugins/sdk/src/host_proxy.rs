@@ -10,8 +10,8 @@ use std::ffi::c_void;
 use std::mem::MaybeUninit;
 
 use lamp_plugin_abi::{
-    ByteSlice, ErrorBuffer, F64Buffer, F64Slice, HostVtable, Pose, Status, status, v1_0_sizes,
-    v1_1_sizes,
+    ByteSlice, ErrorBuffer, F64Buffer, F64Slice, HostVtable, Pose, Status, for_each_host_service,
+    status, v1_0_sizes,
 };
 use lamp_plugin_api::{HostError, HostServices, PluginError};
 
@@ -20,18 +20,18 @@ use crate::boundary::sized_struct;
 /// Longest host error message kept, in bytes.
 const ERROR_CAPACITY: usize = 1024;
 
-/// First buffer size for a sampled configuration, whose length the plugin cannot know in
-/// advance; large enough for a mobile manipulator's base, torso and arm.
-const SAMPLE_CAPACITY_HINT: usize = 16;
+/// First buffer size for a configuration the host writes, whose length a plugin cannot always
+/// know in advance; large enough for a mobile manipulator's base, torso and arm.
+const VALUES_CAPACITY_HINT: usize = 16;
 
 /// The host's services for the duration of one plugin call.
 #[derive(Debug)]
 pub(crate) struct HostProxy<'a> {
     vtable: &'a HostVtable,
     context: *mut c_void,
-    /// The length of the last sampled configuration, so that a longer one makes the buffer grow
-    /// once per call rather than once per sample.
-    sample_capacity: Cell<usize>,
+    /// The length of the longest configuration the host wrote, so that a longer one makes the
+    /// buffer grow once per call rather than once per answer.
+    values_capacity: Cell<usize>,
 }
 
 impl HostProxy<'_> {
@@ -48,13 +48,13 @@ impl HostProxy<'_> {
         let vtable = unsafe {
             sized_struct(vtable, |table| table.struct_size, v1_0_sizes::HOST, "the host table")
         }?;
-        Ok(Self { vtable, context, sample_capacity: Cell::new(SAMPLE_CAPACITY_HINT) })
+        Ok(Self { vtable, context, values_capacity: Cell::new(VALUES_CAPACITY_HINT) })
     }
 
-    /// Whether the host's table is large enough to hold fields up to `end` (a `v1_x_sizes`
-    /// constant): a field beyond the host's `struct_size` is not there, whatever its bytes say.
-    fn host_offers(&self, end: usize) -> bool {
-        self.vtable.struct_size >= end
+    /// Whether the host's table holds the function pointer at `offset`: a field beyond the
+    /// host's `struct_size` is not there, whatever its bytes say.
+    fn host_offers(&self, offset: usize) -> bool {
+        self.vtable.struct_size >= offset + size_of::<Option<unsafe extern "C" fn()>>()
     }
 
     /// Calls a fallible callback with a fresh error buffer and maps its status.
@@ -98,10 +98,9 @@ impl HostProxy<'_> {
     fn call_with_values(
         &self,
         service: &str,
-        capacity_hint: usize,
         mut body: impl FnMut(*mut ErrorBuffer, *mut F64Buffer) -> Option<Status>,
     ) -> Result<Vec<f64>, HostError> {
-        let mut capacity = capacity_hint.max(1);
+        let mut capacity = self.values_capacity.get();
         for _attempt in 0..2 {
             let mut values = vec![0.0; capacity];
             let mut buffer = F64Buffer { data: values.as_mut_ptr(), capacity, len: 0 };
@@ -113,6 +112,7 @@ impl HostProxy<'_> {
             })?;
             if too_small {
                 capacity = buffer.len;
+                self.values_capacity.set(capacity.max(self.values_capacity.get()));
                 continue;
             }
             if buffer.len > capacity {
@@ -128,120 +128,160 @@ impl HostProxy<'_> {
     }
 }
 
-impl HostServices for HostProxy<'_> {
-    fn report_progress(&self, fraction: f64, message: &str) {
-        if let Some(report) = self.vtable.report_progress {
-            // SAFETY: a host callback called with its own context and a slice valid for the call.
-            unsafe { report(self.context, fraction, ByteSlice::from_text(message)) };
-        }
-    }
+/// A service argument as the plugin lends it to the host for one call.
+trait Lend {
+    /// Its type in the C signature.
+    type Raw;
 
-    fn is_cancelled(&self) -> bool {
-        // SAFETY: a host callback called with its own context.
-        self.vtable.is_cancelled.is_some_and(|is_cancelled| unsafe { is_cancelled(self.context) })
-    }
+    fn lend(self) -> Self::Raw;
+}
 
-    fn configuration_is_valid(&self, robot: &str, q: &[f64]) -> Result<bool, HostError> {
-        let mut valid = false;
-        self.call("configuration_is_valid", |error| {
-            let callback = self.vtable.configuration_is_valid?;
-            let (robot, q) = (ByteSlice::from_text(robot), F64Slice::new(q));
-            // SAFETY: host callback, own context; inputs and outputs valid for the call.
-            Some(unsafe { callback(self.context, robot, q, &raw mut valid, error) })
-        })?;
-        Ok(valid)
-    }
+impl Lend for &str {
+    type Raw = ByteSlice;
 
-    fn edge_is_valid(&self, robot: &str, a: &[f64], b: &[f64]) -> Result<bool, HostError> {
-        let mut valid = false;
-        self.call("edge_is_valid", |error| {
-            let callback = self.vtable.edge_is_valid?;
-            let robot = ByteSlice::from_text(robot);
-            let (a, b) = (F64Slice::new(a), F64Slice::new(b));
-            // SAFETY: host callback, own context; inputs and outputs valid for the call.
-            Some(unsafe { callback(self.context, robot, a, b, &raw mut valid, error) })
-        })?;
-        Ok(valid)
-    }
-
-    fn solve_ik(
-        &self,
-        robot: &str,
-        link: &str,
-        target: &Pose,
-        seed_q: &[f64],
-    ) -> Result<Option<Vec<f64>>, HostError> {
-        let mut found = false;
-        let configuration = self.call_with_values("solve_ik", seed_q.len(), |error, out_q| {
-            let callback = self.vtable.solve_ik?;
-            let (robot, link) = (ByteSlice::from_text(robot), ByteSlice::from_text(link));
-            let seed = F64Slice::new(seed_q);
-            // SAFETY: host callback, own context; inputs and outputs valid for the call.
-            Some(unsafe {
-                callback(self.context, robot, link, target, seed, &raw mut found, out_q, error)
-            })
-        })?;
-        Ok(found.then_some(configuration))
-    }
-
-    fn forward_kinematics(&self, robot: &str, q: &[f64], link: &str) -> Result<Pose, HostError> {
-        let mut pose = [0.0; 7];
-        self.call("forward_kinematics", |error| {
-            let callback = self.vtable.forward_kinematics?;
-            let (robot, link) = (ByteSlice::from_text(robot), ByteSlice::from_text(link));
-            // SAFETY: host callback, own context; inputs and outputs valid for the call.
-            Some(unsafe {
-                callback(self.context, robot, F64Slice::new(q), link, &raw mut pose, error)
-            })
-        })?;
-        Ok(pose)
-    }
-
-    fn distance(&self, robot: &str, a: &[f64], b: &[f64]) -> Result<f64, HostError> {
-        let mut distance = 0.0;
-        self.call("distance", |error| {
-            let callback = self.vtable.distance?;
-            let robot = ByteSlice::from_text(robot);
-            let (a, b) = (F64Slice::new(a), F64Slice::new(b));
-            // SAFETY: host callback, own context; inputs and outputs valid for the call.
-            Some(unsafe { callback(self.context, robot, a, b, &raw mut distance, error) })
-        })?;
-        Ok(distance)
-    }
-
-    fn interpolate(
-        &self,
-        robot: &str,
-        a: &[f64],
-        b: &[f64],
-        t: f64,
-    ) -> Result<Vec<f64>, HostError> {
-        self.call_with_values("interpolate", a.len(), |error, out_q| {
-            let callback = self.vtable.interpolate?;
-            let robot = ByteSlice::from_text(robot);
-            let (a, b) = (F64Slice::new(a), F64Slice::new(b));
-            // SAFETY: host callback, own context; inputs and outputs valid for the call.
-            Some(unsafe { callback(self.context, robot, a, b, t, out_q, error) })
-        })
-    }
-
-    fn sample_configuration(&self, robot: &str, seed: u64) -> Result<Vec<f64>, HostError> {
-        // A v1.0 host has no such field: degrade to `Unsupported` without reading past its table.
-        if !self.host_offers(v1_1_sizes::HOST) {
-            return Err(HostError::unsupported("sample_configuration"));
-        }
-        let capacity = self.sample_capacity.get();
-        let q = self.call_with_values("sample_configuration", capacity, |error, out_q| {
-            let callback = self.vtable.sample_configuration?;
-            let robot = ByteSlice::from_text(robot);
-            // SAFETY: host callback, own context; inputs and outputs valid for the call; the
-            // field is covered by the host's `struct_size` (checked above).
-            Some(unsafe { callback(self.context, robot, seed, out_q, error) })
-        })?;
-        self.sample_capacity.set(capacity.max(q.len()));
-        Ok(q)
+    fn lend(self) -> ByteSlice {
+        ByteSlice::from_text(self)
     }
 }
+
+impl Lend for &[f64] {
+    type Raw = F64Slice;
+
+    fn lend(self) -> F64Slice {
+        F64Slice::new(self)
+    }
+}
+
+impl Lend for &Pose {
+    type Raw = *const Pose;
+
+    fn lend(self) -> *const Pose {
+        self
+    }
+}
+
+/// Arguments passed by value.
+macro_rules! by_value {
+    ($($value:ty),*) => {$(
+        impl Lend for $value {
+            type Raw = $value;
+
+            fn lend(self) -> $value {
+                self
+            }
+        }
+    )*};
+}
+
+by_value!(f64, u64);
+
+/// A service's answer as the plugin reads it from the output slots it lends the host.
+trait FromSlots: Sized {
+    /// The output parameters of the C signature.
+    type Slots;
+
+    /// Calls `callback` with fresh slots and reads the answer from them; `None` from the callback
+    /// means the host does not offer the service.
+    fn from_slots(
+        proxy: &HostProxy<'_>,
+        service: &str,
+        callback: impl FnMut(Self::Slots, *mut ErrorBuffer) -> Option<Status>,
+    ) -> Result<Self, HostError>;
+}
+
+/// Answers read whole from one slot, which starts at the type's default.
+macro_rules! one_slot {
+    ($($value:ty),*) => {$(
+        impl FromSlots for $value {
+            type Slots = (*mut $value,);
+
+            fn from_slots(
+                proxy: &HostProxy<'_>,
+                service: &str,
+                mut callback: impl FnMut(Self::Slots, *mut ErrorBuffer) -> Option<Status>,
+            ) -> Result<Self, HostError> {
+                let mut value = <$value>::default();
+                proxy.call(service, |error| callback((&raw mut value,), error))?;
+                Ok(value)
+            }
+        }
+    )*};
+}
+
+one_slot!(bool, f64, Pose);
+
+impl FromSlots for Vec<f64> {
+    type Slots = (*mut F64Buffer,);
+
+    fn from_slots(
+        proxy: &HostProxy<'_>,
+        service: &str,
+        mut callback: impl FnMut(Self::Slots, *mut ErrorBuffer) -> Option<Status>,
+    ) -> Result<Self, HostError> {
+        proxy.call_with_values(service, |error, out| callback((out,), error))
+    }
+}
+
+impl FromSlots for Option<Vec<f64>> {
+    type Slots = (*mut bool, *mut F64Buffer);
+
+    fn from_slots(
+        proxy: &HostProxy<'_>,
+        service: &str,
+        mut callback: impl FnMut(Self::Slots, *mut ErrorBuffer) -> Option<Status>,
+    ) -> Result<Self, HostError> {
+        let mut found = false;
+        let values =
+            proxy.call_with_values(service, |error, out| callback((&raw mut found, out), error))?;
+        Ok(found.then_some(values))
+    }
+}
+
+/// Generates the [`HostServices`] implementation from the ABI's description: each service lends
+/// its arguments ([`Lend`]), calls the host's function pointer when the host's table holds it,
+/// and reads the answer from the slots ([`FromSlots`]).
+macro_rules! host_proxy {
+    ($(
+        $(#[$doc:meta])*
+        fn $name:ident($($argument:ident: $raw:ty as $rust:ty),* $(,)?)
+            writes ($($output:ident: $slot:ty),*) as $answer:ty;
+    )*) => {
+        impl HostServices for HostProxy<'_> {
+            fn report_progress(&self, fraction: f64, message: &str) {
+                if let Some(report) = self.vtable.report_progress {
+                    // SAFETY: a host callback called with its own context and a slice valid for
+                    // the call.
+                    unsafe { report(self.context, fraction, ByteSlice::from_text(message)) };
+                }
+            }
+
+            fn is_cancelled(&self) -> bool {
+                // SAFETY: a host callback called with its own context.
+                self.vtable
+                    .is_cancelled
+                    .is_some_and(|is_cancelled| unsafe { is_cancelled(self.context) })
+            }
+
+            $(
+                fn $name(&self, $($argument: $rust),*) -> Result<$answer, HostError> {
+                    // A field the host's table does not hold (a v1.0 host has no sampling) is
+                    // never read: the service is unsupported.
+                    let offered = self.host_offers(std::mem::offset_of!(HostVtable, $name));
+                    let callback = if offered { self.vtable.$name } else { None };
+                    <$answer>::from_slots(self, stringify!($name), |($($output,)*), error| {
+                        let callback = callback?;
+                        // SAFETY: a host callback called with its own context; the arguments
+                        // are borrowed and the slots and error buffer owned by this frame for
+                        // the call.
+                        Some(unsafe { callback(self.context, $($argument.lend(),)* $($output,)* error) })
+                    })
+                }
+            )*
+        }
+    };
+}
+
+for_each_host_service!(host_proxy);
 
 #[cfg(test)]
 mod tests {
@@ -250,7 +290,7 @@ mod tests {
     use super::*;
 
     /// Length of the configurations the test host samples: more than the first buffer holds.
-    const SAMPLE_LENGTH: usize = SAMPLE_CAPACITY_HINT + 4;
+    const SAMPLE_LENGTH: usize = VALUES_CAPACITY_HINT + 4;
 
     /// Writes `seed, seed + 1, ...` and counts its calls in the `Cell<usize>` behind `context`.
     unsafe extern "C" fn counting_sampler(
@@ -317,7 +357,7 @@ mod tests {
         );
         assert_eq!(calls.get(), 0);
         // The v1.1 table ends at its sampling field, after everything v1.0 had.
-        const { assert!(v1_0_sizes::HOST < v1_1_sizes::HOST) };
-        const { assert!(v1_1_sizes::HOST == size_of::<HostVtable>()) };
+        const { assert!(v1_0_sizes::HOST < lamp_plugin_abi::v1_1_sizes::HOST) };
+        const { assert!(lamp_plugin_abi::v1_1_sizes::HOST == size_of::<HostVtable>()) };
     }
 }
