@@ -10,156 +10,178 @@ impl FailureReport {
     /// stands out, or nothing was refused.
     pub fn advice(&self) -> Option<Advice> {
         let ended = self.deciding.first()?;
-        // An IK call that did not converge near its target says nothing of what is in the way
-        // or out of reach (draws the solver finds awkward are common in every step), so the
-        // shares are of the attempts that say something.
+        let refusals = Refusals::at(ended)?;
+        let steps: Vec<String> = ended.steps.iter().map(ToString::to_string).collect();
+        let plural = if ended.steps.len() == 1 { "" } else { "s" };
+        let at = format!("At step{plural} {} {}", steps.join(", "), ended.action);
+        in_the_way(ended, &refusals, &at).or_else(|| dominant(&refusals, &at))
+    }
+}
+
+/// The refusals at the step where most plans ended that say something: an IK call that did not
+/// converge near its target says nothing of what is in the way or out of reach (draws the solver
+/// finds awkward are common in every step), so the shares are of the other attempts.
+struct Refusals<'a> {
+    causes: Vec<&'a CauseCount>,
+    total: usize,
+}
+
+impl<'a> Refusals<'a> {
+    /// `None` when no refusal at the step says anything.
+    fn at(ended: &'a DecidingStep) -> Option<Self> {
         let causes: Vec<&CauseCount> = ended
             .causes
             .iter()
             .filter(|count| !matches!(count.cause, Cause::NoCandidate | Cause::NoIkSolution { .. }))
             .collect();
         let total: usize = causes.iter().map(|count| count.count).sum();
-        if total == 0 {
-            return None;
-        }
-        let share = |kind: &dyn Fn(&Cause) -> bool| {
-            let counted: usize =
-                causes.iter().filter(|count| kind(&count.cause)).map(|count| count.count).sum();
-            counted as f64 / total as f64
-        };
-        // The most frequent cause of a kind, when that kind makes up at least `least` of them.
-        let leading = |kind: &dyn Fn(&Cause) -> bool, least: f64| {
-            let first = causes.iter().find(|count| kind(&count.cause))?;
-            (share(kind) >= least).then_some(&first.cause)
-        };
-        let steps: Vec<String> = ended.steps.iter().map(ToString::to_string).collect();
-        let plural = if ended.steps.len() == 1 { "" } else { "s" };
-        let at = format!("At step{plural} {} {}", steps.join(", "), ended.action);
+        (total > 0).then_some(Refusals { causes, total })
+    }
 
-        let arguments = ended.arguments();
-        let in_the_way = |cause: &Cause| match cause {
-            Cause::Collision { other, other_movable: true, .. } => {
-                !arguments.contains(&other.as_str())
-            }
-            _ => false,
-        };
-        if leading(&in_the_way, MOVABLE_BLOCKERS).is_some() {
-            let blockers: Vec<String> =
-                hit(ended, true).iter().map(|name| format!("`{name}`")).collect();
-            let blocked = share(&in_the_way);
-            // A carried object meeting them is a place that is taken; the robot's own links
-            // meeting them, objects crowding what it reaches for.
-            let carried = |cause: &Cause| {
-                in_the_way(cause) && matches!(cause, Cause::Collision { held: true, .. })
-            };
-            let what = if share(&carried) * 2.0 >= blocked {
-                "If the place is full, ask for fewer objects in it or give it more room; if \
-                 something should be moved out of the way first, the demonstrations must show \
-                 such a move."
-            } else {
-                "They crowd what the robot reaches for: set them farther apart in the scene, or \
-                 demonstrate moving such objects out of the way, so that the model learns it."
-            };
-            return Some(Advice::new(
-                Stop::InTheWay,
-                format!(
-                    "{at}, {} {} in the way of {:.0} % of the attempts refused there: drawing more \
-                     samples will not make room. {what}",
-                    and_list(&blockers),
-                    if blockers.len() == 1 { "is" } else { "are" },
-                    (blocked * 100.0).round()
-                ),
-            ));
-        }
-        let reach = |cause: &Cause| matches!(cause, Cause::OutOfReach { .. });
-        if let Some(Cause::OutOfReach { robot, link }) = leading(&reach, DOMINANT) {
-            let nearest = causes
-                .iter()
-                .filter(|count| matches!(count.cause, Cause::OutOfReach { .. }))
-                .filter_map(|count| count.nearest)
-                .reduce(f64::min);
-            let short = nearest
+    fn share(&self, kind: &dyn Fn(&Cause) -> bool) -> f64 {
+        let counted: usize =
+            self.causes.iter().filter(|count| kind(&count.cause)).map(|count| count.count).sum();
+        counted as f64 / self.total as f64
+    }
+
+    /// The most frequent cause of a kind, when that kind makes up at least `least` of them.
+    fn leading(&self, kind: &dyn Fn(&Cause) -> bool, least: f64) -> Option<&'a Cause> {
+        let first = self.causes.iter().find(|count| kind(&count.cause))?;
+        (self.share(kind) >= least).then_some(&first.cause)
+    }
+
+    /// How far the nearest out-of-reach target was beyond reach, in metres.
+    fn nearest_shortfall(&self) -> Option<f64> {
+        self.causes
+            .iter()
+            .filter(|count| matches!(count.cause, Cause::OutOfReach { .. }))
+            .filter_map(|count| count.nearest)
+            .reduce(f64::min)
+    }
+}
+
+/// Objects a robot may carry, not the step's own, refusing enough of the attempts to say that
+/// the place is taken.
+fn in_the_way(ended: &DecidingStep, refusals: &Refusals<'_>, at: &str) -> Option<Advice> {
+    let arguments = ended.arguments();
+    let in_the_way = |cause: &Cause| match cause {
+        Cause::Collision { other, other_movable: true, .. } => !arguments.contains(&other.as_str()),
+        _ => false,
+    };
+    refusals.leading(&in_the_way, MOVABLE_BLOCKERS)?;
+    let blockers: Vec<String> = hit(ended, true).iter().map(|name| format!("`{name}`")).collect();
+    let blocked = refusals.share(&in_the_way);
+    // A carried object meeting them is a place that is taken; the robot's own links meeting
+    // them, objects crowding what it reaches for.
+    let carried =
+        |cause: &Cause| in_the_way(cause) && matches!(cause, Cause::Collision { held: true, .. });
+    let what = if refusals.share(&carried) * 2.0 >= blocked {
+        "If the place is full, ask for fewer objects in it or give it more room; if \
+         something should be moved out of the way first, the demonstrations must show \
+         such a move."
+    } else {
+        "They crowd what the robot reaches for: set them farther apart in the scene, or \
+         demonstrate moving such objects out of the way, so that the model learns it."
+    };
+    Some(Advice::new(
+        Stop::InTheWay,
+        format!(
+            "{at}, {} {} in the way of {:.0} % of the attempts refused there: drawing more \
+             samples will not make room. {what}",
+            and_list(&blockers),
+            if blockers.len() == 1 { "is" } else { "are" },
+            (blocked * 100.0).round()
+        ),
+    ))
+}
+
+/// The kinds of cause that decide the advice when they make up [`DOMINANT`] of the refusals, in
+/// the order they are asked.
+const DOMINANT_KINDS: [fn(&Cause) -> bool; 7] = [
+    |cause| matches!(cause, Cause::OutOfReach { .. }),
+    |cause| matches!(cause, Cause::NoPath { .. }),
+    |cause| matches!(cause, Cause::NotAtRest { .. }),
+    |cause| matches!(cause, Cause::TargetMissed { .. }),
+    |cause| matches!(cause, Cause::EffectsUnmet { .. }),
+    |cause| matches!(cause, Cause::RestBroken { .. }),
+    |cause| matches!(cause, Cause::Collision { other_movable: false, .. }),
+];
+
+/// The advice for the first kind of cause that makes up most of the refusals.
+fn dominant(refusals: &Refusals<'_>, at: &str) -> Option<Advice> {
+    let cause = DOMINANT_KINDS.iter().find_map(|kind| refusals.leading(kind, DOMINANT))?;
+    let (stop, message) = match cause {
+        Cause::OutOfReach { robot, link } => {
+            let short = refusals
+                .nearest_shortfall()
                 .map(|value| format!(" (short by at least {:.0} mm)", value * 1000.0))
                 .unwrap_or_default();
-            return Some(Advice::new(
+            (
                 Stop::OutOfReach,
                 format!(
                     "{at}, `{robot}` cannot reach where the step puts `{link}`{short}: drawing more \
                  samples or a larger motion budget will not help; start the robot nearer, or \
                  place the objects within its reach."
                 ),
-            ));
+            )
         }
-        if let Some(Cause::NoPath { robot, group }) =
-            leading(&|cause| matches!(cause, Cause::NoPath { .. }), DOMINANT)
-        {
-            return Some(Advice::new(
-                Stop::NoPath,
-                format!(
-                    "{at}, the motion planner found no {group} path for `{robot}` within its budget: \
+        Cause::NoPath { robot, group } => (
+            Stop::NoPath,
+            format!(
+                "{at}, the motion planner found no {group} path for `{robot}` within its budget: \
                  give it more (`iterations` or `timeout` of the spec's `motion` plugin), or look \
                  at the scene for what crowds the way."
-                ),
-            ));
-        }
-        if let Some(Cause::NotAtRest { object }) =
-            leading(&|cause| matches!(cause, Cause::NotAtRest { .. }), DOMINANT)
-        {
-            return Some(Advice::new(
-                Stop::NotAtRest,
-                format!(
-                    "{at}, `{object}` would be let go of where nothing holds it up, and no order of \
+            ),
+        ),
+        Cause::NotAtRest { object } => (
+            Stop::NotAtRest,
+            format!(
+                "{at}, `{object}` would be let go of where nothing holds it up, and no order of \
                  the plans tried puts its supports first: check that the goal gives it something \
                  to rest on, and that the demonstrations show such a support (`vocabulary.md`)."
-                ),
-            ));
-        }
-        if let Some(Cause::TargetMissed { object }) =
-            leading(&|cause| matches!(cause, Cause::TargetMissed { .. }), DOMINANT)
-        {
-            return Some(Advice::new(
-                Stop::TargetMissed,
-                format!(
-                    "{at}, `{object}` lands outside its target's tolerance: loosen the goal's \
+            ),
+        ),
+        Cause::TargetMissed { object } => (
+            Stop::TargetMissed,
+            format!(
+                "{at}, `{object}` lands outside its target's tolerance: loosen the goal's \
                  tolerance to what the demonstrations place (`lampc build` warns when the learned \
                  region is wider), or record more precise demonstrations."
-                ),
-            ));
-        }
-        if leading(&|cause| matches!(cause, Cause::EffectsUnmet { .. }), DOMINANT).is_some() {
-            return Some(Advice::new(
-                Stop::EffectsUnmet,
-                format!(
-                    "{at}, the step's effects do not hold where its candidates end: the learned \
+            ),
+        ),
+        Cause::EffectsUnmet { .. } => (
+            Stop::EffectsUnmet,
+            format!(
+                "{at}, the step's effects do not hold where its candidates end: the learned \
                  region the refiner draws from and the relation the step should make disagree. \
                  Look at both in `vocabulary.md` and the region pictures; more demonstrations \
                  usually make them agree."
-                ),
-            ));
-        }
-        if leading(&|cause| matches!(cause, Cause::RestBroken { .. }), DOMINANT).is_some() {
-            return Some(Advice::new(
-                Stop::RestBroken,
-                format!(
-                    "{at}, every candidate undoes something a later step or the goal needs, and no \
+            ),
+        ),
+        Cause::RestBroken { .. } => (
+            Stop::RestBroken,
+            format!(
+                "{at}, every candidate undoes something a later step or the goal needs, and no \
                  plan reaches the goal from where it ends: a side effect the learned actions do \
                  not state. More demonstrations of the task may teach it."
-                ),
-            ));
-        }
-        let fixed = |cause: &Cause| matches!(cause, Cause::Collision { other_movable: false, .. });
-        if let Some(Cause::Collision { moving, other, .. }) = leading(&fixed, DOMINANT) {
-            return Some(Advice::new(
-                Stop::FixedBodies,
-                format!(
-                    "{at}, `{moving}` touches `{other}` in most attempts: the place the learned region \
+            ),
+        ),
+        Cause::Collision { moving, other, .. } => (
+            Stop::FixedBodies,
+            format!(
+                "{at}, `{moving}` touches `{other}` in most attempts: the place the learned region \
                  offers is mostly taken by bodies that do not move. The region may be wider than \
                  the place (see `regions/` in the build), or the place too small."
-                ),
-            ));
-        }
-        None
-    }
+            ),
+        ),
+        // Never among the dominant kinds.
+        Cause::NoCandidate
+        | Cause::NoIkSolution { .. }
+        | Cause::OutOfLimits { .. }
+        | Cause::OutOfGrabRange { .. }
+        | Cause::Other { .. } => return None,
+    };
+    Some(Advice::new(stop, message))
 }
 
 /// What kind of cause stopped the plans where most of them ended: what [`FailureReport::advice`]
