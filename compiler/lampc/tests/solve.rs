@@ -155,6 +155,71 @@ fn solve_writes_a_validated_trajectory_plan_summary_and_picture() {
     assert!(labels[0].0 > 0, "the initial state carries no label");
     assert!(labels.windows(2).all(|pair| pair[0].0 < pair[1].0), "labels in time order");
     assert_executable(&trajectory, &recording, robots[0]);
+    assert_approaches(&trajectory, &json["approaches"], plan.lines().count());
+}
+
+/// A Packing solution's straight last approaches: each can is taken by the magnet coming to it
+/// and put down by coming straight down, and the summary says where each begins and ends.
+fn assert_approaches(
+    trajectory: &lamp_trajectory::Trajectory,
+    approaches: &serde_json::Value,
+    plan_steps: usize,
+) {
+    let approaches = approaches.as_array().expect("a list of approaches");
+    let steps = &trajectory.steps;
+    let at = |seconds: f64| {
+        steps
+            .iter()
+            .position(|step| step.time_nanoseconds as f64 / 1e9 == seconds)
+            .expect("an approach's stamp is a step's")
+    };
+    let coordinates = &trajectory.header.robots[0].coordinates;
+    let axis = |name: &str| coordinates.iter().position(|c| c == name).expect("a free gripper");
+    let (x, y, z) = (axis("base_x"), axis("base_y"), axis("base_z"));
+    let mut kinds = Vec::new();
+    let mut previous_end = 0;
+    for approach in approaches {
+        let number = |key: &str| approach[key].as_f64().expect("a number");
+        let text = |key: &str| approach[key].as_str().expect("a text");
+        let (from, to) = (at(number("from_seconds")), at(number("to_seconds")));
+        assert!(previous_end <= from && from <= to, "approaches in order: {approach}");
+        previous_end = to;
+        let plan_step = number("plan_step") as usize;
+        assert!((1..=plan_steps).contains(&plan_step), "{approach}");
+        let object = text("object");
+        let body = trajectory.header.body_index(object).expect("an object of the scene");
+        let held = |step: usize| steps[step].robots[0].held[0];
+        let metres = number("metres");
+        let kind = text("kind");
+        kinds.push((kind.to_string(), object.to_string()));
+        match kind {
+            "put_down" => {
+                // Carried all the way, straight down by the distance the summary gives.
+                assert!((from..=to).all(|step| held(step) == Some(body)), "{approach}");
+                let q = |step: usize| &steps[step].robots[0].positions;
+                for pair in (from..=to).collect::<Vec<_>>().windows(2) {
+                    let (a, b) = (q(pair[0]), q(pair[1]));
+                    assert!((a[x] - b[x]).abs() < 1e-6 && (a[y] - b[y]).abs() < 1e-6, "{approach}");
+                    assert!(b[z] <= a[z] + 1e-9, "only down: {approach}");
+                }
+                let drop = q(from)[z] - q(to)[z];
+                assert!(drop > 0.05 && (drop - metres).abs() < 1e-3, "{drop} m, {approach}");
+            }
+            "contact" => {
+                // From free to holding, a few millimetres at most.
+                assert_eq!((held(from), held(to)), (None, Some(body)), "{approach}");
+                assert!((0.0..=0.03).contains(&metres), "{approach}");
+            }
+            other => panic!("an approach of kind {other}"),
+        }
+    }
+    // Four cans: each taken by contact, then put down.
+    let expected: Vec<(String, String)> = (1..=4)
+        .flat_map(|can| ["contact", "put_down"].map(|kind| (kind.to_string(), format!("can{can}"))))
+        .collect();
+    let mut sorted = kinds.clone();
+    sorted.sort_by(|a, b| (&a.1, &a.0).cmp(&(&b.1, &b.0)));
+    assert_eq!(sorted, expected, "{kinds:?}");
 }
 
 /// A Packing solution's channels for controllers: the magnet is switched on at the last step

@@ -9,8 +9,8 @@ use lamp_plugin_api::{
 };
 use lamp_robot::{IkConfig, Mount, Robot};
 use lamp_world::{
-    FingerMove, LinkGoal, MotionConfig, Recorder, RobotSpace, Scene, contact_approach, densify,
-    finger_path, straight_line,
+    ApproachKind, FingerMove, LinkGoal, MotionConfig, Recorder, RobotSpace, Scene,
+    contact_approach, densify, finger_path, straight_line,
 };
 use nalgebra::Translation3;
 
@@ -128,6 +128,9 @@ impl Execution<'_, '_> {
                 reason: format!("`{}` does not hold `{}`", change.robot, change.object),
             }));
         }
+        if let Some(body) = scene.held(robot).map(|held| held.body) {
+            self.recorder.confirm_put_down(robot, body);
+        }
         // The fingers open while they still hold the object (they may touch it, nothing else),
         // then it is let go.
         let opening =
@@ -196,7 +199,13 @@ impl Execution<'_, '_> {
             None
         };
         let waypoints = match carried {
-            Some(path) => path,
+            Some(LiftedPath { waypoints, descent: Some(descent) }) => {
+                let first_new = self.recorder.len();
+                self.follow_path(robot, &model, &waypoints, (&start, goal))?;
+                self.note_descent(robot, &model, &waypoints, descent, first_new);
+                return Ok(());
+            }
+            Some(LiftedPath { waypoints, descent: None }) => waypoints,
             None => {
                 if let Some(path) = straight_first(self.scene, robot, group, &start, goal, config) {
                     let states = densify(&model, &path, config)
@@ -210,6 +219,29 @@ impl Execution<'_, '_> {
             }
         };
         self.follow_path(robot, &model, &waypoints, (&start, goal))
+    }
+
+    /// Notes the straight descent of a carry just followed, from `waypoints[descent]` on: a
+    /// put-down if the object is let go of where it ends. `first_new` is the recorded step of
+    /// its second state (the first is where the robot was).
+    fn note_descent(
+        &mut self,
+        robot: usize,
+        model: &Robot,
+        waypoints: &[Vec<f64>],
+        descent: usize,
+        first_new: usize,
+    ) {
+        let config = &self.planning.settings.motion.config;
+        let (Some(held), Ok(before)) =
+            (self.scene.held(robot), densify(model, &waypoints[..=descent], config))
+        else {
+            return;
+        };
+        let body = held.body;
+        let from_step = (first_new + before.len()).saturating_sub(2);
+        let metres = gripper_travel(self.scene, robot, &waypoints[descent..]);
+        self.recorder.note_descent(from_step, robot, body, metres);
     }
 
     /// Follows a motion planner's `waypoints` from the first to the second of `ends`, densified
@@ -263,6 +295,9 @@ impl Execution<'_, '_> {
         };
         // A magnet or a suction cup holds only what it touches: it comes straight to the object
         // first (fingers close after the grab instead).
+        // Where the approach to contact begins and how long it is; it ends where the gripper
+        // takes hold (none left when the motion there already ended in contact).
+        let mut contact = None;
         if scene.holds_by_contact(robot) {
             let approach = contact_approach(scene, robot, body, config).map_err(|error| {
                 Rejection::Candidate {
@@ -270,6 +305,10 @@ impl Execution<'_, '_> {
                     why: error.to_string(),
                 }
             })?;
+            contact = Some((
+                self.recorder.len().saturating_sub(1),
+                gripper_travel(scene, robot, &approach),
+            ));
             if let [_, .., last] = approach.as_slice() {
                 self.recorder.follow(scene, robot, &approach);
                 scene.set_configuration(robot, last);
@@ -300,6 +339,9 @@ impl Execution<'_, '_> {
             }));
         }
         self.recorder.record(scene);
+        if let Some((from_step, metres)) = contact {
+            self.recorder.mark_approach(from_step, robot, body, ApproachKind::Contact, metres);
+        }
         // Held first, so that the fingers may touch the object as they close onto it.
         let closing = finger_path(scene, robot, FingerMove::Close, config)
             .map_err(|error| Rejection::candidate(&error))?;
@@ -335,9 +377,9 @@ impl Planning<'_, '_> {
         // A carry was tried from above its ends already.
         if reason == NoPathReason::BudgetExhausted
             && !carrying
-            && let Some(waypoints) = ends.plan(self.motion, request, &host, config, self.counts)?
+            && let Some(lifted) = ends.plan(self.motion, request, &host, config, self.counts)?
         {
-            return Ok(waypoints);
+            return Ok(lifted.waypoints);
         }
         let blocked = match reason {
             NoPathReason::StartInvalid => scene.first_contact(robot, start),
@@ -457,7 +499,7 @@ impl Lifted<'_> {
         host: &dyn HostServices,
         config: &MotionConfig,
         counts: &mut MotionCounts,
-    ) -> Result<Option<Vec<Vec<f64>>>, Rejection> {
+    ) -> Result<Option<LiftedPath>, Rejection> {
         let model = self.scene.robots()[self.robot].robot();
         // A free-flying mount is the gripper's own motion, and lifts it like an arm.
         let free_flying = matches!(model.mount(), Mount::Floating);
@@ -470,6 +512,7 @@ impl Lifted<'_> {
             return Ok(None);
         }
         let up = up.unwrap_or_else(|| vec![self.start.to_vec()]);
+        let lowered = down.is_some();
         let mut down = down.unwrap_or_else(|| vec![self.goal.to_vec()]);
         down.reverse();
         let (Some(from), Some(to)) = (up.last(), down.first()) else { return Ok(None) };
@@ -493,8 +536,9 @@ impl Lifted<'_> {
         let inner = middle.len().saturating_sub(1);
         let mut path = up;
         path.extend(middle.into_iter().take(inner).skip(1));
+        let descent = lowered.then_some(path.len());
         path.extend(down);
-        Ok(Some(path))
+        Ok(Some(LiftedPath { waypoints: path, descent }))
     }
 
     /// The straight line of the gripper from `from` up [`LIFT_HEIGHT`], with the mount still;
@@ -520,6 +564,23 @@ impl Lifted<'_> {
         };
         straight_line(self.scene, &goal, config, &IkConfig::new()).ok()
     }
+}
+
+/// A path through lifted ends.
+struct LiftedPath {
+    waypoints: Vec<Vec<f64>>,
+    /// The waypoint where the straight descent onto the goal begins, when the goal was lifted.
+    descent: Option<usize>,
+}
+
+/// How far the gripper of `robot` travels along `waypoints`, point to point, in metres.
+fn gripper_travel(scene: &Scene, robot: usize, waypoints: &[Vec<f64>]) -> f64 {
+    let positions: Vec<_> = waypoints
+        .iter()
+        .filter_map(|q| scene.gripper_pose(robot, q))
+        .map(|pose| pose.translation.vector)
+        .collect();
+    positions.windows(2).fold(0.0, |travel, pair| travel + (pair[1] - pair[0]).norm())
 }
 
 /// Whether any of the mount's coordinates (a mobile base, a free-flying gripper) differs between

@@ -37,4 +37,4 @@ pub use plugins::Plugins;
 pub use refine::{Context, WASTED_PER_STEP};
 pub use settings::{MotionSettings, SolveSettings, grab_ranges};
 pub use solve::{Solution, SolveInput, solve};
-pub use summary::{ObjectPose, ReplanPoint, Sink, Summary};
+pub use summary::{ApproachEnd, ApproachSpan, ObjectPose, ReplanPoint, Sink, Summary};

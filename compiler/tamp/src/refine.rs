@@ -191,12 +191,12 @@ pub fn refine_plan(
         )?;
         loop {
             let Some((at, candidate)) = search.next_candidate(context, counts)? else {
-                recorder.steps.truncate(start_len);
+                recorder.truncate(start_len);
                 return Ok(Refined::Failed);
             };
             let recorded = search.levels[at].recorded;
             let mut trial = search.levels[at].scene.clone();
-            recorder.steps.truncate(recorded);
+            recorder.truncate(recorded);
             let attempt = execute(
                 &mut trial,
                 &candidate,
@@ -250,7 +250,7 @@ pub fn refine_plan(
                     if let Some(carry_start) = search.postpone(at, &object, goal) {
                         note_refusal(counts, at, &action, cause, &reason);
                         counts.postponements += 1;
-                        recorder.steps.truncate(carry_start.recorded);
+                        recorder.truncate(carry_start.recorded);
                         (scene, state, predicted) =
                             (carry_start.scene, carry_start.state, carry_start.predicted);
                         break;
@@ -259,7 +259,7 @@ pub fn refine_plan(
                 }
             };
             note_refusal(counts, at, &search.actions[at], cause, &why);
-            recorder.steps.truncate(recorded);
+            recorder.truncate(recorded);
         }
     }
 }

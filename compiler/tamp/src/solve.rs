@@ -12,7 +12,7 @@ use lamp_pddl::{Domain, Problem, parse_domain, parse_problem};
 use lamp_plugin_api::GroundedAction;
 use lamp_robot::Robot;
 use lamp_trajectory::{Trajectory, TrajectoryHeader};
-use lamp_world::{Recorder, Scene, WorldError, time_steps};
+use lamp_world::{ApproachKind, Recorder, Scene, WorldError, time_steps};
 
 use crate::error::{Progress, SolveError};
 use crate::ground::{call_text, ground_step, pddl_atom};
@@ -21,7 +21,7 @@ use crate::plugins::Plugins;
 use crate::refine::{Context, PlanToRefine, RefineCounts, Refined, difference, mix, refine_plan};
 use crate::settings::SolveSettings;
 use crate::state::abstraction;
-use crate::summary::Summary;
+use crate::summary::{ApproachEnd, ApproachSpan, Summary};
 use crate::validate::{Expected, replay};
 
 /// What a solve reads.
@@ -204,6 +204,7 @@ fn solve_with(
                     summary.plan =
                         steps.iter().map(|step| call_text(&step.name, &step.arguments)).collect();
                     summary.replan_points = replans;
+                    summary.approaches = approach_spans(input.scene, &recorder, &starts);
                     fill(summary, counts, recorder.len());
                     let trajectory =
                         Trajectory { header: input.header.clone(), steps: recorder.steps };
@@ -230,6 +231,29 @@ fn progress_of(summary: &Summary, counts: &RefineCounts) -> Progress {
         report: counts.failures.report(),
         deepest_state: counts.deepest_state.clone(),
     }
+}
+
+/// The recorded approaches, named and stamped; `starts` are the plan steps' first recorded steps.
+fn approach_spans(scene: &Scene, recorder: &Recorder, starts: &[usize]) -> Vec<ApproachSpan> {
+    let seconds = |step: usize| {
+        recorder.steps.get(step).map_or(0.0, |step| step.time_nanoseconds as f64 / 1e9)
+    };
+    recorder
+        .approaches
+        .iter()
+        .map(|approach| ApproachSpan {
+            plan_step: starts.iter().filter(|&&start| start <= approach.to_step).count(),
+            kind: match approach.kind {
+                ApproachKind::PutDown => ApproachEnd::PutDown,
+                ApproachKind::Contact => ApproachEnd::Contact,
+            },
+            robot: scene.robots()[approach.robot].name.clone(),
+            object: scene.bodies()[approach.body].name.clone(),
+            from_seconds: seconds(approach.from_step),
+            to_seconds: seconds(approach.to_step),
+            metres: approach.metres,
+        })
+        .collect()
 }
 
 fn fill(summary: &mut Summary, counts: &RefineCounts, steps: usize) {

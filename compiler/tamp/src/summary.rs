@@ -49,6 +49,11 @@ pub struct Summary {
     /// motion within the joints' velocity and acceleration limits and every grasp change
     /// `lamp_world::GRASP_SECONDS` (deterministic, unlike the solver's own times below).
     pub execution_seconds: f64,
+    /// Where the trajectory's straight last approaches are, in their order: a carried object
+    /// coming down onto its place, a magnet or suction cup coming to what it takes. Each ends in
+    /// contact, which a robot tracking within millimetres meets early or late; a controller makes
+    /// them compliant or force-limited.
+    pub approaches: Vec<ApproachSpan>,
     /// The object of the final scene that goes down farthest onto what it rests on, and how far:
     /// the world leaves every object at rest up to `lamp_world::RESTING_GAP` above its support,
     /// so an object on a stack of n ends about n gaps below its pose in the trajectory. `None`
@@ -58,6 +63,32 @@ pub struct Summary {
     pub seconds_planning: f64,
     pub seconds_refining: f64,
     pub seconds_validating: f64,
+}
+
+/// One straight last approach (`lamp_world::Approach`), as the summary gives it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ApproachSpan {
+    /// The plan step (1-based, in `Summary::plan`) whose motion it ends.
+    pub plan_step: usize,
+    pub kind: ApproachEnd,
+    pub robot: String,
+    /// The object put down, or taken by contact.
+    pub object: String,
+    /// The stamps of its first and last trajectory steps, in seconds.
+    pub from_seconds: f64,
+    pub to_seconds: f64,
+    /// How far the gripper travels along it, in metres.
+    pub metres: f64,
+}
+
+/// What an approach ends in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ApproachEnd {
+    /// A carried object on its place.
+    PutDown,
+    /// A gripper that holds by contact on the object it takes.
+    Contact,
 }
 
 /// How far an object goes down onto what it rests on.

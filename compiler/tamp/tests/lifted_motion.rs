@@ -92,7 +92,7 @@ fn carried_out(scene: &mut Scene, robot: &str, goal: &[f64]) -> (Recorder, Motio
         releases: Vec::new(),
         grabs: Vec::new(),
     };
-    let mut recorder = Recorder { steps: Vec::new() };
+    let mut recorder = Recorder::default();
     let mut counts = MotionCounts::default();
     let outcome =
         execute(scene, &candidate, &mut recorder, &mut StraightEdgeOnly, &settings, 3, &mut counts);

@@ -38,7 +38,7 @@ pub use motion::{
     DEFAULT_ANGULAR_RESOLUTION, DEFAULT_LINEAR_RESOLUTION, FREE_SAMPLING_MARGIN, MotionConfig,
     MotionError, MotionPlan, RobotSpace, checked_edge_steps, densify, edge_steps, plan_motion,
 };
-pub use recording::{Recorder, STEP_NANOSECONDS, trajectory_header};
+pub use recording::{Approach, ApproachKind, Recorder, STEP_NANOSECONDS, trajectory_header};
 pub use resting::{LeftUnsupported, MAX_SETTLE_DROP, RESTING_GAP, RestError, SUPPORT_TOLERANCE};
 pub use scene::{Body, Gripper, Held, Scene, SceneRobot};
 pub use straight::{StraightLineError, straight_line};
