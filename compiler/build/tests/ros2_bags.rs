@@ -641,6 +641,7 @@ fn tf_bag(frames: &[(String, String)]) -> Vec<u8> {
             frame_poses: vec![nalgebra::Isometry3::identity(); frames.len()],
             joint_positions: vec![],
             label: None,
+            approach: None,
             held: vec![],
             trajectories: Vec::new(),
             gripper_commands: Vec::new(),

@@ -146,9 +146,13 @@ fn solve_writes_a_validated_trajectory_plan_summary_and_picture() {
     // The plan step being executed is on /lamp/step, each step once, in the plan's order, and
     // the first label comes after the initial state.
     let step_topic = lamp_trajectory::STEP_LABEL_TOPIC;
-    let recording =
-        lamp_trajectory::read_standard_channels(bytes.as_slice(), "trajectory.mcap", &[step_topic])
-            .expect("the standard channels read back");
+    let approach_topic = lamp_trajectory::APPROACH_TOPIC;
+    let recording = lamp_trajectory::read_standard_channels(
+        bytes.as_slice(),
+        "trajectory.mcap",
+        &[step_topic, approach_topic],
+    )
+    .expect("the standard channels read back");
     let labels = &recording.strings[step_topic];
     let texts: Vec<&str> = labels.iter().map(|(_, text)| text.as_str()).collect();
     assert_eq!(texts, plan.lines().collect::<Vec<_>>());
@@ -156,6 +160,21 @@ fn solve_writes_a_validated_trajectory_plan_summary_and_picture() {
     assert!(labels.windows(2).all(|pair| pair[0].0 < pair[1].0), "labels in time order");
     assert_executable(&trajectory, &recording, robots[0]);
     assert_approaches(&trajectory, &json["approaches"], plan.lines().count());
+    assert!(stdout.contains("4 put-down(s), 4 contact grasp(s) end in contact"), "{stdout}");
+    // The bag says the same as the summary, each approach at the stamp where it begins.
+    let in_bag: Vec<(f64, serde_json::Value)> = recording.strings[approach_topic]
+        .iter()
+        .map(|(nanoseconds, text)| {
+            (*nanoseconds as f64 / 1e9, serde_json::from_str(text).expect("a JSON object"))
+        })
+        .collect();
+    let in_summary: Vec<(f64, serde_json::Value)> = json["approaches"]
+        .as_array()
+        .expect("approaches")
+        .iter()
+        .map(|approach| (approach["from_seconds"].as_f64().expect("a stamp"), approach.clone()))
+        .collect();
+    assert_eq!(in_bag, in_summary);
 }
 
 /// A Packing solution's straight last approaches: each can is taken by the magnet coming to it

@@ -50,6 +50,8 @@ pub struct Solution {
     /// Per step of `summary.plan`, the index of the trajectory step its motion begins with
     /// (steps before the first one's are the initial state).
     pub step_starts: Vec<usize>,
+    /// The trajectory step where each of `summary.approaches` begins, in its order.
+    pub approach_starts: Vec<usize>,
     /// What happened.
     pub summary: Summary,
 }
@@ -205,12 +207,14 @@ fn solve_with(
                         steps.iter().map(|step| call_text(&step.name, &step.arguments)).collect();
                     summary.replan_points = replans;
                     summary.approaches = approach_spans(input.scene, &recorder, &starts);
+                    let approaches = recorder.approaches.iter().map(|a| a.from_step).collect();
                     fill(summary, counts, recorder.len());
                     let trajectory =
                         Trajectory { header: input.header.clone(), steps: recorder.steps };
                     return Ok(Solution {
                         trajectory,
                         step_starts: starts,
+                        approach_starts: approaches,
                         summary: summary.clone(),
                     });
                 }

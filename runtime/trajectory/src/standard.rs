@@ -29,6 +29,9 @@ pub const ROBOT_DESCRIPTION_TOPIC: &str = "/robot_description";
 pub const SCENE_TOPIC: &str = "/lamp/scene";
 /// The topic of the plan step being executed (`std_msgs/msg/String`), written when it changes.
 pub const STEP_LABEL_TOPIC: &str = "/lamp/step";
+/// The topic of a solution's straight last approaches into contact (`std_msgs/msg/String`, a
+/// JSON object each), written at the step where each begins.
+pub const APPROACH_TOPIC: &str = "/lamp/approach";
 /// The topic of the frame a file's only robot's gripper holds (`std_msgs/msg/String`, empty when
 /// it holds nothing), written at the first step and when it changes; with several robots each
 /// has `/<robot>/lamp/held`.
@@ -248,6 +251,8 @@ pub struct StandardChannels {
     pub objects: Vec<SceneObject>,
     /// Whether steps carry plan-step labels (`/lamp/step`).
     pub step_labels: bool,
+    /// Whether steps carry the approaches into contact that begin there (`/lamp/approach`).
+    pub approaches: bool,
     /// One topic per gripper, on which the frame it holds is written ([`HELD_TOPIC`]).
     pub held_topics: Vec<String>,
     /// The topics of joint trajectories a controller can execute ([`JOINT_TRAJECTORY_TOPIC`],
@@ -267,6 +272,9 @@ pub struct StandardStep {
     /// The plan step being executed, for example `(pick gripper can_0)`; written on
     /// `/lamp/step` whenever it differs from the previous step's.
     pub label: Option<String>,
+    /// The approach into contact that begins at this step, written on `/lamp/approach` as it
+    /// is given.
+    pub approach: Option<String>,
     /// Per held topic, the frame the gripper holds, empty when none; written at the first step
     /// and whenever it differs from the previous step's.
     pub held: Vec<String>,
@@ -288,6 +296,7 @@ impl StandardChannels {
             robots: Vec::new(),
             objects: Vec::new(),
             step_labels: false,
+            approaches: false,
             held_topics: Vec::new(),
             trajectory_topics: Vec::new(),
             gripper_topics: Vec::new(),
@@ -423,6 +432,11 @@ impl StandardChannels {
         if step.label.is_some() && !self.step_labels {
             return Err(StepProblem::Inconsistent(
                 "the step has a plan-step label but the file has no step labels".into(),
+            ));
+        }
+        if step.approach.is_some() && !self.approaches {
+            return Err(StepProblem::Inconsistent(
+                "the step begins an approach but the file has no approach topic".into(),
             ));
         }
         for (pose, frame) in step.frame_poses.iter().zip(&self.frames) {
@@ -766,6 +780,7 @@ mod tests {
             robots: vec![],
             objects: vec![],
             step_labels: false,
+            approaches: false,
             held_topics: vec![],
             trajectory_topics: vec![],
             gripper_topics: vec![],
@@ -793,6 +808,7 @@ mod tests {
             frame_poses: vec![Isometry3::identity()],
             joint_positions: vec![0.0],
             label: None,
+            approach: None,
             held: vec![],
             trajectories: vec![],
             gripper_commands: vec![],
@@ -802,6 +818,7 @@ mod tests {
             frame_poses: vec![Isometry3::identity(); 2],
             joint_positions: vec![f64::NAN],
             label: None,
+            approach: None,
             held: vec![],
             trajectories: vec![],
             gripper_commands: vec![],

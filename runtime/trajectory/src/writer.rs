@@ -21,14 +21,14 @@ use crate::schema::{
     WORLD_STEP_SCHEMA_NAME, WORLD_TOPIC, header_to_metadata,
 };
 use crate::standard::{
-    DERIVED_FRAME_PERIOD_NANOSECONDS, GRIPPER_COMMAND_SCHEMA, GRIPPER_COMMAND_SCHEMA_NAME,
-    JOINT_STATE_SCHEMA, JOINT_STATE_SCHEMA_NAME, JOINT_STATES_TOPIC, JOINT_TRAJECTORY_SCHEMA,
-    JOINT_TRAJECTORY_SCHEMA_NAME, LATCHED_QOS, QOS_METADATA_KEY, SCENE_MESSAGE_ENCODING,
-    SCENE_SCHEMA, SCENE_SCHEMA_ENCODING, SCENE_SCHEMA_NAME, SCENE_TOPIC, STEP_LABEL_TOPIC,
-    STRING_SCHEMA, STRING_SCHEMA_NAME, StandardChannels, StandardStep, TF_REFRESH_NANOSECONDS,
-    TF_SCHEMA, TF_SCHEMA_NAME, TF_STATIC_TOPIC, TF_TOPIC, encode_gripper_command,
-    encode_joint_state, encode_joint_trajectory, encode_string, encode_tf, encode_tf_into,
-    scene_update_json,
+    APPROACH_TOPIC, DERIVED_FRAME_PERIOD_NANOSECONDS, GRIPPER_COMMAND_SCHEMA,
+    GRIPPER_COMMAND_SCHEMA_NAME, JOINT_STATE_SCHEMA, JOINT_STATE_SCHEMA_NAME, JOINT_STATES_TOPIC,
+    JOINT_TRAJECTORY_SCHEMA, JOINT_TRAJECTORY_SCHEMA_NAME, LATCHED_QOS, QOS_METADATA_KEY,
+    SCENE_MESSAGE_ENCODING, SCENE_SCHEMA, SCENE_SCHEMA_ENCODING, SCENE_SCHEMA_NAME, SCENE_TOPIC,
+    STEP_LABEL_TOPIC, STRING_SCHEMA, STRING_SCHEMA_NAME, StandardChannels, StandardStep,
+    TF_REFRESH_NANOSECONDS, TF_SCHEMA, TF_SCHEMA_NAME, TF_STATIC_TOPIC, TF_TOPIC,
+    encode_gripper_command, encode_joint_state, encode_joint_trajectory, encode_string, encode_tf,
+    encode_tf_into, scene_update_json,
 };
 
 /// The MCAP `library` field; no crate version, so a release does not change every file.
@@ -83,6 +83,8 @@ struct StandardOutput {
     step_labels: Option<u16>,
     labels_written: u32,
     previous_label: Option<String>,
+    /// The approach topic's channel and how many messages it has.
+    approaches: Option<(u16, u32)>,
     /// Per held topic: its channel, how many messages it has, and the last frame written.
     held: Vec<(u16, u32, Option<String>)>,
     /// Per trajectory topic and per gripper topic: its channel and how many messages it has.
@@ -318,6 +320,12 @@ impl<W: Write + Seek> TrajectoryWriter<W> {
             standard.labels_written += 1;
             standard.previous_label.clone_from(&values.label);
         }
+        if let (Some((channel, written)), Some(approach)) =
+            (standard.approaches.as_mut(), values.approach.as_deref())
+        {
+            messages.push((*channel, *written, encode_string(approach)));
+            *written += 1;
+        }
         for ((channel, written, previous), frame) in standard.held.iter_mut().zip(&values.held) {
             if previous.as_ref() != Some(frame) {
                 messages.push((*channel, *written, encode_string(frame)));
@@ -452,6 +460,10 @@ fn start_standard<W: Write + Seek>(
         false => None,
         true => Some(string_channel(mcap, STEP_LABEL_TOPIC, &none)?),
     };
+    let approaches = match channels.approaches {
+        false => None,
+        true => Some((string_channel(mcap, APPROACH_TOPIC, &none)?, 0)),
+    };
     let mut held = Vec::new();
     for topic in &channels.held_topics {
         held.push((string_channel(mcap, topic, &none)?, 0, None));
@@ -493,6 +505,7 @@ fn start_standard<W: Write + Seek>(
         step_labels,
         labels_written: 0,
         previous_label: None,
+        approaches,
         held,
         trajectories,
         gripper_commands,

@@ -218,6 +218,7 @@ fn the_documented_reading_example_reads_joint_trajectories_and_gripper_commands(
             frame_poses: vec![],
             joint_positions: vec![],
             label: None,
+            approach: None,
             held: vec![],
             trajectories: vec![],
             gripper_commands: vec![],

@@ -43,4 +43,4 @@ pub use resting::{LeftUnsupported, MAX_SETTLE_DROP, RESTING_GAP, RestError, SUPP
 pub use scene::{Body, Gripper, Held, Scene, SceneRobot};
 pub use straight::{StraightLineError, straight_line};
 pub use timing::{GRASP_SECONDS, time_steps};
-pub use viewing::{WORLD_FRAME, label_plan_steps, standard_channels};
+pub use viewing::{WORLD_FRAME, label_plan_steps, mark_approaches, standard_channels};

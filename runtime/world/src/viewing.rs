@@ -146,6 +146,7 @@ pub fn standard_channels(
         robots,
         objects,
         step_labels: false,
+        approaches: false,
         held_topics,
         trajectory_topics: Vec::new(),
         gripper_topics: Vec::new(),
@@ -180,6 +181,7 @@ pub fn standard_channels(
             frame_poses,
             joint_positions,
             label: None,
+            approach: None,
             held,
             trajectories: Vec::new(),
             gripper_commands: Vec::new(),
@@ -202,6 +204,21 @@ pub fn label_plan_steps(
         let end = starts.get(k + 1).copied().unwrap_or(values.len()).min(values.len());
         for value in values.iter_mut().take(end).skip(*start) {
             value.label = Some(label.clone());
+        }
+    }
+}
+
+/// Writes each of `approaches` (its first trajectory step and its description) on
+/// `/lamp/approach` at that step, and turns the topic on.
+pub fn mark_approaches(
+    channels: &mut StandardChannels,
+    values: &mut [StandardStep],
+    approaches: &[(usize, String)],
+) {
+    channels.approaches = true;
+    for (step, text) in approaches {
+        if let Some(value) = values.get_mut(*step) {
+            value.approach = Some(text.clone());
         }
     }
 }
@@ -307,6 +324,7 @@ mod tests {
             frame_poses: Vec::new(),
             joint_positions: Vec::new(),
             label: None,
+            approach: None,
             held: Vec::new(),
             trajectories: Vec::new(),
             gripper_commands: Vec::new(),

@@ -308,8 +308,19 @@ fn solution_contents(
     let picture =
         lamp_render::render_trajectory(world, &solution.trajectory, None, &Default::default())?;
     let summary = &solution.summary;
-    let plan = (solution.step_starts.as_slice(), summary.plan.as_slice());
-    let mcap = crate::viewable::mcap_bytes(world, &solution.trajectory, Some(plan))
+    let approaches = solution
+        .approach_starts
+        .iter()
+        .zip(&summary.approaches)
+        .map(|(step, span)| Ok((*step, serde_json::to_string(span)?)))
+        .collect::<Result<Vec<_>, serde_json::Error>>()
+        .map_err(|error| Failure::Message(error.to_string()))?;
+    let marks = crate::viewable::SolutionMarks {
+        starts: &solution.step_starts,
+        plan: &summary.plan,
+        approaches: &approaches,
+    };
+    let mcap = crate::viewable::mcap_bytes(world, &solution.trajectory, Some(marks))
         .map_err(Failure::Report)?;
     let mut summary_json = serde_json::to_string_pretty(summary)
         .map_err(|error| Failure::Message(error.to_string()))?;
@@ -473,6 +484,16 @@ fn print_summary(summary: &lamp_tamp::Summary, out: &Path) {
         "  trajectory      {} steps, {:.1} s to execute, validated by replay",
         summary.trajectory_steps, summary.execution_seconds
     );
+    if !summary.approaches.is_empty() {
+        let count = |end: lamp_tamp::ApproachEnd| {
+            summary.approaches.iter().filter(|approach| approach.kind == end).count()
+        };
+        println!(
+            "  approaches      {} put-down(s), {} contact grasp(s) end in contact: make them compliant (`/lamp/approach`)",
+            count(lamp_tamp::ApproachEnd::PutDown),
+            count(lamp_tamp::ApproachEnd::Contact)
+        );
+    }
     if let Some(sink) = &summary.sink {
         println!(
             "  resting         `{}` goes down farthest onto what it rests on, {:.1} mm: the resting gaps under it",
