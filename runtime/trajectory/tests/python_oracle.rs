@@ -196,7 +196,7 @@ fn conversion_example() -> String {
 }
 
 #[test]
-fn the_documented_reading_example_reads_joint_trajectories_and_gripper_commands() {
+fn the_documented_reading_example_reads_joint_trajectories_gripper_commands_and_approaches() {
     if !python_packages_available() {
         return;
     }
@@ -209,6 +209,7 @@ fn the_documented_reading_example_reads_joint_trajectories_and_gripper_commands(
             TrajectoryTopic { topic: BASE_TRAJECTORY_TOPIC.into(), joints: base },
         ],
         gripper_topics: vec![GRIPPER_COMMAND_TOPIC.into()],
+        approaches: true,
         ..StandardChannels::rooted_at("world")
     };
     let steps = &trajectory.steps;
@@ -240,6 +241,7 @@ fn the_documented_reading_example_reads_joint_trajectories_and_gripper_commands(
     };
     values[0].trajectories.push(motion(0, 0..=9, &[3, 4, 5, 6]));
     values[10].trajectories.push(motion(1, 10..=19, &[0, 1, 2]));
+    values[5].approach = Some(r#"{"kind":"put_down","object":"can1","to_seconds":1.25}"#.into());
     values[9].gripper_commands.push(GripperCommand { topic: 0, position: 0.0, max_effort: 0.0 });
     values[19].gripper_commands.push(GripperCommand { topic: 0, position: 0.05, max_effort: 0.0 });
     let directory = tempfile::tempdir().unwrap();
@@ -258,6 +260,7 @@ fn the_documented_reading_example_reads_joint_trajectories_and_gripper_commands(
             steps[9].robots[0].positions[3],
             seconds(0, 9)
         ),
+        format!("approach {} put_down can1 1.25", steps[5].time_nanoseconds),
         format!("gripper {} 0.0 0.0", steps[9].time_nanoseconds),
         format!(
             "/lamp/base_trajectory {} base_x base_y base_yaw 10 {} {}",
