@@ -366,12 +366,33 @@ fn preconditions(
     became_true: &BTreeSet<Fact>,
     changing: &BTreeSet<Symbol>,
 ) -> (BTreeSet<LiftedAtom>, BTreeMap<usize, String>) {
+    let extras = extra_parameters(vocabulary, transition, changed);
+    let mut names = changed.clone();
+    names.extend(extras.iter().map(|(object, name)| (*object, name.clone())));
+    let parameters = Parameters { changed, extras: &extras, names: &names };
+    let mut result = BTreeSet::new();
+    // Step 1: what the action deletes must hold before it.
+    result.extend(transition.deleted.iter().filter_map(|fact| lift(vocabulary, *fact, &names)));
+    // Step 3 with pruning: every other true fact among the parameters.
+    for fact in transition.pre.difference(transition.deleted) {
+        if keeps(transition, &parameters, fact, became_true, changing) {
+            result.extend(lift(vocabulary, *fact, &names));
+        }
+    }
+    (result, extras)
+}
+
+/// Step 2: unchanged true relations that link a changed object to a static body or robot part,
+/// or that put something in a region of a changed robot part, bring their other object in as an
+/// extra parameter, named `?<type>_extra_p<k>` in the order of type, the relations that link it
+/// and name.
+fn extra_parameters(
+    vocabulary: &[PairVocabulary],
+    transition: &Transition<'_>,
+    changed: &BTreeMap<usize, String>,
+) -> BTreeMap<usize, String> {
     let participants = transition.participants;
     let is_changed = |object: usize| changed.contains_key(&object);
-    let is_robot = |object: usize| participants[object].role.is_robot_part();
-    let is_movable = |object: usize| participants[object].role == Role::Object { movable: true };
-    // Step 2: unchanged true relations that link a changed object to a static body or robot part, or that put
-    // something in a region of a changed robot part, bring their other object in as an extra.
     let mut links: BTreeMap<usize, Vec<LiftedAtom>> = BTreeMap::new();
     for fact in transition.pre.difference(transition.deleted) {
         let Fact::Relation { pair, region, primary, secondary } = *fact else { continue };
@@ -382,8 +403,9 @@ fn preconditions(
             // A static body comes in only through a region it shares with a changed object:
             // "the glass is on no marker but this one" names, through the `_0` relation, every
             // other marker of the demonstration, which are its history, not the action's.
-            let static_or_robot_link = is_robot(other) || (!is_movable(other) && region != 0);
-            let robot_region = region != 0 && is_robot(inside);
+            let static_or_robot_link =
+                transition.is_robot(other) || (!transition.is_movable(other) && region != 0);
+            let robot_region = region != 0 && transition.is_robot(inside);
             if static_or_robot_link || robot_region {
                 let mut placeholder = changed.clone();
                 placeholder.insert(other, "?".to_string());
@@ -418,93 +440,121 @@ fn preconditions(
         *count += 1;
         extras.insert(object, format!("?{type_name}_extra_p{count}"));
     }
-    let mut names = changed.clone();
-    names.extend(extras.iter().map(|(object, name)| (*object, name.clone())));
+    extras
+}
 
-    // Whether the action changes a relation of the pair with the object as its secondary.
-    let changed_relation_as_secondary = |pair: usize, object: usize| {
-        transition.added.iter().chain(transition.deleted).any(|fact| {
+/// An action's parameters: the objects it changes, the extras, and every parameter's name.
+struct Parameters<'a> {
+    changed: &'a BTreeMap<usize, String>,
+    extras: &'a BTreeMap<usize, String>,
+    names: &'a BTreeMap<usize, String>,
+}
+
+/// Step 3's pruning: whether a fact true before the action, and not deleted by it, is one of its
+/// preconditions.
+fn keeps(
+    transition: &Transition<'_>,
+    parameters: &Parameters<'_>,
+    fact: &Fact,
+    became_true: &BTreeSet<Fact>,
+    changing: &BTreeSet<Symbol>,
+) -> bool {
+    let is_changed = |object: usize| parameters.changed.contains_key(&object);
+    match *fact {
+        Fact::Relation { region, primary, secondary, .. } => {
+            let named = |object: usize| parameters.names.contains_key(&object);
+            if !named(primary) || !named(secondary) {
+                return false;
+            }
+            let touches_changed = is_changed(primary) || is_changed(secondary);
+            let non_robot_extra = [primary, secondary]
+                .iter()
+                .any(|o| parameters.extras.contains_key(o) && !transition.is_robot(*o));
+            let spurious_static = !touches_changed && !changing.contains(&fact.symbol());
+            let unexplained_none = region == 0 && non_robot_extra && !became_true.contains(fact);
+            !spurious_static && !unexplained_none
+        }
+        // A robot part the action moves keeps its clear atoms of every pair: "the gripper is
+        // at no can's grasp" matters to any motion of the gripper (a tuck from a grasp pose
+        // leaves the grasp), and it held at every demonstrated instance or the intersection
+        // drops it. An object's clear atom stays only where the action puts something into
+        // that very region of it: that its other regions were empty is the demonstrations'
+        // history (the two blocks a third is laid across had nothing under them), which a
+        // larger task does not repeat.
+        Fact::Clear { pair, region, object } => {
+            is_changed(object)
+                && (transition.is_robot(object)
+                    || transition.fills_region_of(pair, region, object)
+                    || transition.grasp_changes(object))
+        }
+        // That the object is in a region of no robot part (held by another gripper, say)
+        // matters to any change of its relations of the pair. Of an object's regions, as with
+        // clear atoms, only the one the action puts it into: that it was in the pair's other
+        // regions of none is history (the legs a lintel is laid across stood on the table),
+        // which a larger task does not repeat.
+        Fact::Nowhere { pair, region, object } => {
+            is_changed(object)
+                && if transition.robot_pair(pair) {
+                    transition.changes_as_secondary(pair, object)
+                } else {
+                    transition.enters_region(pair, region, object)
+                }
+        }
+    }
+}
+
+impl Transition<'_> {
+    fn is_robot(&self, object: usize) -> bool {
+        self.participants[object].role.is_robot_part()
+    }
+
+    fn is_movable(&self, object: usize) -> bool {
+        self.participants[object].role == Role::Object { movable: true }
+    }
+
+    /// The facts the transition adds or deletes.
+    fn changes(&self) -> impl Iterator<Item = &Fact> {
+        self.added.iter().chain(self.deleted)
+    }
+
+    /// Whether it changes a relation of the pair with the object as its secondary.
+    fn changes_as_secondary(&self, pair: usize, object: usize) -> bool {
+        self.changes().any(|fact| {
             matches!(*fact, Fact::Relation { pair: p, secondary, .. } if p == pair && secondary == object)
         })
-    };
-    // Whether the pair's primary is a robot part.
-    let robot_pair = |pair: usize| {
-        transition.pre.iter().any(|fact| {
-            matches!(*fact, Fact::Relation { pair: p, primary, .. } if p == pair && is_robot(primary))
+    }
+
+    /// Whether the pair's primary is a robot part.
+    fn robot_pair(&self, pair: usize) -> bool {
+        self.pre.iter().any(|fact| {
+            matches!(*fact, Fact::Relation { pair: p, primary, .. } if p == pair && self.is_robot(primary))
         })
-    };
-    // Whether the action puts the object into that very region of another.
-    let enters_region = |pair: usize, region: usize, object: usize| {
-        transition.added.iter().any(|fact| {
+    }
+
+    /// Whether it puts the object into that very region of another.
+    fn enters_region(&self, pair: usize, region: usize, object: usize) -> bool {
+        self.added.iter().any(|fact| {
             matches!(*fact, Fact::Relation { pair: p, region: r, secondary, .. }
                 if p == pair && r == region && secondary == object)
         })
-    };
-    // Whether the action puts something into that very region of the object.
-    let fills_region_of = |pair: usize, region: usize, object: usize| {
-        transition.added.iter().any(|fact| {
+    }
+
+    /// Whether it puts something into that very region of the object.
+    fn fills_region_of(&self, pair: usize, region: usize, object: usize) -> bool {
+        self.added.iter().any(|fact| {
             matches!(*fact, Fact::Relation { pair: p, region: r, primary, .. }
                 if p == pair && r == region && primary == object)
         })
-    };
-    // Whether the action changes how a robot part relates to the object: it comes to take it,
-    // takes it, lets go of it or leaves it.
-    let grasp_changes = |object: usize| {
-        transition.added.iter().chain(transition.deleted).any(|fact| {
-            matches!(*fact, Fact::Relation { primary, secondary, .. }
-                if secondary == object && is_robot(primary))
-        })
-    };
-    let mut result = BTreeSet::new();
-    // Step 1: what the action deletes must hold before it.
-    result.extend(transition.deleted.iter().filter_map(|fact| lift(vocabulary, *fact, &names)));
-    // Step 3 with pruning: every other true fact among the parameters.
-    for fact in transition.pre.difference(transition.deleted) {
-        let keep = match *fact {
-            Fact::Relation { region, primary, secondary, .. } => {
-                let (Some(_), Some(_)) = (names.get(&primary), names.get(&secondary)) else {
-                    continue;
-                };
-                let touches_changed = is_changed(primary) || is_changed(secondary);
-                let non_robot_extra =
-                    [primary, secondary].iter().any(|o| extras.contains_key(o) && !is_robot(*o));
-                let spurious_static = !touches_changed && !changing.contains(&fact.symbol());
-                let unexplained_none =
-                    region == 0 && non_robot_extra && !became_true.contains(fact);
-                !spurious_static && !unexplained_none
-            }
-            // A robot part the action moves keeps its clear atoms of every pair: "the gripper is
-            // at no can's grasp" matters to any motion of the gripper (a tuck from a grasp pose
-            // leaves the grasp), and it held at every demonstrated instance or the intersection
-            // drops it. An object's clear atom stays only where the action puts something into
-            // that very region of it: that its other regions were empty is the demonstrations'
-            // history (the two blocks a third is laid across had nothing under them), which a
-            // larger task does not repeat.
-            Fact::Clear { pair, region, object } => {
-                is_changed(object)
-                    && (is_robot(object)
-                        || fills_region_of(pair, region, object)
-                        || grasp_changes(object))
-            }
-            // That the object is in a region of no robot part (held by another gripper, say)
-            // matters to any change of its relations of the pair. Of an object's regions, as with
-            // clear atoms, only the one the action puts it into: that it was in the pair's other
-            // regions of none is history (the legs a lintel is laid across stood on the table),
-            // which a larger task does not repeat.
-            Fact::Nowhere { pair, region, object } => {
-                is_changed(object)
-                    && if robot_pair(pair) {
-                        changed_relation_as_secondary(pair, object)
-                    } else {
-                        enters_region(pair, region, object)
-                    }
-            }
-        };
-        if keep {
-            result.extend(lift(vocabulary, *fact, &names));
-        }
     }
-    (result, extras)
+
+    /// Whether it changes how a robot part relates to the object: it comes to take it, takes
+    /// it, lets go of it or leaves it.
+    fn grasp_changes(&self, object: usize) -> bool {
+        self.changes().any(|fact| {
+            matches!(*fact, Fact::Relation { primary, secondary, .. }
+                if secondary == object && self.is_robot(primary))
+        })
+    }
 }
 
 #[cfg(test)]
