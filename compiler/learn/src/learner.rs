@@ -247,62 +247,14 @@ fn find_regions(
         let selection = select(&tracks);
         (tracks, selection)
     };
-    let (symmetry, symmetry_choice, tracks, selection) = match config.pair_symmetry(pair) {
-        None => {
-            let (tracks, selection) = read(None);
-            (None, None, tracks, selection)
-        }
-        Some(symmetry) if !config.symmetry_from_data => {
-            let (tracks, selection) = read(Some(&symmetry));
-            (Some(symmetry), None, tracks, selection)
-        }
-        Some(symmetry) => {
-            // The two readings are independent: on two cores, the choice costs no more time
-            // than one of them.
-            let (as_recorded, folded) = std::thread::scope(|scope| {
-                let folded = scope.spawn(|| read(Some(&symmetry)));
-                let as_recorded = read(None);
-                let folded = folded.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-                (as_recorded, folded)
-            });
-            let choice = symmetry_choice::choose(
-                as_recorded.1.as_ref().map(|selection| selection.groups.as_slice()),
-                folded.1.as_ref().map(|selection| selection.groups.as_slice()),
-                |pose| symmetry.canonical(pose).translation.vector.into(),
-                |[x, y, z]| {
-                    let centre = Pose::translation(x, y, z);
-                    symmetry.members(&centre, false).map(|m| m.translation.vector.into()).collect()
-                },
-            );
-            if choice.folded {
-                (Some(symmetry), Some(choice), folded.0, folded.1)
-            } else {
-                (None, Some(choice), as_recorded.0, as_recorded.1)
-            }
-        }
-    };
+    let Reading { symmetry, symmetry_choice, tracks, selection } =
+        read_with_symmetry(config.pair_symmetry(pair), config.symmetry_from_data, read);
     let settings = match &selection {
         Some(selection) => selection.settings.clone(),
         None => pinned.resolve(&PairSettings::DEFAULT),
     };
     let grid = selection.as_ref().map_or_else(|| Grid::new(&settings), Selection::grid);
-    let mut occupancy = Occupancy::default();
-    let mut observations = Vec::new();
-    // Tracks come per demonstration, in instance order; observations stay in step order within one.
-    for own in tracks.chunk_by(|a, b| a.demonstration == b.demonstration) {
-        let mut visited = Vec::new();
-        for step in 0..own[0].frames.len() {
-            for track in own {
-                let TrackFrame { g, pose, .. } = track.frames[step];
-                let Some(voxel) = grid.voxel(&pose) else { continue };
-                let rotation = grid.rotation_cell(&pose);
-                visited.push((g, voxel, rotation));
-                let demonstration = track.demonstration;
-                observations.push(Observation { demonstration, g, voxel, rotation, pose });
-            }
-        }
-        occupancy.add_demonstration(visited);
-    }
+    let (occupancy, observations) = occupancy_of(&tracks, &grid);
     let mut critical =
         occupancy.critical(settings.threshold, config.min_support, config.rotation_share);
     if let Some(selection) = &selection {
@@ -344,6 +296,84 @@ fn find_regions(
         symmetry,
         symmetry_choice,
     }
+}
+
+/// A pair's recordings read one way: the symmetry folded by (none: as recorded), how it was
+/// chosen, the tracks and the selection made from them.
+struct Reading {
+    symmetry: Option<lamp_abstraction::PairSymmetry>,
+    symmetry_choice: Option<SymmetryChoice>,
+    tracks: Vec<Track>,
+    selection: Option<Selection>,
+}
+
+/// Reads a pair's recordings as recorded, folded by its `symmetry`, or, when the choice is the
+/// data's (`from_data`), both ways, keeping the way `symmetry_choice::choose` takes.
+fn read_with_symmetry(
+    symmetry: Option<lamp_abstraction::PairSymmetry>,
+    from_data: bool,
+    read: impl Fn(Option<&lamp_abstraction::PairSymmetry>) -> (Vec<Track>, Option<Selection>) + Sync,
+) -> Reading {
+    let Some(symmetry) = symmetry else {
+        let (tracks, selection) = read(None);
+        return Reading { symmetry: None, symmetry_choice: None, tracks, selection };
+    };
+    if !from_data {
+        let (tracks, selection) = read(Some(&symmetry));
+        return Reading { symmetry: Some(symmetry), symmetry_choice: None, tracks, selection };
+    }
+    // The two readings are independent: on two cores, the choice costs no more time than one
+    // of them.
+    let ((recorded_tracks, recorded), (folded_tracks, folded)) = std::thread::scope(|scope| {
+        let folded = scope.spawn(|| read(Some(&symmetry)));
+        let as_recorded = read(None);
+        let folded = folded.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        (as_recorded, folded)
+    });
+    let choice = symmetry_choice::choose(
+        recorded.as_ref().map(|selection| selection.groups.as_slice()),
+        folded.as_ref().map(|selection| selection.groups.as_slice()),
+        |pose| symmetry.canonical(pose).translation.vector.into(),
+        |[x, y, z]| {
+            let centre = Pose::translation(x, y, z);
+            symmetry.members(&centre, false).map(|m| m.translation.vector.into()).collect()
+        },
+    );
+    if choice.folded {
+        let symmetry = Some(symmetry);
+        Reading {
+            symmetry,
+            symmetry_choice: Some(choice),
+            tracks: folded_tracks,
+            selection: folded,
+        }
+    } else {
+        let (tracks, selection) = (recorded_tracks, recorded);
+        Reading { symmetry: None, symmetry_choice: Some(choice), tracks, selection }
+    }
+}
+
+/// The grid cells the tracks visit, each counted once per demonstration, and every observation
+/// in a cell. Tracks come per demonstration, in instance order; observations stay in step order
+/// within one.
+fn occupancy_of(tracks: &[Track], grid: &Grid) -> (Occupancy, Vec<Observation>) {
+    let mut occupancy = Occupancy::default();
+    let mut observations = Vec::new();
+    for own in tracks.chunk_by(|a, b| a.demonstration == b.demonstration) {
+        let mut visited = Vec::new();
+        for step in 0..own[0].frames.len() {
+            for track in own {
+                let TrackFrame { g, pose, .. } = track.frames[step];
+                let Some(voxel) = grid.voxel(&pose) else { continue };
+                let rotation = grid.rotation_cell(&pose);
+                visited.push((g, voxel, rotation));
+                let demonstration = track.demonstration;
+                observations.push(Observation { demonstration, g, voxel, rotation, pose });
+            }
+        }
+        occupancy.add_demonstration(visited);
+    }
+    (occupancy, observations)
 }
 
 /// The keyframe boxes of the selection's groups whose centre lies in the region: where the demonstrations put
