@@ -200,9 +200,8 @@ impl Execution<'_, '_> {
         };
         let waypoints = match carried {
             Some(LiftedPath { waypoints, descent: Some(descent) }) => {
-                let first_new = self.recorder.len();
                 self.follow_path(robot, &model, &waypoints, (&start, goal))?;
-                self.note_descent(robot, &model, &waypoints, descent, first_new);
+                self.note_descent(robot, &model, &waypoints[descent..]);
                 return Ok(());
             }
             Some(LiftedPath { waypoints, descent: None }) => waypoints,
@@ -221,27 +220,18 @@ impl Execution<'_, '_> {
         self.follow_path(robot, &model, &waypoints, (&start, goal))
     }
 
-    /// Notes the straight descent of a carry just followed, from `waypoints[descent]` on: a
-    /// put-down if the object is let go of where it ends. `first_new` is the recorded step of
-    /// its second state (the first is where the robot was).
-    fn note_descent(
-        &mut self,
-        robot: usize,
-        model: &Robot,
-        waypoints: &[Vec<f64>],
-        descent: usize,
-        first_new: usize,
-    ) {
+    /// Notes the straight `descent` that ends the carry just recorded (its waypoints, the last
+    /// where the recording ends): a put-down if the object is let go of there.
+    fn note_descent(&mut self, robot: usize, model: &Robot, descent: &[Vec<f64>]) {
         let config = &self.planning.settings.motion.config;
-        let (Some(held), Ok(before)) =
-            (self.scene.held(robot), densify(model, &waypoints[..=descent], config))
+        let (Some(held), Ok(states)) = (self.scene.held(robot), densify(model, descent, config))
         else {
             return;
         };
-        let body = held.body;
-        let from_step = (first_new + before.len()).saturating_sub(2);
-        let metres = gripper_travel(self.scene, robot, &waypoints[descent..]);
-        self.recorder.note_descent(from_step, robot, body, metres);
+        // The descent's states are the recording's last ones.
+        let from_step = self.recorder.len().saturating_sub(states.len());
+        let metres = gripper_travel(self.scene, robot, descent);
+        self.recorder.note_descent(from_step, robot, held.body, metres);
     }
 
     /// Follows a motion planner's `waypoints` from the first to the second of `ends`, densified
@@ -293,11 +283,11 @@ impl Execution<'_, '_> {
                 reason: format!("no body `{}`", change.object),
             }));
         };
-        // A magnet or a suction cup holds only what it touches: it comes straight to the object
-        // first (fingers close after the grab instead).
         // Where the approach to contact begins and how long it is; it ends where the gripper
         // takes hold (none left when the motion there already ended in contact).
         let mut contact = None;
+        // A magnet or a suction cup holds only what it touches: it comes straight to the object
+        // first (fingers close after the grab instead).
         if scene.holds_by_contact(robot) {
             let approach = contact_approach(scene, robot, body, config).map_err(|error| {
                 Rejection::Candidate {

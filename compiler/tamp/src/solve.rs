@@ -50,8 +50,6 @@ pub struct Solution {
     /// Per step of `summary.plan`, the index of the trajectory step its motion begins with
     /// (steps before the first one's are the initial state).
     pub step_starts: Vec<usize>,
-    /// The trajectory step where each of `summary.approaches` begins, in its order.
-    pub approach_starts: Vec<usize>,
     /// What happened.
     pub summary: Summary,
 }
@@ -207,14 +205,12 @@ fn solve_with(
                         steps.iter().map(|step| call_text(&step.name, &step.arguments)).collect();
                     summary.replan_points = replans;
                     summary.approaches = approach_spans(input.scene, &recorder, &starts);
-                    let approaches = recorder.approaches.iter().map(|a| a.from_step).collect();
                     fill(summary, counts, recorder.len());
                     let trajectory =
                         Trajectory { header: input.header.clone(), steps: recorder.steps };
                     return Ok(Solution {
                         trajectory,
                         step_starts: starts,
-                        approach_starts: approaches,
                         summary: summary.clone(),
                     });
                 }
@@ -246,6 +242,7 @@ fn approach_spans(scene: &Scene, recorder: &Recorder, starts: &[usize]) -> Vec<A
         .approaches
         .iter()
         .map(|approach| ApproachSpan {
+            from_step: approach.from_step,
             plan_step: starts.iter().filter(|&&start| start <= approach.to_step).count(),
             kind: match approach.kind {
                 ApproachKind::PutDown => ApproachEnd::PutDown,

@@ -68,6 +68,9 @@ pub struct Summary {
 /// One straight last approach (`lamp_world::Approach`), as the summary gives it.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ApproachSpan {
+    /// The trajectory step where it begins; the stamps below say it in the files.
+    #[serde(skip)]
+    pub from_step: usize,
     /// The plan step (1-based, in `Summary::plan`) whose motion it ends.
     pub plan_step: usize,
     pub kind: ApproachEnd,

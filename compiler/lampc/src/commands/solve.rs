@@ -308,11 +308,10 @@ fn solution_contents(
     let picture =
         lamp_render::render_trajectory(world, &solution.trajectory, None, &Default::default())?;
     let summary = &solution.summary;
-    let approaches = solution
-        .approach_starts
+    let approaches = summary
+        .approaches
         .iter()
-        .zip(&summary.approaches)
-        .map(|(step, span)| Ok((*step, serde_json::to_string(span)?)))
+        .map(|span| Ok((span.from_step, serde_json::to_string(span)?)))
         .collect::<Result<Vec<_>, serde_json::Error>>()
         .map_err(|error| Failure::Message(error.to_string()))?;
     let marks = crate::viewable::SolutionMarks {
