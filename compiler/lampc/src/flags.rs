@@ -14,6 +14,11 @@ pub(crate) fn plans(text: &str) -> Result<usize, String> {
     count(text, &limits::PLANS)
 }
 
+/// Threads to share a solve's work between (`lampc solve --threads`).
+pub(crate) fn threads(text: &str) -> Result<usize, String> {
+    count(text, &limits::THREADS)
+}
+
 /// Demonstrations to generate (`lampc demos --count`).
 pub(crate) fn demonstrations(text: &str) -> Result<u32, String> {
     count(text, &limits::DEMONSTRATIONS)
@@ -49,6 +54,8 @@ mod tests {
         assert_eq!(plans("5"), Ok(5));
         assert!(plans("0").is_err_and(|message| message.contains("from 1 to 1000")));
         assert!(plans("2.5").is_err_and(|message| message.contains("not a whole number")));
+        assert_eq!(threads("2"), Ok(2));
+        assert!(threads("0").is_err_and(|message| message.contains("from 1 to 256")));
         assert_eq!(demonstrations("200"), Ok(200));
         assert!(demonstrations("0").is_err_and(|message| message.contains("from 1 to 10000")));
         assert!(demonstrations("100000").is_err());

@@ -476,6 +476,32 @@ fn every_first_party_plugin_loads_as_a_shared_library_and_solves_as_its_built_in
 }
 
 #[test]
+fn a_solve_writes_the_same_bytes_on_one_thread_as_on_two() {
+    let scratch = tempfile::tempdir().expect("a scratch directory");
+    let files = |threads: &str| {
+        let out = scratch.path().join(format!("threads-{threads}"));
+        let output = solve_into(built(), &out, &["--threads", threads]);
+        assert!(output.status.success(), "{}", stderr(&output));
+        let read = |name: &str| std::fs::read(out.join(name)).expect("a solution file");
+        // The seconds each stage took are the one thing that may differ.
+        let summary = String::from_utf8(read("summary.json")).expect("text");
+        let summary: Vec<String> = summary
+            .lines()
+            .filter(|line| !line.trim_start().starts_with("\"seconds_"))
+            .map(|line| line.trim_end_matches(',').to_string())
+            .collect();
+        (read("trajectory.mcap"), read("plan.txt"), read("trajectory.svg"), summary)
+    };
+    let one = files("1");
+    assert!(one.0.len() > 10_000 && one.3.len() > 10, "a solution was written");
+    assert!(one == files("2"), "the files differ between one thread and two");
+
+    let refused = solve_into(built(), &scratch.path().join("none"), &["--threads", "0"]);
+    assert_eq!(refused.status.code(), Some(2), "a command line that does not parse");
+    assert!(stderr(&refused).contains("from 1 to 256"), "{}", stderr(&refused));
+}
+
+#[test]
 fn an_unknown_problem_is_named_with_the_ones_there_are() {
     let missing =
         lampc().arg("solve").arg(spec()).args(["--problem", "pack9"]).output().expect("runs");

@@ -29,6 +29,10 @@ pub const MAX_PROBLEM_NAME_BYTES: usize = 200;
 /// one, so more than a thousand is a search that could never be refined in a useful time.
 pub const PLANS: Limit = Limit::whole(1, 1_000);
 
+/// Threads a solve shares its work between (`lampc solve --threads`): the machines lamp runs on
+/// have a few to a few dozen cores; more threads than that only wait on each other.
+pub const THREADS: Limit = Limit::whole(1, 256);
+
 /// Ground operators the built-in planners may make (`planner gbfs-ff { operators N }`): an
 /// operator holds a few dozen facts, so a hundred million would take tens of gigabytes.
 pub const OPERATORS: Limit = Limit::whole(1, 100_000_000);

@@ -154,6 +154,28 @@ pub fn distance(a: &CollisionShape, pose_a: &Pose, b: &CollisionShape, pose_b: &
         .map_or(0.0, |found| found.distance.max(0.0))
 }
 
+/// How far the shapes overlap: the depth of the deepest overlapping pair of their convex parts
+/// (a compound's parts, a mesh's triangles), the length of the shortest translation that would
+/// separate that pair; 0 when they are apart or only touch, and when parry cannot say.
+///
+/// A lower bound of what any rigid motion must move a point of `a` to clear `b`: when it exceeds
+/// how far a motion moves any point of `a`, the moved shape still overlaps `b` (a plane that
+/// separated a part of the moved `a` from a part of `b` would separate the unmoved part after a
+/// translation no longer than that motion).
+pub fn penetration_depth(
+    a: &CollisionShape,
+    pose_a: &Pose,
+    b: &CollisionShape,
+    pose_b: &Pose,
+) -> Real {
+    let pose_a = boundary::pose(&(pose_a * a.local));
+    let pose_b = boundary::pose(&(pose_b * b.local));
+    match query::contact(&pose_a, a.shape.as_ref(), &pose_b, b.shape.as_ref(), 0.0) {
+        Ok(Some(contact)) => (-contact.dist).max(0.0),
+        _ => 0.0,
+    }
+}
+
 /// The nearest points of two shapes at most `max_distance` apart, in the world frame (the first
 /// on `a`): `None` when they touch or overlap, are farther apart, or parry cannot say.
 pub fn closest_points(

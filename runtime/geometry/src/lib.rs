@@ -13,7 +13,9 @@ pub mod support;
 pub mod symmetry;
 pub mod world;
 
-pub use collision::{Aabb, CollisionShape, closest_points, distance, intersects, within_margin};
+pub use collision::{
+    Aabb, CollisionShape, closest_points, distance, intersects, penetration_depth, within_margin,
+};
 pub use error::GeometryError;
 pub use math::{Point3, Pose, Real, Rotation, Vec3};
 pub use shape::Shape;

@@ -4,7 +4,7 @@
 //! only on overlapping ones. Scenes here hold tens of bodies, where a linear pass over cached
 //! boxes beats maintaining a tree (it is a few dozen comparisons of six numbers).
 
-use crate::collision::{Aabb, CollisionShape, within_margin};
+use crate::collision::{Aabb, CollisionShape, penetration_depth, within_margin};
 use crate::math::{Point3, Pose, Real};
 use crate::support::{ContactPoint, contact_points, drop_distance};
 
@@ -113,6 +113,25 @@ impl CollisionWorld {
             let hit = entry.aabb.overlaps(aabb, margin.max(0.0))
                 && !skip(BodyId(index))
                 && within_margin(shape, pose, other, &entry.pose, margin);
+            hit.then_some(BodyId(index))
+        })
+    }
+
+    /// The first enabled body (in id order) that `shape` at `pose` overlaps deeper than `depth`
+    /// ([`penetration_depth`]), skipping those `skip` says to.
+    pub fn first_overlap_deeper_than(
+        &self,
+        shape: &CollisionShape,
+        pose: &Pose,
+        depth: Real,
+        skip: impl Fn(BodyId) -> bool,
+    ) -> Option<BodyId> {
+        let aabb = shape.aabb(pose);
+        self.entries.iter().enumerate().find_map(|(index, entry)| {
+            let other = entry.shape.as_ref().filter(|_| entry.enabled)?;
+            let hit = entry.aabb.overlaps(&aabb, 0.0)
+                && !skip(BodyId(index))
+                && penetration_depth(shape, pose, other, &entry.pose) > depth;
             hit.then_some(BodyId(index))
         })
     }

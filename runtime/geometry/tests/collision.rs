@@ -4,8 +4,8 @@
 #![allow(clippy::unwrap_used)] // a failed step is a failed test
 
 use lamp_geometry::{
-    CollisionShape, CollisionWorld, GeometryError, Point3, Pose, Shape, Vec3, closest_points,
-    distance, intersects, within_margin,
+    BodyId, CollisionShape, CollisionWorld, GeometryError, Point3, Pose, Shape, Vec3,
+    closest_points, distance, intersects, penetration_depth, within_margin,
 };
 
 fn cube(half: f64) -> CollisionShape {
@@ -31,6 +31,41 @@ fn boxes_touching_separated_and_penetrating() {
     // Penetrating by 1 cm.
     assert!(intersects(&a, &at(0.0, 0.0, 0.0), &b, &at(0.09, 0.0, 0.0)));
     assert_eq!(distance(&a, &at(0.0, 0.0, 0.0), &b, &at(0.09, 0.0, 0.0)), 0.0);
+}
+
+#[test]
+fn penetration_depth_is_the_shortest_way_out_of_the_deepest_part() {
+    let a = cube(0.05);
+    let b = cube(0.05);
+    let origin = at(0.0, 0.0, 0.0);
+    // 1 cm into each other along x: 1 cm to separate, the way out along x.
+    let depth = penetration_depth(&a, &origin, &b, &at(0.09, 0.0, 0.0));
+    assert!((depth - 0.01).abs() < 1e-9, "depth {depth}");
+    // Deeper along y than along x: the shorter way out counts.
+    let depth = penetration_depth(&a, &origin, &b, &at(0.07, 0.02, 0.0));
+    assert!((depth - 0.03).abs() < 1e-9, "depth {depth}");
+    // Touching and apart are no overlap.
+    assert_eq!(penetration_depth(&a, &origin, &b, &at(0.1, 0.0, 0.0)), 0.0);
+    assert_eq!(penetration_depth(&a, &origin, &b, &at(0.2, 0.0, 0.0)), 0.0);
+    // A compound overlaps as deep as its deepest part.
+    let two = CollisionShape::compound(&[
+        (at(-0.2, 0.0, 0.0), Shape::Box { half_extents: Vec3::new(0.05, 0.05, 0.05) }),
+        (at(0.2, 0.0, 0.0), Shape::Box { half_extents: Vec3::new(0.05, 0.05, 0.05) }),
+    ])
+    .unwrap();
+    let depth = penetration_depth(&two, &origin, &b, &at(0.28, 0.0, 0.0));
+    assert!((depth - 0.02).abs() < 1e-9, "depth {depth}");
+
+    let mut world = CollisionWorld::new();
+    world.insert(cube(0.05), at(0.09, 0.0, 0.0));
+    world.insert(cube(0.05), at(-0.07, 0.0, 0.0));
+    assert_eq!(world.first_overlap_deeper_than(&a, &origin, 0.02, |_| false), Some(BodyId(1)));
+    assert_eq!(world.first_overlap_deeper_than(&a, &origin, 0.005, |_| false), Some(BodyId(0)));
+    assert_eq!(
+        world.first_overlap_deeper_than(&a, &origin, 0.005, |id| id.0 == 0),
+        Some(BodyId(1))
+    );
+    assert_eq!(world.first_overlap_deeper_than(&a, &origin, 0.03, |_| false), None);
 }
 
 #[test]

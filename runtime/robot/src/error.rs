@@ -120,6 +120,15 @@ pub enum IkError {
     #[diagnostic(code(lamp::robot::ik_out_of_reach))]
     OutOfReach { link: String, distance: f64, reach: f64 },
 
+    /// The caller's screen ruled the target out before any iteration
+    /// ([`solve_ik_screened`](crate::solve_ik_screened)): every configuration that meets it
+    /// would be refused.
+    #[error(
+        "no IK solution for link `{link}`: every configuration that reaches the target is refused"
+    )]
+    #[diagnostic(code(lamp::robot::ik_target_refused))]
+    TargetRefused { link: String },
+
     /// The request itself is malformed (wrong seed length, unknown link, bad group).
     #[error("invalid IK request: {reason}")]
     #[diagnostic(code(lamp::robot::ik_request))]

@@ -105,6 +105,24 @@ pub fn solve_ik(
     rng: &mut ChaCha8Rng,
     accept: &mut dyn FnMut(&[f64]) -> bool,
 ) -> Result<Vec<f64>, IkError> {
+    solve_ik_screened(goal, config, rng, &mut || true, accept)
+}
+
+/// [`solve_ik`] with a screen of the target, asked once before any iteration (after the reach
+/// test): `false` when the caller knows that `accept` refuses every configuration meeting the
+/// target within the tolerances (a gripper that would stand inside an obstacle there, whatever
+/// the arm does). The search is then skipped with [`IkError::TargetRefused`].
+///
+/// A refused target takes from `rng` exactly what a search that tried every restart takes, so
+/// that the screen decides how soon the answer comes, never which draws follow it: the same seed
+/// gives the same results with or without it.
+pub fn solve_ik_screened(
+    goal: &IkGoal<'_>,
+    config: &IkConfig,
+    rng: &mut ChaCha8Rng,
+    target_possible: &mut dyn FnMut() -> bool,
+    accept: &mut dyn FnMut(&[f64]) -> bool,
+) -> Result<Vec<f64>, IkError> {
     let IkGoal { robot, group, link, target, seed } = *goal;
     validate(robot, group, link, target, seed, config)?;
     if let Some(result) = solve_floating_base_exactly(robot, group, link, target, seed, accept) {
@@ -123,8 +141,14 @@ pub fn solve_ik(
         }
     }
 
-    let mut solver = Solver::new(robot, group, chain, target, config);
     let mut start = seed.to_vec();
+    if !target_possible() {
+        for _ in 0..config.restarts {
+            robot.sample_uniform(group, seed, rng, &mut start);
+        }
+        return Err(IkError::TargetRefused { link: robot.link_name(link).to_string() });
+    }
+    let mut solver = Solver::new(robot, group, chain, target, config);
     let mut rejected = 0;
     for attempt in 0..=config.restarts {
         if attempt > 0 {

@@ -24,6 +24,7 @@ pub use error::{IkError, RobotError};
 pub use ik::{
     DEFAULT_DAMPING, DEFAULT_MAX_ITERATIONS, DEFAULT_ORIENTATION_TOLERANCE,
     DEFAULT_POSITION_TOLERANCE, DEFAULT_RESTARTS, IkConfig, IkGoal, pose_error_norms, solve_ik,
+    solve_ik_screened,
 };
 pub use lamp_geometry::{Pose, Shape};
 pub use mesh::load_mesh_file;

@@ -78,14 +78,19 @@ pub trait Space {
             return false;
         }
         let mut q = a.to_vec();
-        // Check the middle first: collisions are likelier far from known-valid endpoints.
-        let mut order: Vec<usize> = (1..steps).collect();
-        order.sort_by_key(|&i| (i as i64 * 2 - steps as i64).abs());
-        order.into_iter().all(|i| {
+        edge_check_order(steps).into_iter().all(|i| {
             self.interpolate(a, b, i as f64 / steps as f64, &mut q);
             self.is_valid(&q)
         })
     }
+}
+
+/// The inner sub-steps `1..steps` of an edge in the order to check them: the middle first, where
+/// collisions are likelier than next to known-valid endpoints.
+pub fn edge_check_order(steps: usize) -> Vec<usize> {
+    let mut order: Vec<usize> = (1..steps).collect();
+    order.sort_by_key(|&i| (i as i64 * 2 - steps as i64).abs());
+    order
 }
 
 /// Budget and step settings.

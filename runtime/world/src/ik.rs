@@ -1,8 +1,10 @@
 //! Inverse kinematics that only accepts collision-free solutions: the robot crate's solver
 //! (damped least squares with random restarts) with the scene as its acceptance test.
 
-use lamp_geometry::Pose;
-use lamp_robot::{IkConfig, IkError, IkGoal, LinkId, solve_ik};
+use std::cell::RefCell;
+
+use lamp_geometry::{BodyId, Pose};
+use lamp_robot::{IkConfig, IkError, IkGoal, JointGroup, LinkId, solve_ik_screened};
 use rand_chacha::ChaCha8Rng;
 
 use crate::checking::Contact;
@@ -66,13 +68,110 @@ pub fn reach_observed(
         Some(link) => link,
         None => return Err(ReachError::NoGripper { robot: state.name.clone() }),
     };
+    let refused = RefCell::new(refused);
+    let tolerance = Tolerance::of(config);
+    let mut target_possible =
+        || match in_the_way_at(scene, robot, joint_group, link, target, seed, tolerance) {
+            None => true,
+            Some(contact) => {
+                (refused.borrow_mut())(contact);
+                false
+            }
+        };
     let mut accept = |q: &[f64]| match scene.first_contact(robot, q) {
         None => true,
         Some(contact) => {
-            refused(contact);
+            (refused.borrow_mut())(contact);
             false
         }
     };
     let goal = IkGoal { robot: model, group: joint_group, link, target, seed };
-    Ok(solve_ik(&goal, config, rng, &mut accept)?)
+    Ok(solve_ik_screened(&goal, config, rng, &mut target_possible, &mut accept)?)
+}
+
+/// How far from its target a configuration the IK accepts may leave the link.
+#[derive(Clone, Copy)]
+struct Tolerance {
+    position: f64,
+    orientation: f64,
+}
+
+impl Tolerance {
+    fn of(config: &IkConfig) -> Tolerance {
+        Tolerance { position: config.position_tolerance, orientation: config.orientation_tolerance }
+    }
+
+    /// The farthest a point `radius` from the link's origin can be from where it would be at
+    /// the target, plus [`SCREEN_SLACK`].
+    fn displacement(&self, radius: f64) -> f64 {
+        self.position + self.orientation * radius + SCREEN_SLACK
+    }
+}
+
+/// Room left for the depth parry computes for an overlap (GJK and EPA converge to far less).
+const SCREEN_SLACK: f64 = 1e-4;
+
+/// What stands in the way of `link` at `target` whatever the coordinates of `group` are: a part
+/// that moves rigidly with the link while only those coordinates change (the link itself, the
+/// links beyond it whose joints are outside the group, such as fingers at their values in
+/// `seed`, and the object the gripper holds) overlapping a body of the scene deeper than a
+/// configuration meeting the target within `tolerance` can move it. Every such configuration
+/// then touches that body, and the scene would refuse it. `None` when nothing is known to be in
+/// the way.
+fn in_the_way_at(
+    scene: &Scene,
+    robot: usize,
+    group: &JointGroup,
+    link: LinkId,
+    target: &Pose,
+    seed: &[f64],
+    tolerance: Tolerance,
+) -> Option<Contact> {
+    let state = scene.robots.get(robot)?;
+    let model = &state.robot;
+    let mut poses = vec![Pose::identity(); model.link_count()];
+    model.forward_kinematics(seed, &mut poses);
+    let link_from_seed = poses[link].inverse();
+    let rigid = |part: LinkId| -> Option<Pose> {
+        let chain = model.chain(part);
+        let at = chain.iter().position(|&on_chain| on_chain == link)?;
+        let moves_apart = chain[at + 1..].iter().any(|&beyond| {
+            model.parent_joint_name(beyond).is_some_and(|joint| {
+                model
+                    .joint_coordinates(joint)
+                    .is_ok_and(|own| own.iter().any(|c| group.coordinates.contains(c)))
+            })
+        });
+        (!moves_apart).then(|| link_from_seed * poses[part])
+    };
+    let reach_of = |shape: &lamp_geometry::CollisionShape, in_link: &Pose| {
+        let aabb = shape.aabb(in_link);
+        let farthest = aabb.mins.coords.abs().sup(&aabb.maxs.coords.abs());
+        farthest.norm()
+    };
+    for (part, shape) in &state.links {
+        let Some(in_link) = rigid(*part) else { continue };
+        let depth = tolerance.displacement(reach_of(shape, &in_link));
+        let placed = target * in_link;
+        if let Some(body) =
+            scene.collision.first_overlap_deeper_than(shape, &placed, depth, |_| false)
+        {
+            return Some(Contact::LinkBody {
+                link: model.link_name(*part).to_string(),
+                body: scene.bodies[body.0].name.clone(),
+            });
+        }
+    }
+    let gripper = state.gripper.as_ref()?;
+    let held = gripper.held?;
+    let shape = scene.collision.shape(BodyId(held.body))?;
+    let in_link = rigid(gripper.link)? * held.grasp;
+    let depth = tolerance.displacement(reach_of(shape, &in_link));
+    let skip = |id: BodyId| id.0 == held.body;
+    let body =
+        scene.collision.first_overlap_deeper_than(shape, &(target * in_link), depth, skip)?;
+    Some(Contact::HeldBody {
+        held: scene.bodies[held.body].name.clone(),
+        body: scene.bodies[body.0].name.clone(),
+    })
 }

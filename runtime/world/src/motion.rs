@@ -9,9 +9,12 @@
 use std::time::Duration;
 
 use lamp_robot::{CoordinateKind, JointGroup, Robot, wrap_angle};
-use lamp_rrt::{MAX_EDGE_STEPS, RrtConfig, RrtError, RrtStats, Space, rrt_connect};
+use lamp_rrt::{
+    MAX_EDGE_STEPS, RrtConfig, RrtError, RrtStats, Space, edge_check_order, rrt_connect,
+};
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 
 use crate::scene::Scene;
 
@@ -196,7 +199,40 @@ impl Space for RobotSpace<'_> {
     fn edge_steps(&self, a: &[f64], b: &[f64]) -> usize {
         edge_steps(self.robot, a, b, self.linear_resolution, self.angular_resolution)
     }
+
+    /// The states of an edge are independent checks, so the threads of the rayon pool share
+    /// them (in chunks of at least [`PARALLEL_EDGE_CHUNK`] states, middle first as in sequence):
+    /// the answer is the same on any number of threads, only sooner.
+    fn edge_is_valid(&self, a: &[f64], b: &[f64]) -> bool {
+        let steps = self.edge_steps(a, b);
+        if steps > MAX_EDGE_STEPS {
+            return false;
+        }
+        let order = edge_check_order(steps);
+        if order.len() < 2 * PARALLEL_EDGE_CHUNK {
+            let mut q = a.to_vec();
+            return order.into_iter().all(|i| {
+                self.interpolate(a, b, i as f64 / steps as f64, &mut q);
+                self.is_valid(&q)
+            });
+        }
+        order
+            .par_iter()
+            .with_min_len(PARALLEL_EDGE_CHUNK)
+            .try_for_each_init(
+                || a.to_vec(),
+                |q, &i| {
+                    self.interpolate(a, b, i as f64 / steps as f64, q);
+                    if self.is_valid(q) { Ok(()) } else { Err(()) }
+                },
+            )
+            .is_ok()
+    }
 }
+
+/// The fewest states of an edge one thread checks: a state's check takes microseconds, and
+/// handing work to another thread costs about as much as a few of them.
+const PARALLEL_EDGE_CHUNK: usize = 4;
 
 /// Sub-steps needed between `a` and `b` so that no coordinate moves more than the resolution,
 /// at most [`MAX_EDGE_STEPS`] + 1 (more cannot be checked or recorded; [`checked_edge_steps`]

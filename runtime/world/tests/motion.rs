@@ -7,10 +7,11 @@ mod support;
 
 use std::f64::consts::PI;
 
-use lamp_robot::IkConfig;
+use lamp_robot::{IkConfig, IkError, IkGoal, solve_ik};
 use lamp_world::{
-    LinkGoal, MAX_EDGE_STEPS, MotionConfig, MotionError, RrtConfig, RrtError, Scene, Space,
-    StraightLineError, densify, plan_motion, reach, rrt_connect, straight_line,
+    Contact, LinkGoal, MAX_EDGE_STEPS, MotionConfig, MotionError, ReachError, RobotSpace,
+    RrtConfig, RrtError, Scene, Space, StraightLineError, densify, plan_motion, reach,
+    reach_observed, rrt_connect, straight_line,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -158,6 +159,82 @@ fn collision_free_ik_reaches_over_the_table_within_tolerance() {
     let inside = pose(2.0, -1.0, 0.68, 0.0, 0.0, 0.0);
     let error = reach(&scene, &fetch_arm(fetch, &inside, &tucked), &IkConfig::new(), &mut rng);
     assert!(error.is_err());
+}
+
+#[test]
+fn a_gripper_inside_an_obstacle_is_refused_before_any_search_leaving_the_same_draws() {
+    let (scene, fetch, tucked) = fetch_at_table();
+    let inside = pose(2.0, -1.0, 0.68, 0.0, 0.0, 0.0);
+    let config = IkConfig::new();
+    let mut screened = ChaCha8Rng::seed_from_u64(11);
+    let mut met = Vec::new();
+    let goal = fetch_arm(fetch, &inside, &tucked);
+    let error =
+        reach_observed(&scene, &goal, &config, &mut screened, &mut |contact| met.push(contact))
+            .unwrap_err();
+    assert!(matches!(error, ReachError::Ik(IkError::TargetRefused { .. })), "{error}");
+    assert_eq!(
+        met,
+        [Contact::LinkBody { link: "gripper_link".into(), body: "table1".into() }],
+        "what is in the way is said once"
+    );
+
+    // The search the screen spared: every restart tried, every converged one refused.
+    let robot = scene.robots()[fetch].robot().clone();
+    let link = robot.link_id("gripper_link").unwrap();
+    let full = IkGoal {
+        robot: &robot,
+        group: robot.group("arm").unwrap(),
+        link,
+        target: &inside,
+        seed: &tucked,
+    };
+    let mut searched = ChaCha8Rng::seed_from_u64(11);
+    let searched_error =
+        solve_ik(&full, &config, &mut searched, &mut |q| scene.is_valid(fetch, q)).unwrap_err();
+    assert!(matches!(searched_error, IkError::NoSolution { .. }), "{searched_error}");
+    assert_eq!(screened.get_word_pos(), searched.get_word_pos(), "the same draws follow");
+
+    // A gripper that only grazes the table top, by less than the tolerances let it move, is
+    // left to the search: some configuration within them may clear it.
+    let grazing = pose(1.85, -1.0, 0.95, 0.0, 0.0, 0.0);
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    assert!(reach(&scene, &fetch_arm(fetch, &grazing, &tucked), &config, &mut rng).is_ok());
+}
+
+#[test]
+fn an_edge_checked_on_two_threads_has_the_answer_of_its_states_checked_in_turn() {
+    let (scene, fetch, tucked) = fetch_at_table();
+    let robot = scene.robots()[fetch].robot().clone();
+    let over_table = pose(1.85, -1.0, 0.95, 0.0, 0.0, 0.0);
+    let mut rng = ChaCha8Rng::seed_from_u64(17);
+    let start =
+        reach(&scene, &fetch_arm(fetch, &over_table, &tucked), &IkConfig::new(), &mut rng).unwrap();
+    let config = MotionConfig::default();
+    let space = RobotSpace::new(&scene, fetch, "arm", &start, &start, &config).unwrap();
+    let pool = |threads| rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    let (one, two) = (pool(1), pool(2));
+    let (mut sampled, mut end, mut kinds) = (start.clone(), start.clone(), [0_usize; 2]);
+    for trial in 0..60 {
+        // Part of the way from the gripper over the table to a random configuration: short
+        // edges are mostly free, long ones mostly touch the table, its cans or the robot.
+        space.sample(&mut rng, &mut sampled);
+        robot.interpolate(&start, &sampled, 0.05 + 0.01 * f64::from(trial), &mut end);
+        let steps = space.edge_steps(&start, &end);
+        if steps > MAX_EDGE_STEPS {
+            continue;
+        }
+        // Every inner state, in order, by the scene's own check.
+        let mut q = start.clone();
+        let in_turn = (1..steps).all(|i| {
+            robot.interpolate(&start, &end, i as f64 / steps as f64, &mut q);
+            scene.is_valid(fetch, &q)
+        });
+        assert_eq!(one.install(|| space.edge_is_valid(&start, &end)), in_turn);
+        assert_eq!(two.install(|| space.edge_is_valid(&start, &end)), in_turn);
+        kinds[usize::from(in_turn)] += 1;
+    }
+    assert!(kinds[0] >= 10 && kinds[1] >= 10, "invalid and valid edges: {kinds:?}");
 }
 
 #[test]

@@ -58,6 +58,10 @@ pub(crate) struct Args {
     /// [default: no limit; Ctrl-C stops it the same way].
     #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
     pub(crate) timeout: Option<f64>,
+    /// Threads to share the work between (collision checks of a motion's states) [default: one
+    /// per core]. The solution is the same, byte for byte, on any number.
+    #[arg(long, value_name = "N", value_parser = crate::flags::threads)]
+    pub(crate) threads: Option<usize>,
     /// Use the build's files as they are, even when they differ from the build's manifest (for
     /// PDDL edited by hand on purpose); every difference is reported as a warning.
     #[arg(long)]
@@ -77,6 +81,12 @@ static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 pub(crate) fn run(args: &Args) -> Outcome {
     let colour = crate::terminal::colour();
+    if let Some(threads) = args.threads {
+        // The process's first and only pool: nothing has used rayon yet.
+        rayon::ThreadPoolBuilder::new().num_threads(threads).build_global().map_err(|error| {
+            Stopped::from(Failure::Message(format!("cannot start {threads} thread(s): {error}")))
+        })?;
+    }
     watch_interrupts();
     let mut left = NOTHING_WRITTEN.to_string();
     match solve(args, colour, &mut left) {
