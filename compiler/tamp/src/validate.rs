@@ -8,6 +8,7 @@
 //! checked after every release as well as at the end.
 
 use std::collections::BTreeSet;
+use std::sync::{Mutex, PoisonError};
 
 use lamp_abstraction::{GroundAtom, SamplerArtifact};
 use lamp_participants::ParticipantMap;
@@ -84,11 +85,76 @@ pub fn replay(
     cancelled: &dyn Fn() -> bool,
 ) -> Result<Replayed, SolveError> {
     let Expected { goal, targets } = *expected;
+    // The scene after each release is simulated on another thread of the rayon pool while the
+    // replay goes on; the first to fall, in step order, is what the replay reports, unless a
+    // step before it fails. The answer is the one a replay in turn would give.
+    let falls = Mutex::new(Vec::new());
+    let walked = rayon::in_place_scope(|scope| {
+        walk(initial, steps, config, cancelled, &mut |index, scene| {
+            let snapshot = scene.clone();
+            let falls = &falls;
+            scope.spawn(move |_| {
+                if let Err(error) = check_at_rest(&snapshot, Some(index)) {
+                    falls.lock().unwrap_or_else(PoisonError::into_inner).push((index, error));
+                }
+            });
+        })
+    });
+    let scene = in_step_order(walked, falls.into_inner().unwrap_or_else(PoisonError::into_inner))?;
+    let reached = abstraction(artifact, participants, &scene)?;
+    if let Some(missing) = goal.iter().find(|atom| !reached.contains(atom)) {
+        let reason = format!("the goal atom {missing} does not hold at the end");
+        return Err(invalid(steps.len(), reason));
+    }
+    if let Some(miss) = first_miss(targets, &scene) {
+        return Err(SolveError::TargetMissed(miss.to_string()));
+    }
+    let sink = check_at_rest(&scene, None)?;
+    Ok(Replayed { reached, sink })
+}
+
+/// What a replay in turn would have reported: the walk's failure, unless a scene released before
+/// its step falls (`falls`: the physics check's failures, by step, in any order); the first fall
+/// when the walk went through. A cancelled walk is cancelled.
+fn in_step_order<T>(
+    walked: Result<T, Walk>,
+    falls: Vec<(usize, SolveError)>,
+) -> Result<T, SolveError> {
+    let first_fall = falls.into_iter().min_by_key(|(step, _)| *step);
+    match (walked, first_fall) {
+        (Err(Walk::Cancelled), _) => Err(SolveError::cancelled()),
+        (Err(Walk::Failed(step, _)), Some((fall, unstable))) if fall < step => Err(unstable),
+        (Err(Walk::Failed(_, error)), _) => Err(*error),
+        (Ok(_), Some((_, unstable))) => Err(unstable),
+        (Ok(walked), None) => Ok(walked),
+    }
+}
+
+/// Why a replay stopped before its end.
+enum Walk {
+    Cancelled,
+    /// The step that failed, and how.
+    Failed(usize, Box<SolveError>),
+}
+
+fn invalid(step: usize, reason: String) -> SolveError {
+    SolveError::InvalidSolution { step, reason }
+}
+
+/// The replay's walk through `steps`, every check but the physics check, which is handed the
+/// scene after each step that lets go of something (`released`); the final scene.
+fn walk(
+    initial: &Scene,
+    steps: &[Step],
+    config: &MotionConfig,
+    cancelled: &dyn Fn() -> bool,
+    released: &mut dyn FnMut(usize, &Scene),
+) -> Result<Scene, Walk> {
     let mut scene = initial.clone();
-    let fail = |step: usize, reason: String| SolveError::InvalidSolution { step, reason };
+    let fail = |step: usize, reason: String| Walk::Failed(step, Box::new(invalid(step, reason)));
     for (index, step) in steps.iter().enumerate() {
         if cancelled() {
-            return Err(SolveError::cancelled());
+            return Err(Walk::Cancelled);
         }
         if step.robots.len() != scene.robots().len()
             || step.body_poses.len() != scene.bodies().len()
@@ -150,16 +216,51 @@ pub fn replay(
         // What is built so far must stand, not only what is finished: a structure may hold
         // when complete and fall while half built.
         if !settled.is_empty() {
-            check_at_rest(&scene, Some(index))?;
+            released(index, &scene);
         }
     }
-    let reached = abstraction(artifact, participants, &scene)?;
-    if let Some(missing) = goal.iter().find(|atom| !reached.contains(atom)) {
-        return Err(fail(steps.len(), format!("the goal atom {missing} does not hold at the end")));
+    Ok(scene)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unstable(step: usize) -> SolveError {
+        SolveError::Unstable {
+            object: format!("p{step}"),
+            shift: 0.01,
+            turn: 0.0,
+            seconds: 2.0,
+            step: Some(step),
+        }
     }
-    if let Some(miss) = first_miss(targets, &scene) {
-        return Err(SolveError::TargetMissed(miss.to_string()));
+
+    fn stopped_at(result: Result<(), SolveError>) -> String {
+        match result.expect_err("a failure") {
+            SolveError::Unstable { object, .. } => format!("fall {object}"),
+            SolveError::InvalidSolution { step, .. } => format!("invalid {step}"),
+            other => other.to_string(),
+        }
     }
-    let sink = check_at_rest(&scene, None)?;
-    Ok(Replayed { reached, sink })
+
+    #[test]
+    fn the_failure_a_replay_in_turn_meets_first_is_the_one_reported() {
+        let failed = |step| Err(Walk::Failed(step, Box::new(invalid(step, "touches".into()))));
+        // Falls found out of order: the earliest counts.
+        assert_eq!(
+            stopped_at(in_step_order(Ok(()), vec![(9, unstable(9)), (3, unstable(3))])),
+            "fall p3"
+        );
+        // A fall after the release at step 3 comes before a collision at step 4...
+        assert_eq!(stopped_at(in_step_order(failed(4), vec![(3, unstable(3))])), "fall p3");
+        // ...and after a collision at step 2, which a replay in turn meets first.
+        assert_eq!(stopped_at(in_step_order(failed(2), vec![(3, unstable(3))])), "invalid 2");
+        assert_eq!(stopped_at(in_step_order(failed(2), Vec::new())), "invalid 2");
+        assert!(matches!(
+            in_step_order::<()>(Err(Walk::Cancelled), vec![(1, unstable(1))]),
+            Err(error) if error.to_string() == SolveError::cancelled().to_string()
+        ));
+        assert!(in_step_order(Ok(7), Vec::new()).is_ok_and(|walked| walked == 7));
+    }
 }

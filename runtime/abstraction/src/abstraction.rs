@@ -86,8 +86,13 @@ pub fn ground_atom(
     participants: &[Participant],
     fact: Fact,
 ) -> GroundAtom {
+    named_atom(symbol_name(pairs, fact.symbol()), participants, fact)
+}
+
+/// `fact` as the atom of `predicate`, its symbol's name, with the participants' names.
+fn named_atom(predicate: String, participants: &[Participant], fact: Fact) -> GroundAtom {
     GroundAtom {
-        predicate: symbol_name(pairs, fact.symbol()),
+        predicate,
         arguments: fact
             .arguments()
             .into_iter()
@@ -226,5 +231,16 @@ pub fn abstract_atoms<C: RegionClassifier>(
         });
     }
     let facts = abstract_facts(vocabulary, classifiers, participants, snapshot);
-    Ok(facts.into_iter().map(|fact| ground_atom(vocabulary, participants, fact)).collect())
+    // A scene has far more atoms than the vocabulary has symbols, and a refiner abstracts a
+    // scene per candidate: each symbol's name is written once.
+    let mut names: BTreeMap<Symbol, String> = BTreeMap::new();
+    Ok(facts
+        .into_iter()
+        .map(|fact| {
+            let name = names
+                .entry(fact.symbol())
+                .or_insert_with(|| symbol_name(vocabulary, fact.symbol()));
+            named_atom(name.clone(), participants, fact)
+        })
+        .collect())
 }

@@ -89,7 +89,9 @@ pub(crate) fn run(args: &Args) -> Outcome {
     }
     watch_interrupts();
     let mut left = NOTHING_WRITTEN.to_string();
-    match solve(args, colour, &mut left) {
+    // On a thread of the pool, so that `--threads N` is all the solve uses: work it hands the
+    // pool runs beside it only when there is a thread to spare.
+    match rayon::scope(|_| solve(args, colour, &mut left)) {
         Ok(summary) if summary.success => Ok(Finished::Done),
         Ok(_) => Ok(Finished::Partial),
         Err(stopped) => Err(Stopped {
