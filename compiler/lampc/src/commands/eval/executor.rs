@@ -43,21 +43,32 @@ const STDERR_LINES: usize = 5;
 /// Bytes of standard output shown when it holds no result row.
 const STDOUT_SHOWN: usize = 200;
 
+/// The variable that sizes a process's rayon pool.
+const POOL_THREADS: &str = "RAYON_NUM_THREADS";
+
 /// The command that runs each solve.
 pub(super) struct Executor {
     program: PathBuf,
     arguments: Vec<OsString>,
     /// The command as the user wrote it (or `lampc eval-worker`), for messages.
     text: String,
+    /// The threads each solve's pool may use, when the solves share this machine's cores
+    /// (`RAYON_NUM_THREADS`, unless the user set it): a command of the user's may run them
+    /// anywhere, so it is left to choose.
+    pool_threads: Option<usize>,
 }
 
 impl Executor {
-    /// This lampc's `eval-worker`: the default.
-    pub(super) fn local() -> Result<Executor, ExecutorError> {
+    /// This lampc's `eval-worker`: the default. With `jobs` solves at once, each solve's pool gets
+    /// its share of the cores (at least one thread): more threads than cores only wait on each
+    /// other, and a solve's result is the same on any number.
+    pub(super) fn local(jobs: usize) -> Result<Executor, ExecutorError> {
         let text = format!("lampc {WORKER_COMMAND}");
         let program = std::env::current_exe()
             .map_err(|source| ExecutorError::Start { command: text.clone(), source })?;
-        Ok(Executor { program, arguments: vec![WORKER_COMMAND.into()], text })
+        let cores = std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get);
+        let pool_threads = Some((cores / jobs.max(1)).max(1));
+        Ok(Executor { program, arguments: vec![WORKER_COMMAND.into()], text, pool_threads })
     }
 
     /// `--executor`'s command: split into words as a POSIX shell would (quotes and backslashes,
@@ -74,6 +85,7 @@ impl Executor {
             program: PathBuf::from(program),
             arguments: words.map(OsString::from).collect(),
             text: text.to_string(),
+            pool_threads: None,
         })
     }
 
@@ -111,6 +123,11 @@ impl Executor {
     fn command(&self) -> Command {
         let mut command = Command::new(&self.program);
         command.args(&self.arguments);
+        if let Some(threads) = self.pool_threads
+            && std::env::var_os(POOL_THREADS).is_none()
+        {
+            command.env(POOL_THREADS, threads.to_string());
+        }
         command
     }
 }
@@ -454,8 +471,20 @@ mod tests {
         assert!(matches!(missing.check_program(), Err(ExecutorError::Start { .. })));
         let on_path = Executor::parse("sh -c true").expect("parses");
         assert!(on_path.check_program().is_ok());
-        let local = Executor::local().expect("this test binary");
+        let local = Executor::local(2).expect("this test binary");
         assert!(local.check_program().is_ok());
+        let threads = |executor: &Executor| {
+            let command = executor.command();
+            let found = command.get_envs().find(|(name, _)| *name == POOL_THREADS);
+            found.and_then(|(_, value)| value).map(|value| value.to_string_lossy().into_owned())
+        };
+        if std::env::var_os(POOL_THREADS).is_none() {
+            let cores = std::thread::available_parallelism().map_or(1, usize::from);
+            assert_eq!(threads(&local).as_deref(), Some((cores / 2).max(1).to_string().as_str()));
+            let alone = Executor::local(1).expect("this test binary");
+            assert_eq!(threads(&alone).as_deref(), Some(cores.to_string().as_str()));
+        }
+        assert_eq!(threads(&on_path), None, "a command of the user's chooses for itself");
     }
 
     #[test]
@@ -486,6 +515,7 @@ mod tests {
             program: "sh".into(),
             arguments: vec!["-c".into(), script.into()],
             text: "sh -c …".to_string(),
+            pool_threads: None,
         };
         let stop = AtomicBool::new(false);
         std::thread::scope(|scope| {

@@ -279,7 +279,7 @@ fn options(args: &Args, spec_dir: &Path) -> Result<Options, Failure> {
         Some(jobs) => jobs as usize,
         None => std::thread::available_parallelism().map_or(1, NonZeroUsize::get),
     };
-    let executor = executor_of(args)?;
+    let executor = executor_of(args, jobs)?;
     Ok(Options { counts, build_dir, out, runs, jobs, executor })
 }
 
@@ -294,14 +294,14 @@ fn demonstration_counts(args: &Args) -> Result<Option<Vec<usize>>, Failure> {
 }
 
 /// The command each solve runs in: `--executor`'s, checked to be there, or this binary's worker.
-fn executor_of(args: &Args) -> Result<Executor, executor::ExecutorError> {
+fn executor_of(args: &Args, jobs: usize) -> Result<Executor, executor::ExecutorError> {
     match &args.executor {
         Some(text) => {
             let executor = Executor::parse(text)?;
             executor.check_program()?;
             Ok(executor)
         }
-        None => Executor::local(),
+        None => Executor::local(jobs),
     }
 }
 
