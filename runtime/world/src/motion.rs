@@ -230,9 +230,10 @@ impl Space for RobotSpace<'_> {
     }
 }
 
-/// The fewest states of an edge one thread checks: a state's check takes microseconds, and
-/// handing work to another thread costs about as much as a few of them.
-const PARALLEL_EDGE_CHUNK: usize = 4;
+/// The fewest states of an edge one thread checks: a state's check takes about 2 µs, and waking
+/// another thread for it tens of µs. With chunks of 4 states, two threads were no faster than
+/// one on Café's `cafe18_01`; with 16 or 32, they save an eighth of its solve.
+const PARALLEL_EDGE_CHUNK: usize = 32;
 
 /// Sub-steps needed between `a` and `b` so that no coordinate moves more than the resolution,
 /// at most [`MAX_EDGE_STEPS`] + 1 (more cannot be checked or recorded; [`checked_edge_steps`]

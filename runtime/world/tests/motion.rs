@@ -214,7 +214,8 @@ fn an_edge_checked_on_two_threads_has_the_answer_of_its_states_checked_in_turn()
     let space = RobotSpace::new(&scene, fetch, "arm", &start, &start, &config).unwrap();
     let pool = |threads| rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     let (one, two) = (pool(1), pool(2));
-    let (mut sampled, mut end, mut kinds) = (start.clone(), start.clone(), [0_usize; 2]);
+    let (mut sampled, mut end, mut kinds, mut long) =
+        (start.clone(), start.clone(), [0_usize; 2], 0);
     for trial in 0..60 {
         // Part of the way from the gripper over the table to a random configuration: short
         // edges are mostly free, long ones mostly touch the table, its cans or the robot.
@@ -233,8 +234,11 @@ fn an_edge_checked_on_two_threads_has_the_answer_of_its_states_checked_in_turn()
         assert_eq!(one.install(|| space.edge_is_valid(&start, &end)), in_turn);
         assert_eq!(two.install(|| space.edge_is_valid(&start, &end)), in_turn);
         kinds[usize::from(in_turn)] += 1;
+        // Only an edge of at least 64 inner states is shared between threads.
+        long += usize::from(steps > 64);
     }
     assert!(kinds[0] >= 10 && kinds[1] >= 10, "invalid and valid edges: {kinds:?}");
+    assert!(long >= 20, "{long} edges long enough to be shared");
 }
 
 #[test]
