@@ -15,7 +15,7 @@ use crate::{
     Model, NoShapes, RegionSides, SideReason, Switch, abstract_state, domain_text, learn,
     vocabulary_report,
 };
-use lamp_abstraction::{AbstractionError, Pose, SamplerArtifact, TypePair};
+use lamp_abstraction::{AbstractionError, GroundAtom, Pose, SamplerArtifact, TypePair};
 
 const DEMONSTRATIONS: usize = 40;
 const DEMONSTRATION_SEED: u64 = 11;
@@ -244,6 +244,39 @@ fn the_sampler_artifact_round_trips_and_abstracts_like_the_model() {
         );
         nowhere_atoms += atoms.iter().filter(|atom| atom.predicate.starts_with("nowhere_")).count();
     }
+    // Asked about a few atoms, it answers as the whole state does: atoms of every step, true in
+    // some and false in others, and atoms no fact can name.
+    let states: Vec<BTreeSet<GroundAtom>> = demonstration
+        .steps
+        .iter()
+        .map(|snapshot| back.abstract_state(&demonstration.participants, snapshot).expect("fits"))
+        .collect();
+    let mut asked: BTreeSet<GroundAtom> = states.iter().flatten().cloned().collect();
+    let named = |predicate: &str, arguments: &[&str]| GroundAtom {
+        predicate: predicate.to_string(),
+        arguments: arguments.iter().map(ToString::to_string).collect(),
+    };
+    asked.insert(named("surface_can_1", &["can1", "box1"]));
+    asked.insert(named("surface_can_9", &["box1", "can1"]));
+    asked.insert(named("surface_can_1", &["box1", "nobody"]));
+    asked.insert(named("clear_surface_can_1", &["box1", "can1"]));
+    let (mut true_answers, mut false_answers) = (0, 0);
+    for (snapshot, state) in demonstration.steps.iter().zip(&states) {
+        let hold = |adds: &[&GroundAtom], deletes: &[&GroundAtom]| {
+            let set = |atoms: &[&GroundAtom]| atoms.iter().map(|&atom| atom.clone()).collect();
+            back.effects_hold(&demonstration.participants, snapshot, &set(adds), &set(deletes))
+                .expect("fits")
+        };
+        for atom in &asked {
+            let is_true = state.contains(atom);
+            assert_eq!(hold(&[atom], &[]), is_true, "{atom}");
+            assert_eq!(hold(&[], &[atom]), !is_true, "{atom}");
+            if is_true { true_answers += 1 } else { false_answers += 1 }
+        }
+        let all: Vec<&GroundAtom> = state.iter().collect();
+        assert!(hold(&all, &[]), "the whole state holds");
+    }
+    assert!(true_answers > 20 && false_answers > 20, "{true_answers} true, {false_answers} false");
     assert!(nowhere_atoms > 0, "the artifact carries the nowhere sides");
     let mut old = back.clone();
     old.version += 1;

@@ -173,10 +173,16 @@ impl Effects {
         Effects { adds: convert(&action.add_effects), deletes: convert(&action.delete_effects) }
     }
 
-    /// Every add true and every delete false in `state`. What else changes is the TAMP loop's
-    /// to judge: it knows the rest of the plan.
-    fn hold_in(&self, state: &BTreeSet<GroundAtom>) -> bool {
-        self.adds.is_subset(state) && self.deletes.is_disjoint(state)
+    /// Every add true and every delete false in `state`, in the learned abstraction. What else
+    /// changes is the TAMP loop's to judge: it knows the rest of the plan.
+    fn hold_in(
+        &self,
+        view: &WorldView,
+        artifact: &SamplerArtifact,
+        state: &Hypothesis,
+        host: &dyn HostServices,
+    ) -> Result<bool, PluginError> {
+        view.effects_hold(artifact, state, host, &self.adds, &self.deletes)
     }
 }
 
@@ -466,7 +472,7 @@ impl GmmStream {
                 (change.robot.clone(), change.link.clone(), link.inv_mul(&object)),
             );
         }
-        if !self.effects.hold_in(&self.view.abstraction(&self.artifact, &after, host)?) {
+        if !self.effects.hold_in(&self.view, &self.artifact, &after, host)? {
             return Ok(None);
         }
         let mut targets = Vec::new();

@@ -116,13 +116,27 @@ impl WorldView {
         })
     }
 
-    /// The learned abstraction of `state`.
-    pub(crate) fn abstraction(
+    /// Whether, in the learned abstraction of `state`, every atom of `adds` holds and none of
+    /// `deletes` does.
+    pub(crate) fn effects_hold(
         &self,
         artifact: &SamplerArtifact,
         state: &Hypothesis,
         host: &dyn HostServices,
-    ) -> Result<BTreeSet<GroundAtom>, PluginError> {
+        adds: &BTreeSet<GroundAtom>,
+        deletes: &BTreeSet<GroundAtom>,
+    ) -> Result<bool, PluginError> {
+        artifact
+            .effects_hold(&self.participants, &self.snapshot(state, host)?, adds, deletes)
+            .map_err(|error| PluginError::failed(format!("abstracting the state: {error}")))
+    }
+
+    /// `state` as the abstraction reads it: every participant's pose and who holds what.
+    fn snapshot(
+        &self,
+        state: &Hypothesis,
+        host: &dyn HostServices,
+    ) -> Result<Snapshot, PluginError> {
         let poses = self
             .participants
             .iter()
@@ -140,9 +154,7 @@ impl WorldView {
                 held.push((gripper, object));
             }
         }
-        artifact
-            .abstract_state(&self.participants, &Snapshot { poses, held })
-            .map_err(|error| PluginError::failed(format!("abstracting the state: {error}")))
+        Ok(Snapshot { poses, held })
     }
 }
 

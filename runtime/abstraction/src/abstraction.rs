@@ -53,6 +53,23 @@ impl Fact {
         }
     }
 
+    /// The fact of `symbol` about `arguments` (participant indices, in argument order); `None`
+    /// when their number is not the symbol's.
+    pub fn of(symbol: Symbol, arguments: &[usize]) -> Option<Fact> {
+        match (symbol, arguments) {
+            (Symbol::Relation { pair, region }, &[primary, secondary]) => {
+                Some(Fact::Relation { pair, region, primary, secondary })
+            }
+            (Symbol::Clear { pair, region }, &[object]) => {
+                Some(Fact::Clear { pair, region, object })
+            }
+            (Symbol::Nowhere { pair, region }, &[object]) => {
+                Some(Fact::Nowhere { pair, region, object })
+            }
+            _ => None,
+        }
+    }
+
     /// The participants it is about, in argument order.
     pub fn arguments(self) -> Vec<usize> {
         match self {
@@ -217,6 +234,52 @@ pub fn abstract_facts<C: RegionClassifier>(
     facts
 }
 
+/// Refuses a snapshot that does not pose every participant.
+fn check_shape(participants: &[Participant], snapshot: &Snapshot) -> Result<(), AbstractionError> {
+    if snapshot.poses.len() != participants.len() {
+        return Err(AbstractionError::SnapshotShape {
+            expected: participants.len(),
+            found: snapshot.poses.len(),
+        });
+    }
+    Ok(())
+}
+
+/// Whether every atom of `adds` is true in the snapshot and no atom of `deletes` is, as
+/// [`abstract_atoms`] would say, with only these atoms named: each is read back as the facts
+/// whose symbol has its predicate's name and whose participants have its arguments' names
+/// (an atom no fact can name is never true).
+pub fn effects_hold<C: RegionClassifier>(
+    vocabulary: &[PairVocabulary],
+    classifiers: &[Vec<C>],
+    participants: &[Participant],
+    snapshot: &Snapshot,
+    adds: &BTreeSet<GroundAtom>,
+    deletes: &BTreeSet<GroundAtom>,
+) -> Result<bool, AbstractionError> {
+    check_shape(participants, snapshot)?;
+    let facts = abstract_facts(vocabulary, classifiers, participants, snapshot);
+    let mut symbols: BTreeMap<String, Vec<Symbol>> = BTreeMap::new();
+    for symbol in crate::relations::symbols(vocabulary) {
+        symbols.entry(symbol_name(vocabulary, symbol)).or_default().push(symbol);
+    }
+    let is_true = |atom: &GroundAtom| {
+        let Some(arguments) = atom
+            .arguments
+            .iter()
+            .map(|name| participants.iter().position(|p| &p.name == name))
+            .collect::<Option<Vec<usize>>>()
+        else {
+            return false;
+        };
+        let named = symbols.get(&atom.predicate).map_or(&[][..], Vec::as_slice);
+        named
+            .iter()
+            .any(|&symbol| Fact::of(symbol, &arguments).is_some_and(|fact| facts.contains(&fact)))
+    };
+    Ok(adds.iter().all(is_true) && !deletes.iter().any(is_true))
+}
+
 /// Every true atom of a snapshot, with object names; checks the snapshot's shape first.
 pub fn abstract_atoms<C: RegionClassifier>(
     vocabulary: &[PairVocabulary],
@@ -224,12 +287,7 @@ pub fn abstract_atoms<C: RegionClassifier>(
     participants: &[Participant],
     snapshot: &Snapshot,
 ) -> Result<BTreeSet<GroundAtom>, AbstractionError> {
-    if snapshot.poses.len() != participants.len() {
-        return Err(AbstractionError::SnapshotShape {
-            expected: participants.len(),
-            found: snapshot.poses.len(),
-        });
-    }
+    check_shape(participants, snapshot)?;
     let facts = abstract_facts(vocabulary, classifiers, participants, snapshot);
     // A scene has far more atoms than the vocabulary has symbols, and a refiner abstracts a
     // scene per candidate: each symbol's name is written once.

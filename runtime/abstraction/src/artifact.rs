@@ -88,6 +88,26 @@ impl SamplerArtifact {
         participants: &[Participant],
         snapshot: &Snapshot,
     ) -> Result<BTreeSet<GroundAtom>, AbstractionError> {
+        let (vocabulary, classifiers) = self.classifiers();
+        abstraction::abstract_atoms(&vocabulary, &classifiers, participants, snapshot)
+    }
+
+    /// Whether every atom of `adds` is in the snapshot's abstract state and none of `deletes`
+    /// is: what [`Self::abstract_state`] answers, without naming every atom of the scene (a
+    /// refiner asks it of every candidate, and most of the state is about other objects).
+    pub fn effects_hold(
+        &self,
+        participants: &[Participant],
+        snapshot: &Snapshot,
+        adds: &BTreeSet<GroundAtom>,
+        deletes: &BTreeSet<GroundAtom>,
+    ) -> Result<bool, AbstractionError> {
+        let (vocabulary, classifiers) = self.classifiers();
+        abstraction::effects_hold(&vocabulary, &classifiers, participants, snapshot, adds, deletes)
+    }
+
+    /// The vocabulary and the region classifiers of every pair, in pair order.
+    fn classifiers(&self) -> (Vec<PairVocabulary>, Vec<Vec<&RegionModel>>) {
         let vocabulary: Vec<PairVocabulary> = self
             .pairs
             .iter()
@@ -103,6 +123,6 @@ impl SamplerArtifact {
             .iter()
             .map(|pair| pair.regions.iter().map(|region| &region.model).collect())
             .collect();
-        abstraction::abstract_atoms(&vocabulary, &classifiers, participants, snapshot)
+        (vocabulary, classifiers)
     }
 }
