@@ -32,11 +32,8 @@ within the tolerance, 1 when one does not, 2 on bad input.
 """
 
 import argparse
-import contextlib
-import ctypes
 import json
 import math
-import os
 import sys
 import tempfile
 from bisect import bisect_right
@@ -46,22 +43,7 @@ from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 
 
-libc = ctypes.CDLL(None)
-
-
-@contextlib.contextmanager
-def quiet_stdout():
-    """Silences what bullet's C++ prints (a warning per link without inertial data)."""
-    sys.stdout.flush()
-    saved = os.dup(1)
-    with open(os.devnull, "w") as null:
-        os.dup2(null.fileno(), 1)
-        try:
-            yield
-        finally:
-            libc.fflush(None)  # bullet's printf buffers; flush it into /dev/null, not later
-            os.dup2(saved, 1)
-            os.close(saved)
+from bullet_quiet import quiet_stdout
 
 
 with quiet_stdout():

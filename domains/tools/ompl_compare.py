@@ -25,8 +25,6 @@ Prints one Markdown table. Exits 2 on bad input.
 """
 
 import argparse
-import contextlib
-import ctypes
 import json
 import math
 import os
@@ -34,22 +32,7 @@ import statistics
 import sys
 import time
 
-libc = ctypes.CDLL(None)
-
-
-@contextlib.contextmanager
-def quiet_stdout():
-    """Silences what bullet's C++ prints (a warning per link without inertial data)."""
-    sys.stdout.flush()
-    saved = os.dup(1)
-    with open(os.devnull, "w") as null:
-        os.dup2(null.fileno(), 1)
-        try:
-            yield
-        finally:
-            libc.fflush(None)
-            os.dup2(saved, 1)
-            os.close(saved)
+from bullet_quiet import quiet_stdout
 
 
 with quiet_stdout():
