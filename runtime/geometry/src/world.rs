@@ -108,12 +108,8 @@ impl CollisionWorld {
         margin: Real,
         skip: impl Fn(BodyId) -> bool,
     ) -> Option<BodyId> {
-        self.entries.iter().enumerate().find_map(|(index, entry)| {
-            let other = entry.shape.as_ref().filter(|_| entry.enabled)?;
-            let hit = entry.aabb.overlaps(aabb, margin.max(0.0))
-                && !skip(BodyId(index))
-                && within_margin(shape, pose, other, &entry.pose, margin);
-            hit.then_some(BodyId(index))
+        self.first_body(aabb, margin.max(0.0), skip, |other, other_pose| {
+            within_margin(shape, pose, other, other_pose, margin)
         })
     }
 
@@ -126,12 +122,24 @@ impl CollisionWorld {
         depth: Real,
         skip: impl Fn(BodyId) -> bool,
     ) -> Option<BodyId> {
-        let aabb = shape.aabb(pose);
+        self.first_body(&shape.aabb(pose), 0.0, skip, |other, other_pose| {
+            penetration_depth(shape, pose, other, other_pose) > depth
+        })
+    }
+
+    /// The first enabled body (in id order) whose box overlaps `aabb` within `grow`, that `skip`
+    /// keeps, and that `hits` (given its shape and pose): the broad phase every query shares.
+    fn first_body(
+        &self,
+        aabb: &Aabb,
+        grow: Real,
+        skip: impl Fn(BodyId) -> bool,
+        hits: impl Fn(&CollisionShape, &Pose) -> bool,
+    ) -> Option<BodyId> {
         self.entries.iter().enumerate().find_map(|(index, entry)| {
             let other = entry.shape.as_ref().filter(|_| entry.enabled)?;
-            let hit = entry.aabb.overlaps(&aabb, 0.0)
-                && !skip(BodyId(index))
-                && penetration_depth(shape, pose, other, &entry.pose) > depth;
+            let hit =
+                entry.aabb.overlaps(aabb, grow) && !skip(BodyId(index)) && hits(other, &entry.pose);
             hit.then_some(BodyId(index))
         })
     }
