@@ -234,6 +234,65 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn asked_about_one_atom_the_abstraction_answers_as_the_whole_state_does() {
+        use lamp_abstraction::abstraction::effects_hold;
+        use lamp_abstraction::relations::{symbol_name, symbols};
+        // A second gripper, g2, for which c2 and c1 contest region 1 while g's regions are
+        // decided among g's own instances: asking about one gripper's atoms must not change them.
+        let mut participants = participants();
+        participants.push(Participant {
+            name: "g2".into(),
+            type_name: "gripper".into(),
+            role: Role::RobotPart { gripper: true },
+        });
+        let scenes = [both_near(-0.02), both_near(0.02), tied()].map(|mut snapshot| {
+            snapshot.poses.push(Pose::translation(0.0, 0.0, 0.005));
+            snapshot
+        });
+        let (mut true_answers, mut false_answers) = (0, 0);
+        for snapshot in &scenes {
+            let state = abstract_atoms(&vocabulary(), &classifiers(), &participants, snapshot)
+                .expect("fits");
+            let names: Vec<&str> = participants.iter().map(|p| p.name.as_str()).collect();
+            for symbol in symbols(&vocabulary()) {
+                let predicate = symbol_name(&vocabulary(), symbol);
+                for first in &names {
+                    for second in [None].into_iter().chain(names.iter().map(Some)) {
+                        let arguments: Vec<String> = [Some(first), second]
+                            .into_iter()
+                            .flatten()
+                            .map(|n| n.to_string())
+                            .collect();
+                        let atom = GroundAtom { predicate: predicate.clone(), arguments };
+                        let one: BTreeSet<GroundAtom> = [atom.clone()].into();
+                        let none = BTreeSet::new();
+                        let holds =
+                            |adds: &BTreeSet<GroundAtom>, deletes: &BTreeSet<GroundAtom>| {
+                                effects_hold(
+                                    &vocabulary(),
+                                    &classifiers(),
+                                    &participants,
+                                    snapshot,
+                                    adds,
+                                    deletes,
+                                )
+                                .expect("fits")
+                            };
+                        let is_true = state.contains(&atom);
+                        assert_eq!(holds(&one, &none), is_true, "{atom}");
+                        assert_eq!(holds(&none, &one), !is_true, "{atom}");
+                        if is_true { true_answers += 1 } else { false_answers += 1 }
+                    }
+                }
+            }
+        }
+        assert!(
+            true_answers > 20 && false_answers > 20,
+            "{true_answers} true, {false_answers} false"
+        );
+    }
+
+    #[test]
     fn a_region_without_a_clear_relation_holds_every_secondary_that_passes() {
         let mut vocabulary = vocabulary();
         vocabulary[0].clear = vec![false; 3];

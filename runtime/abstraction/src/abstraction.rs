@@ -192,12 +192,31 @@ pub fn abstract_facts<C: RegionClassifier>(
     participants: &[Participant],
     snapshot: &Snapshot,
 ) -> BTreeSet<Fact> {
+    // Built from sorted facts in one pass, not fact by fact.
+    facts_of_groups(vocabulary, classifiers, participants, snapshot, |_, _| true)
+        .into_iter()
+        .collect()
+}
+
+/// The true facts of a snapshot about the groups `kept(pair, primary)` accepts, exactly as
+/// [`abstract_facts`] has them: a group is one primary's instances of one pair, and the regions
+/// of its instances depend on nothing else (one secondary per primary and region is decided
+/// among them). Relations and clear relations of other groups are left out, and so are a pair's
+/// nowhere relations unless all its groups are kept (whether an object is in a region of no
+/// primary asks every primary). Sorted, each fact once.
+fn facts_of_groups<C: RegionClassifier>(
+    vocabulary: &[PairVocabulary],
+    classifiers: &[Vec<C>],
+    participants: &[Participant],
+    snapshot: &Snapshot,
+    kept: impl Fn(usize, usize) -> bool,
+) -> Vec<Fact> {
     let type_pairs: Vec<_> = vocabulary.iter().map(|v| v.pair.clone()).collect();
-    let mut facts = BTreeSet::new();
-    // (pair, region, primary) and (pair, region, secondary) of every instance in a region.
-    let mut occupied: BTreeSet<(usize, usize, usize)> = BTreeSet::new();
-    let mut placed: BTreeSet<(usize, usize, usize)> = BTreeSet::new();
-    let instances: Vec<Instance> = instances::instances(&type_pairs, participants);
+    let mut facts = Vec::new();
+    let instances: Vec<Instance> = instances::instances(&type_pairs, participants)
+        .into_iter()
+        .filter(|instance| kept(instance.pair, instance.primary))
+        .collect();
     let mut passed: Vec<Vec<(usize, f64)>> = instances
         .iter()
         .map(|&instance| {
@@ -207,30 +226,46 @@ pub fn abstract_facts<C: RegionClassifier>(
         })
         .collect();
     let regions = assign_regions(vocabulary, &instances, participants, &mut passed);
+    // (pair, region, primary) and (pair, region, secondary) of every instance in a region,
+    // sorted for lookups.
+    let mut occupied: Vec<(usize, usize, usize)> = Vec::with_capacity(instances.len());
+    let mut placed: Vec<(usize, usize, usize)> = Vec::with_capacity(instances.len());
     for (&instance, region) in instances.iter().zip(regions) {
         let Instance { pair, primary, secondary } = instance;
-        facts.insert(Fact::Relation { pair, region, primary, secondary });
-        occupied.insert((pair, region, primary));
-        placed.insert((pair, region, secondary));
+        facts.push(Fact::Relation { pair, region, primary, secondary });
+        occupied.push((pair, region, primary));
+        placed.push((pair, region, secondary));
     }
+    occupied.sort_unstable();
+    placed.sort_unstable();
     for (pair, pair_vocabulary) in vocabulary.iter().enumerate() {
+        let is_primary =
+            |participant: &Participant| participant.type_name == pair_vocabulary.pair.primary;
+        let whole_pair = participants
+            .iter()
+            .enumerate()
+            .all(|(object, participant)| !is_primary(participant) || kept(pair, object));
         for (object, participant) in participants.iter().enumerate() {
             for region in 1..=pair_vocabulary.region_count() {
-                if participant.type_name == pair_vocabulary.pair.primary
+                if is_primary(participant)
+                    && kept(pair, object)
                     && pair_vocabulary.has_clear(region)
-                    && !occupied.contains(&(pair, region, object))
+                    && occupied.binary_search(&(pair, region, object)).is_err()
                 {
-                    facts.insert(Fact::Clear { pair, region, object });
+                    facts.push(Fact::Clear { pair, region, object });
                 }
-                if participant.type_name == pair_vocabulary.pair.secondary
+                if whole_pair
+                    && participant.type_name == pair_vocabulary.pair.secondary
                     && pair_vocabulary.has_nowhere(region)
-                    && !placed.contains(&(pair, region, object))
+                    && placed.binary_search(&(pair, region, object)).is_err()
                 {
-                    facts.insert(Fact::Nowhere { pair, region, object });
+                    facts.push(Fact::Nowhere { pair, region, object });
                 }
             }
         }
     }
+    facts.sort_unstable();
+    facts.dedup();
     facts
 }
 
@@ -248,7 +283,8 @@ fn check_shape(participants: &[Participant], snapshot: &Snapshot) -> Result<(), 
 /// Whether every atom of `adds` is true in the snapshot and no atom of `deletes` is, as
 /// [`abstract_atoms`] would say, with only these atoms named: each is read back as the facts
 /// whose symbol has its predicate's name and whose participants have its arguments' names
-/// (an atom no fact can name is never true).
+/// (an atom no fact can name is never true). Only the groups the atoms are about are
+/// abstracted (see [`facts_of_groups`]): an action's effects name a few objects of a scene.
 pub fn effects_hold<C: RegionClassifier>(
     vocabulary: &[PairVocabulary],
     classifiers: &[Vec<C>],
@@ -258,24 +294,44 @@ pub fn effects_hold<C: RegionClassifier>(
     deletes: &BTreeSet<GroundAtom>,
 ) -> Result<bool, AbstractionError> {
     check_shape(participants, snapshot)?;
-    let facts = abstract_facts(vocabulary, classifiers, participants, snapshot);
     let mut symbols: BTreeMap<String, Vec<Symbol>> = BTreeMap::new();
     for symbol in crate::relations::symbols(vocabulary) {
         symbols.entry(symbol_name(vocabulary, symbol)).or_default().push(symbol);
     }
-    let is_true = |atom: &GroundAtom| {
+    // Each atom as the facts that would make it true.
+    let named = |atom: &GroundAtom| -> Vec<Fact> {
         let Some(arguments) = atom
             .arguments
             .iter()
             .map(|name| participants.iter().position(|p| &p.name == name))
             .collect::<Option<Vec<usize>>>()
         else {
-            return false;
+            return Vec::new();
         };
-        let named = symbols.get(&atom.predicate).map_or(&[][..], Vec::as_slice);
-        named
+        symbols
+            .get(&atom.predicate)
+            .map_or(&[][..], Vec::as_slice)
             .iter()
-            .any(|&symbol| Fact::of(symbol, &arguments).is_some_and(|fact| facts.contains(&fact)))
+            .filter_map(|&symbol| Fact::of(symbol, &arguments))
+            .collect()
+    };
+    let adds: Vec<Vec<Fact>> = adds.iter().map(named).collect();
+    let deletes: Vec<Vec<Fact>> = deletes.iter().map(named).collect();
+    let mut groups: BTreeSet<(usize, usize)> = BTreeSet::new();
+    let mut whole_pairs: BTreeSet<usize> = BTreeSet::new();
+    for &fact in adds.iter().chain(&deletes).flatten() {
+        match fact {
+            Fact::Relation { pair, primary, .. } => groups.insert((pair, primary)),
+            Fact::Clear { pair, object, .. } => groups.insert((pair, object)),
+            Fact::Nowhere { pair, .. } => whole_pairs.insert(pair),
+        };
+    }
+    let facts =
+        facts_of_groups(vocabulary, classifiers, participants, snapshot, |pair, primary| {
+            whole_pairs.contains(&pair) || groups.contains(&(pair, primary))
+        });
+    let is_true = |facts_of_atom: &Vec<Fact>| {
+        facts_of_atom.iter().any(|fact| facts.binary_search(fact).is_ok())
     };
     Ok(adds.iter().all(is_true) && !deletes.iter().any(is_true))
 }
