@@ -9,7 +9,7 @@
 //! false, so negative conditions on it are dropped.
 
 use std::cell::Cell;
-use std::collections::{BTreeMap, HashSet};
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 use lamp_pddl::{Condition, Domain, Literal, Problem, Term};
 
@@ -42,6 +42,10 @@ struct LiftedAction {
     /// For each parameter, the objects that fit its type, in object order.
     candidates: Vec<Vec<u32>>,
     positive: Vec<LiftedAtom>,
+    /// For each positive precondition, in join order, the argument positions whose values are
+    /// known when the join reaches it (constants, and parameters of the atoms before it): the
+    /// key of the [`Reachable`] index it is looked up in.
+    known_before: Vec<ArgumentMask>,
     negative: Vec<LiftedAtom>,
     /// `(left, right, must_be_equal)`.
     equalities: Vec<(Slot, Slot, bool)>,
@@ -256,6 +260,7 @@ fn lift_actions(domain: &Domain, names: &Names<'_>) -> Vec<LiftedAction> {
                     })
                     .collect(),
                 positive: Vec::new(),
+                known_before: Vec::new(),
                 negative: Vec::new(),
                 equalities: Vec::new(),
                 add: action.add.iter().map(|a| names.lifted(a, &action.parameters)).collect(),
@@ -277,6 +282,7 @@ fn lift_actions(domain: &Domain, names: &Names<'_>) -> Vec<LiftedAction> {
                 }
             }
             order_for_join(&mut lifted.positive);
+            lifted.known_before = known_before(&lifted.positive);
             lifted
         })
         .collect()
@@ -290,7 +296,7 @@ fn relaxed_reachability(
     grounding: &Grounding<'_>,
     poll: &Poll<'_>,
 ) -> Result<Reachable, PlannerError> {
-    let mut reachable = Reachable::new(domain.predicates.len());
+    let mut reachable = Reachable::new(domain.predicates.len(), actions);
     let mut initial_sorted: Vec<Key> = initial.iter().cloned().collect();
     initial_sorted.sort_unstable();
     for key in initial_sorted {
@@ -469,17 +475,74 @@ fn order_for_join(atoms: &mut Vec<LiftedAtom>) {
     }
 }
 
-/// The reachable ground atoms: a membership set and, per predicate, the argument tuples in
-/// insertion order.
+/// Which argument positions of an atom are meant: bit i for argument i (positions past 63 are
+/// never indexed, only compared).
+type ArgumentMask = u64;
+
+/// The positions of each atom of `positive` (in join order) that are known before it is joined.
+fn known_before(positive: &[LiftedAtom]) -> Vec<ArgumentMask> {
+    let mut bound: HashSet<usize> = HashSet::new();
+    positive
+        .iter()
+        .map(|atom| {
+            let mut mask = 0;
+            for (position, slot) in atom.slots.iter().enumerate().take(64) {
+                let known = match slot {
+                    Slot::Object(_) => true,
+                    Slot::Parameter(index) => bound.contains(index),
+                };
+                if known {
+                    mask |= 1 << position;
+                }
+            }
+            for slot in &atom.slots {
+                if let Slot::Parameter(index) = slot {
+                    bound.insert(*index);
+                }
+            }
+            mask
+        })
+        .collect()
+}
+
+/// An index of one predicate's atoms by their values at the positions of its mask: their
+/// positions in [`Reachable::all`], in insertion order.
+type AtomIndex = (ArgumentMask, HashMap<Vec<u32>, Vec<usize>>);
+
+/// The values at the positions of `mask` among `arguments`.
+fn masked(mask: ArgumentMask, arguments: impl Iterator<Item = u32>) -> Vec<u32> {
+    arguments.take(64).enumerate().filter(|(i, _)| mask & (1 << i) != 0).map(|(_, v)| v).collect()
+}
+
+/// The reachable ground atoms: a membership set, per predicate the argument tuples in insertion
+/// order, and the indexes the joins look atoms up in.
 struct Reachable {
     set: HashSet<Key>,
     all: Vec<Key>,
     by_predicate: Vec<Vec<Key>>,
+    /// Per predicate, an index for each set of known positions a join asks about: the atoms'
+    /// positions in `all` by their values there, in insertion order. A lookup therefore meets
+    /// the atoms a scan of `by_predicate` would accept, in the same order.
+    indexes: Vec<Vec<AtomIndex>>,
 }
 
 impl Reachable {
-    fn new(predicates: usize) -> Self {
-        Self { set: HashSet::new(), all: Vec::new(), by_predicate: vec![Vec::new(); predicates] }
+    fn new(predicates: usize, actions: &[LiftedAction]) -> Self {
+        let mut indexes: Vec<Vec<AtomIndex>> = vec![Vec::new(); predicates];
+        for action in actions {
+            for (atom, &mask) in action.positive.iter().zip(&action.known_before) {
+                let Some(masks) = indexes.get_mut(atom.predicate as usize) else { continue };
+                if mask != 0 && !masks.iter().any(|(known, _)| *known == mask) {
+                    masks.push((mask, HashMap::new()));
+                }
+            }
+        }
+        Self {
+            set: HashSet::new(),
+            all: Vec::new(),
+            by_predicate: vec![Vec::new(); predicates],
+            indexes,
+        }
     }
 
     fn contains(&self, key: &Key) -> bool {
@@ -488,11 +551,26 @@ impl Reachable {
 
     fn insert(&mut self, key: Key) {
         if self.set.insert(key.clone()) {
+            let position = self.all.len();
             if let Some(list) = self.by_predicate.get_mut(key[0] as usize) {
                 list.push(key.clone());
             }
+            if let Some(indexes) = self.indexes.get_mut(key[0] as usize) {
+                for (mask, index) in indexes {
+                    let values = masked(*mask, key[1..].iter().copied());
+                    index.entry(values).or_default().push(position);
+                }
+            }
             self.all.push(key);
         }
+    }
+
+    /// The positions in `all` of the atoms of `predicate` with `values` at the positions of
+    /// `mask`; `None` when no join asked for that index.
+    fn lookup(&self, predicate: u32, mask: ArgumentMask, values: &[u32]) -> Option<&[usize]> {
+        let (_, index) =
+            self.indexes.get(predicate as usize)?.iter().find(|(known, _)| *known == mask)?;
+        Some(index.get(values).map_or(&[][..], Vec::as_slice))
     }
 }
 
@@ -562,41 +640,65 @@ impl Join<'_, '_> {
         let Some(atom) = action.positive.get(depth) else {
             return self.bind_rest(0, binding);
         };
-        let Some(candidates) = self.reachable.by_predicate.get(atom.predicate as usize) else {
+        let reachable = self.reachable;
+        let mask = action.known_before.get(depth).copied().unwrap_or(0);
+        let values = masked(mask, atom.slots.iter().map(|slot| slot_value(*slot, binding)));
+        if let Some(positions) = reachable.lookup(atom.predicate, mask, &values) {
+            for &position in positions {
+                if !self.join_atom(depth, atom, &reachable.all[position], binding) {
+                    return false;
+                }
+            }
+            return true;
+        }
+        let Some(candidates) = reachable.by_predicate.get(atom.predicate as usize) else {
             return true;
         };
         for key in candidates {
-            let mut newly_bound = Vec::new();
-            let mut consistent = true;
-            for (slot, &value) in atom.slots.iter().zip(&key[1..]) {
-                match *slot {
-                    Slot::Object(object) => consistent &= object == value,
-                    Slot::Parameter(index) => match binding.get(index).copied() {
-                        Some(UNBOUND) => {
-                            if action.candidates[index].binary_search(&value).is_ok() {
-                                binding[index] = value;
-                                newly_bound.push(index);
-                            } else {
-                                consistent = false;
-                            }
-                        }
-                        Some(bound) => consistent &= bound == value,
-                        None => consistent = false,
-                    },
-                }
-                if !consistent {
-                    break;
-                }
-            }
-            let keep_going = !consistent || self.join(depth + 1, binding);
-            for index in newly_bound {
-                binding[index] = UNBOUND;
-            }
-            if !keep_going {
+            if !self.join_atom(depth, atom, key, binding) {
                 return false;
             }
         }
         true
+    }
+
+    /// Joins `key`, an atom of the predicate of `atom` (the positive precondition at `depth`),
+    /// then the preconditions after it; whether to go on.
+    fn join_atom(
+        &mut self,
+        depth: usize,
+        atom: &LiftedAtom,
+        key: &[u32],
+        binding: &mut Vec<u32>,
+    ) -> bool {
+        let action = self.action;
+        let mut newly_bound = Vec::new();
+        let mut consistent = true;
+        for (slot, &value) in atom.slots.iter().zip(&key[1..]) {
+            match *slot {
+                Slot::Object(object) => consistent &= object == value,
+                Slot::Parameter(index) => match binding.get(index).copied() {
+                    Some(UNBOUND) => {
+                        if action.candidates[index].binary_search(&value).is_ok() {
+                            binding[index] = value;
+                            newly_bound.push(index);
+                        } else {
+                            consistent = false;
+                        }
+                    }
+                    Some(bound) => consistent &= bound == value,
+                    None => consistent = false,
+                },
+            }
+            if !consistent {
+                break;
+            }
+        }
+        let keep_going = !consistent || self.join(depth + 1, binding);
+        for index in newly_bound {
+            binding[index] = UNBOUND;
+        }
+        keep_going
     }
 
     /// Binds parameters that no positive precondition mentions, over their typed candidates.
@@ -634,4 +736,54 @@ fn equalities_hold(action: &LiftedAction, binding: &[u32]) -> bool {
         let (left, right) = (slot_value(left, binding), slot_value(right, binding));
         left == UNBOUND || right == UNBOUND || (left == right) == equal
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every action's bindings over the relaxation's atoms, in the order a join visits them,
+    /// with the atoms looked up in the joins' indexes or, without them, found by scanning.
+    fn bindings_in_order(domain: &str, problem: &str, indexed: bool) -> Vec<(usize, Vec<u32>)> {
+        let fixture = |name: &str| {
+            let path = format!("{}/tests/fixtures/{name}", env!("CARGO_MANIFEST_DIR"));
+            std::fs::read_to_string(&path).unwrap_or_else(|error| panic!("{path}: {error}"))
+        };
+        let domain = lamp_pddl::parse_domain(&fixture(domain)).expect("domain parses");
+        let problem = lamp_pddl::parse_problem(&fixture(problem), &domain).expect("parses");
+        let names = Names::new(&domain, &problem);
+        let actions = lift_actions(&domain, &names);
+        let initial: HashSet<Key> = problem.init.iter().map(|atom| names.key(atom)).collect();
+        let locks = GoalLocks::new(&actions, domain.predicates.len(), &[], &initial);
+        let grounding = Grounding { universe: &names.universe, initial: &initial, locks: &locks };
+        let poll = Poll { stop: &|| false, bindings: Cell::new(0), stopped: Cell::new(false) };
+        let reachable = relaxed_reachability(&domain, &actions, &initial, &grounding, &poll)
+            .expect("not stopped");
+        let mut atoms =
+            Reachable::new(domain.predicates.len(), if indexed { &actions } else { &[] });
+        for key in &reachable.all {
+            atoms.insert(key.clone());
+        }
+        let mut visited = Vec::new();
+        for (index, action) in actions.iter().enumerate() {
+            enumerate(index, action, &atoms, &grounding, &mut |binding| {
+                visited.push((index, binding.to_vec()));
+                true
+            });
+        }
+        visited
+    }
+
+    #[test]
+    fn a_join_through_the_indexes_visits_the_bindings_a_scan_visits_in_its_order() {
+        for (domain, problem) in [
+            ("cafe-learned-domain.pddl", "cafe-learned-18.pddl"),
+            ("blocksworld-domain.pddl", "blocksworld-reverse5.pddl"),
+            ("gripper-domain.pddl", "gripper-20.pddl"),
+        ] {
+            let scanned = bindings_in_order(domain, problem, false);
+            assert!(scanned.len() > 20, "{problem}: {} bindings", scanned.len());
+            assert_eq!(bindings_in_order(domain, problem, true), scanned, "{problem}");
+        }
+    }
 }

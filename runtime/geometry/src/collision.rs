@@ -19,6 +19,8 @@ pub struct CollisionShape {
     shape: SharedShape,
     /// Pose of the parry shape in the body's frame (a cylinder's quarter turn, for example).
     local: Pose,
+    /// The shape's bounding box in the body's own frame, for [`CollisionShape::bounding_box`].
+    frame_box: Aabb,
 }
 
 impl std::fmt::Debug for CollisionShape {
@@ -32,7 +34,12 @@ impl CollisionShape {
     pub fn new(shape: &Shape) -> Result<CollisionShape, GeometryError> {
         check_dimensions(shape)?;
         let (shape, local) = boundary::shared_shape(shape)?;
-        Ok(CollisionShape { shape, local })
+        Ok(CollisionShape::placed(shape, local))
+    }
+
+    fn placed(shape: SharedShape, local: Pose) -> CollisionShape {
+        let (mins, maxs) = boundary::aabb(&shape, &local);
+        CollisionShape { shape, local, frame_box: Aabb { mins, maxs } }
     }
 
     /// Several shapes, each placed in the body's frame, as one rigid body.
@@ -41,7 +48,7 @@ impl CollisionShape {
             [] => Err(GeometryError::EmptyBody),
             [(placement, shape)] => {
                 let single = CollisionShape::new(shape)?;
-                Ok(CollisionShape { local: placement * single.local, ..single })
+                Ok(CollisionShape::placed(single.shape, placement * single.local))
             }
             _ => {
                 let mut placed = Vec::with_capacity(parts.len());
@@ -50,7 +57,7 @@ impl CollisionShape {
                     let (shape, local) = boundary::shared_shape(shape)?;
                     placed.push((placement * local, shape));
                 }
-                Ok(CollisionShape { shape: boundary::compound(placed), local: Pose::identity() })
+                Ok(CollisionShape::placed(boundary::compound(placed), Pose::identity()))
             }
         }
     }
@@ -64,6 +71,20 @@ impl CollisionShape {
     pub fn aabb(&self, pose: &Pose) -> Aabb {
         let (mins, maxs) = boundary::aabb(&self.shape, &(pose * self.local));
         Aabb { mins, maxs }
+    }
+
+    /// A world-aligned box that contains the shape at `pose`, for broad phases: the box of the
+    /// shape in its own frame, turned and bounded again, grown by [`BOUNDING_SLACK`] so that
+    /// rounding never leaves it inside [`CollisionShape::aabb`]. It may be looser than that box
+    /// (a turned box's corners) and costs a fraction of it: a few dozen operations against
+    /// converting the pose and asking parry, which walks a compound's parts.
+    pub fn bounding_box(&self, pose: &Pose) -> Aabb {
+        let local = &self.frame_box;
+        let centre = pose * nalgebra::center(&local.mins, &local.maxs);
+        let half = (local.maxs - local.mins) * 0.5;
+        let turn = pose.rotation.to_rotation_matrix();
+        let reach = turn.matrix().abs() * half + crate::math::Vec3::repeat(BOUNDING_SLACK);
+        Aabb { mins: centre - reach, maxs: centre + reach }
     }
 }
 
@@ -114,6 +135,10 @@ fn spans_volume(points: &[Point3]) -> bool {
     let normal = axis.cross(&(third - first)).normalize();
     farthest(&|p| (p - first).dot(&normal).abs()).is_some_and(|(depth, _)| depth > TOLERANCE)
 }
+
+/// How far [`CollisionShape::bounding_box`] is grown beyond the turned box: far above the
+/// rounding of a pose's product, far below any clearance a query asks about.
+pub const BOUNDING_SLACK: Real = 1e-9;
 
 /// An axis-aligned bounding box in world coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]

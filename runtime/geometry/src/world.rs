@@ -2,7 +2,9 @@
 //!
 //! Bodies keep their world bounding box; a query first compares boxes and runs the exact test
 //! only on overlapping ones. Scenes here hold tens of bodies, where a linear pass over cached
-//! boxes beats maintaining a tree (it is a few dozen comparisons of six numbers).
+//! boxes beats maintaining a tree (it is a few dozen comparisons of six numbers). Many shapes
+//! that stand together (a robot's links) pass over the world once, for the bodies near all of
+//! them ([`CollisionWorld::bodies_near`]), and each then looks only among those.
 
 use crate::collision::{Aabb, CollisionShape, penetration_depth, within_margin};
 use crate::math::{Point3, Pose, Real};
@@ -99,7 +101,8 @@ impl CollisionWorld {
         self.first_contact_in_box(shape, pose, &aabb, margin, skip)
     }
 
-    /// [`CollisionWorld::first_contact`] with the query's bounding box already computed.
+    /// [`CollisionWorld::first_contact`] with the query's bounding box already computed (any
+    /// box that contains the shape at `pose`).
     pub fn first_contact_in_box(
         &self,
         shape: &CollisionShape,
@@ -108,7 +111,37 @@ impl CollisionWorld {
         margin: Real,
         skip: impl Fn(BodyId) -> bool,
     ) -> Option<BodyId> {
-        self.first_body(aabb, margin.max(0.0), skip, |other, other_pose| {
+        self.first_body(0..self.entries.len(), aabb, margin.max(0.0), skip, |other, other_pose| {
+            within_margin(shape, pose, other, other_pose, margin)
+        })
+    }
+
+    /// The enabled bodies, in id order, whose boxes overlap `aabb` within `grow`: where a
+    /// query about anything inside `aabb` need look ([`CollisionWorld::first_contact_among`]).
+    /// Checking many shapes that stand together (a robot's links) against these few, rather
+    /// than each against every body, gives the same answers for a pass over the world.
+    pub fn bodies_near(&self, aabb: &Aabb, grow: Real) -> Vec<BodyId> {
+        (self.entries.iter().enumerate())
+            .filter(|(_, entry)| entry.enabled && entry.shape.is_some())
+            .filter(|(_, entry)| entry.aabb.overlaps(aabb, grow))
+            .map(|(index, _)| BodyId(index))
+            .collect()
+    }
+
+    /// [`CollisionWorld::first_contact_in_box`] among `bodies` only (in the order given), which
+    /// must include every body that query could meet: [`CollisionWorld::bodies_near`] of a box
+    /// containing `aabb`, grown by at least `margin`.
+    pub fn first_contact_among(
+        &self,
+        bodies: &[BodyId],
+        shape: &CollisionShape,
+        pose: &Pose,
+        aabb: &Aabb,
+        margin: Real,
+        skip: impl Fn(BodyId) -> bool,
+    ) -> Option<BodyId> {
+        let ids = bodies.iter().map(|id| id.0);
+        self.first_body(ids, aabb, margin.max(0.0), skip, |other, other_pose| {
             within_margin(shape, pose, other, other_pose, margin)
         })
     }
@@ -122,21 +155,25 @@ impl CollisionWorld {
         depth: Real,
         skip: impl Fn(BodyId) -> bool,
     ) -> Option<BodyId> {
-        self.first_body(&shape.aabb(pose), 0.0, skip, |other, other_pose| {
+        let all = 0..self.entries.len();
+        self.first_body(all, &shape.aabb(pose), 0.0, skip, |other, other_pose| {
             penetration_depth(shape, pose, other, other_pose) > depth
         })
     }
 
-    /// The first enabled body (in id order) whose box overlaps `aabb` within `grow`, that `skip`
-    /// keeps, and that `hits` (given its shape and pose): the broad phase every query shares.
+    /// The first enabled body of `ids` (in their order) whose box overlaps `aabb` within
+    /// `grow`, that `skip` keeps, and that `hits` (given its shape and pose): the broad phase
+    /// every query shares.
     fn first_body(
         &self,
+        ids: impl IntoIterator<Item = usize>,
         aabb: &Aabb,
         grow: Real,
         skip: impl Fn(BodyId) -> bool,
         hits: impl Fn(&CollisionShape, &Pose) -> bool,
     ) -> Option<BodyId> {
-        self.entries.iter().enumerate().find_map(|(index, entry)| {
+        ids.into_iter().find_map(|index| {
+            let entry = self.entries.get(index)?;
             let other = entry.shape.as_ref().filter(|_| entry.enabled)?;
             let hit =
                 entry.aabb.overlaps(aabb, grow) && !skip(BodyId(index)) && hits(other, &entry.pose);

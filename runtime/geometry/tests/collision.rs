@@ -204,6 +204,80 @@ fn broad_phase_agrees_with_brute_force() {
 }
 
 #[test]
+fn a_bounding_box_holds_the_exact_one_and_the_bodies_near_a_group_answer_for_each() {
+    let mut state: u64 = 777;
+    let mut next = || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let turned = |next: &mut dyn FnMut() -> f64| {
+        let rotation = nalgebra::UnitQuaternion::from_euler_angles(
+            next() * 6.3 - 3.15,
+            next() * 6.3 - 3.15,
+            next() * 6.3 - 3.15,
+        );
+        Pose::from_parts(
+            nalgebra::Translation3::new(next() - 0.5, next() - 0.5, next() * 0.3),
+            rotation,
+        )
+    };
+    let shapes = [
+        CollisionShape::new(&Shape::Box { half_extents: Vec3::new(0.03, 0.06, 0.01) }).unwrap(),
+        CollisionShape::new(&Shape::Cylinder { radius: 0.03, half_height: 0.07 }).unwrap(),
+        CollisionShape::new(&Shape::Sphere { radius: 0.04 }).unwrap(),
+        CollisionShape::compound(&[
+            (at(0.0, 0.0, 0.1), Shape::Box { half_extents: Vec3::new(0.02, 0.02, 0.05) }),
+            (
+                Pose::from_parts(
+                    nalgebra::Translation3::new(0.05, 0.0, 0.0),
+                    nalgebra::UnitQuaternion::from_euler_angles(0.4, 0.0, 0.9),
+                ),
+                Shape::Cylinder { radius: 0.01, half_height: 0.04 },
+            ),
+        ])
+        .unwrap(),
+    ];
+    let mut world = CollisionWorld::new();
+    for i in 0..40 {
+        world.insert(shapes[i % shapes.len()].clone(), turned(&mut next));
+    }
+    let (mut hits, mut misses) = (0, 0);
+    for _ in 0..300 {
+        // A group of three shapes standing together, like a robot's links.
+        let group: Vec<(&CollisionShape, Pose)> = (0..3)
+            .map(|k| {
+                let pose = turned(&mut next);
+                let near = Pose::from_parts(
+                    nalgebra::Translation3::from(pose.translation.vector * 0.1),
+                    pose.rotation,
+                );
+                (&shapes[(k + 1) % shapes.len()], if k == 0 { pose } else { near })
+            })
+            .collect();
+        let boxes: Vec<_> = group.iter().map(|(shape, pose)| shape.bounding_box(pose)).collect();
+        for ((shape, pose), bounding) in group.iter().zip(&boxes) {
+            let exact = shape.aabb(pose);
+            for axis in 0..3 {
+                assert!(bounding.mins[axis] <= exact.mins[axis]);
+                assert!(bounding.maxs[axis] >= exact.maxs[axis]);
+            }
+        }
+        let all = boxes.iter().skip(1).fold(boxes[0], |all, one| all.union(one));
+        for margin in [0.0, 0.01] {
+            let near = world.bodies_near(&all, margin);
+            for ((shape, pose), bounding) in group.iter().zip(&boxes) {
+                let expected = world.first_contact(shape, pose, margin, |_| false);
+                let among =
+                    world.first_contact_among(&near, shape, pose, bounding, margin, |_| false);
+                assert_eq!(among, expected);
+                if expected.is_some() { hits += 1 } else { misses += 1 }
+            }
+        }
+    }
+    assert!(hits > 50 && misses > 50, "{hits} hits, {misses} misses");
+}
+
+#[test]
 fn disabled_and_skipped_bodies_are_ignored() {
     let mut world = CollisionWorld::new();
     let a = world.insert(cube(0.05), at(0.0, 0.0, 0.0));

@@ -69,15 +69,24 @@ impl Scene {
 
         let moves = |index: usize| moving.is_none_or(|mask| mask[index]);
         // Every link's world box, once: the broad phase against bodies, each other and the
-        // held object (exact tests are far dearer than comparing boxes).
+        // held object (exact tests are far dearer than comparing boxes). The boxes only filter,
+        // so the cheaper, looser ones do.
         let boxes: Vec<Aabb> =
-            state.links.iter().map(|(link, shape)| shape.aabb(&poses[*link])).collect();
+            state.links.iter().map(|(link, shape)| shape.bounding_box(&poses[*link])).collect();
+        // The bodies near any moving link: each link is then compared with these few, not
+        // with every body of the scene.
+        let reach = (0..boxes.len()).filter(|&index| moves(index)).map(|index| boxes[index]);
+        let near = reach
+            .reduce(|all, one| all.union(&one))
+            .map(|all| self.collision.bodies_near(&all, self.margin.max(0.0)))
+            .unwrap_or_default();
         for (index, (link, shape)) in state.links.iter().enumerate() {
             if !moves(index) {
                 continue;
             }
             let pose = poses[*link];
-            let hit = self.collision.first_contact_in_box(
+            let hit = self.collision.first_contact_among(
+                &near,
                 shape,
                 &pose,
                 &boxes[index],
@@ -109,10 +118,14 @@ impl Scene {
             let held_pose = poses[gripper_link] * held.grasp;
             let held_shape = self.collision.shape(BodyId(held.body))?;
             let skip = |id: BodyId| id.0 == held.body;
-            let held_box = held_shape.aabb(&held_pose);
-            if let Some(body) =
-                self.collision.first_contact(held_shape, &held_pose, self.margin, skip)
-            {
+            let held_box = held_shape.bounding_box(&held_pose);
+            if let Some(body) = self.collision.first_contact_in_box(
+                held_shape,
+                &held_pose,
+                &held_box,
+                self.margin,
+                skip,
+            ) {
                 return Some(Contact::HeldBody {
                     held: held_name.clone(),
                     body: self.bodies[body.0].name.clone(),

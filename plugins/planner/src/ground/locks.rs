@@ -73,6 +73,15 @@ impl GoalLocks {
             return false;
         }
         self.consumed[index].iter().any(|atom| {
+            // Asked at every node of a join: most atoms are not bound yet, and are answered
+            // before a key is built.
+            let bound = atom.slots.iter().all(|slot| match *slot {
+                Slot::Parameter(index) => binding.get(index).is_some_and(|&v| v != UNBOUND),
+                Slot::Object(_) => true,
+            });
+            if !bound {
+                return false;
+            }
             let fact = instantiate(atom, binding);
             if fact.contains(&UNBOUND) {
                 return false;
