@@ -307,3 +307,62 @@ fn markers_keep_their_id_and_pose_but_meet_nothing() {
     assert_eq!(world.pose(marker), Some(&at(1.0, 2.0, 3.0)));
     assert_eq!(world.contacts_between_bodies(0.0), Vec::new());
 }
+
+#[test]
+fn the_box_test_before_gjk_never_changes_an_answer() {
+    // Two thin planks side by side, both turned 45° about z: their world boxes overlap, their
+    // own boxes are 5 mm apart.
+    let plank =
+        CollisionShape::new(&Shape::Box { half_extents: Vec3::new(0.1, 0.01, 0.01) }).unwrap();
+    let turn = nalgebra::UnitQuaternion::from_euler_angles(0.0, 0.0, std::f64::consts::FRAC_PI_4);
+    let first = Pose::from_parts(nalgebra::Translation3::new(0.0, 0.0, 0.0), turn);
+    let side = turn * Vec3::new(0.0, 0.025, 0.0);
+    let second = Pose::from_parts(nalgebra::Translation3::from(side), turn);
+    assert!(plank.aabb(&first).overlaps(&plank.aabb(&second), 0.0));
+    assert!(!intersects(&plank, &first, &plank, &second));
+    assert!(!within_margin(&plank, &first, &plank, &second, 0.004));
+    assert!(within_margin(&plank, &first, &plank, &second, 0.006));
+
+    // Shapes at random turns, close enough to touch half the time: every answer is the one
+    // parry's distance gives, which no box test comes before.
+    let mut state: u64 = 4242;
+    let mut next = || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let shapes = [
+        plank.clone(),
+        CollisionShape::new(&Shape::Cylinder { radius: 0.02, half_height: 0.08 }).unwrap(),
+        CollisionShape::new(&Shape::Sphere { radius: 0.03 }).unwrap(),
+        CollisionShape::compound(&[
+            (at(0.0, 0.0, 0.06), Shape::Box { half_extents: Vec3::new(0.01, 0.01, 0.04) }),
+            (at(0.05, 0.0, 0.0), Shape::Sphere { radius: 0.015 }),
+        ])
+        .unwrap(),
+    ];
+    let (mut touching, mut apart) = (0, 0);
+    for k in 0..4000 {
+        let mut pose = || {
+            let rotation = nalgebra::UnitQuaternion::from_euler_angles(
+                next() * 6.3,
+                next() * 6.3,
+                next() * 6.3,
+            );
+            let place = nalgebra::Translation3::new(
+                0.14 * next() - 0.07,
+                0.14 * next() - 0.07,
+                0.14 * next() - 0.07,
+            );
+            Pose::from_parts(place, rotation)
+        };
+        let (a, b) = (&shapes[k % 4], &shapes[(k / 4) % 4]);
+        let (pose_a, pose_b) = (pose(), pose());
+        let gap = distance(a, &pose_a, b, &pose_b);
+        assert_eq!(intersects(a, &pose_a, b, &pose_b), gap == 0.0, "pair {k}");
+        for margin in [0.002, 0.01] {
+            assert_eq!(within_margin(a, &pose_a, b, &pose_b, margin), gap <= margin, "pair {k}");
+        }
+        if gap == 0.0 { touching += 1 } else { apart += 1 }
+    }
+    assert!(touching > 500 && apart > 500, "{touching} touching, {apart} apart");
+}
