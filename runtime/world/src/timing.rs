@@ -7,6 +7,7 @@
 
 use lamp_robot::{Limits, Robot, time_path};
 use lamp_trajectory::Step;
+use rayon::prelude::*;
 
 use crate::error::WorldError;
 
@@ -66,7 +67,7 @@ pub fn time_steps(steps: &mut [Step], robots: &[&Robot]) -> Result<u64, WorldErr
         .collect();
     let limits = Limits { velocity: &velocity, acceleration: &acceleration };
     let pieces: Vec<Vec<f64>> = steps
-        .windows(2)
+        .par_windows(2)
         .map(|pair| {
             let mut piece = vec![0.0; velocity.len()];
             let mut offset = 0;
@@ -83,19 +84,34 @@ pub fn time_steps(steps: &mut [Step], robots: &[&Robot]) -> Result<u64, WorldErr
     let time = |start: usize, pieces: &[Vec<f64>]| {
         time_path(pieces, &limits).map_err(|error| fail(start + 1, error.to_string()))
     };
-    let mut durations = vec![0.0; pieces.len()];
+    // The runs of motion between grasp changes, and each grasp change: each is timed on its
+    // own, so they are timed side by side, and the first error in trajectory order is the one
+    // reported, as in turn.
+    let mut runs: Vec<(usize, usize)> = Vec::new();
     let mut start = 0;
     while start < pieces.len() {
-        if grasps[start] {
-            // The robot is at rest while its gripper closes or opens; a motion recorded in the
-            // same step (none in a solution) is timed on its own.
-            durations[start] = GRASP_SECONDS + time(start, &pieces[start..=start])?[0];
-            start += 1;
-            continue;
-        }
-        let end = (start..pieces.len()).find(|&k| grasps[k]).unwrap_or(pieces.len());
-        durations[start..end].copy_from_slice(&time(start, &pieces[start..end])?);
+        let end = match grasps[start] {
+            true => start + 1,
+            false => (start..pieces.len()).find(|&k| grasps[k]).unwrap_or(pieces.len()),
+        };
+        runs.push((start, end));
         start = end;
+    }
+    let timed: Vec<Result<Vec<f64>, WorldError>> = runs
+        .par_iter()
+        .map(|&(start, end)| {
+            let mut durations = time(start, &pieces[start..end])?;
+            if grasps[start] {
+                // The robot is at rest while its gripper closes or opens; a motion recorded in
+                // the same step (none in a solution) is timed on its own.
+                durations[0] += GRASP_SECONDS;
+            }
+            Ok(durations)
+        })
+        .collect();
+    let mut durations = vec![0.0; pieces.len()];
+    for (&(start, end), run) in runs.iter().zip(timed) {
+        durations[start..end].copy_from_slice(&run?);
     }
     let Some(first) = steps.first().map(|step| step.time_nanoseconds) else {
         return Ok(0);
