@@ -203,7 +203,8 @@ pub fn abstract_facts<C: RegionClassifier>(
 /// of its instances depend on nothing else (one secondary per primary and region is decided
 /// among them). Relations and clear relations of other groups are left out, and so are a pair's
 /// nowhere relations unless all its groups are kept (whether an object is in a region of no
-/// primary asks every primary). Sorted, each fact once.
+/// primary asks every primary). Sorted; each fact comes once, from its one instance, primary or
+/// secondary.
 fn facts_of_groups<C: RegionClassifier>(
     vocabulary: &[PairVocabulary],
     classifiers: &[Vec<C>],
@@ -265,7 +266,6 @@ fn facts_of_groups<C: RegionClassifier>(
         }
     }
     facts.sort_unstable();
-    facts.dedup();
     facts
 }
 

@@ -111,9 +111,7 @@ impl CollisionWorld {
         margin: Real,
         skip: impl Fn(BodyId) -> bool,
     ) -> Option<BodyId> {
-        self.first_body(0..self.entries.len(), aabb, margin.max(0.0), skip, |other, other_pose| {
-            within_margin(shape, pose, other, other_pose, margin)
-        })
+        self.first_within_margin(0..self.entries.len(), shape, pose, aabb, margin, skip)
     }
 
     /// The enabled bodies, in id order, whose boxes overlap `aabb` within `grow`: where a
@@ -141,6 +139,20 @@ impl CollisionWorld {
         skip: impl Fn(BodyId) -> bool,
     ) -> Option<BodyId> {
         let ids = bodies.iter().map(|id| id.0);
+        self.first_within_margin(ids, shape, pose, aabb, margin, skip)
+    }
+
+    /// The first body of `ids` closer than `margin` to `shape` at `pose` (inside `aabb`): the
+    /// contact queries above over all bodies or some.
+    fn first_within_margin(
+        &self,
+        ids: impl IntoIterator<Item = usize>,
+        shape: &CollisionShape,
+        pose: &Pose,
+        aabb: &Aabb,
+        margin: Real,
+        skip: impl Fn(BodyId) -> bool,
+    ) -> Option<BodyId> {
         self.first_body(ids, aabb, margin.max(0.0), skip, |other, other_pose| {
             within_margin(shape, pose, other, other_pose, margin)
         })

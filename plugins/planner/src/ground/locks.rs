@@ -77,15 +77,12 @@ impl GoalLocks {
             // before a key is built.
             let bound = atom.slots.iter().all(|slot| match *slot {
                 Slot::Parameter(index) => binding.get(index).is_some_and(|&v| v != UNBOUND),
-                Slot::Object(_) => true,
+                Slot::Object(object) => object != UNBOUND,
             });
             if !bound {
                 return false;
             }
             let fact = instantiate(atom, binding);
-            if fact.contains(&UNBOUND) {
-                return false;
-            }
             let Some(goals) = self.goals_of.get(&fact) else { return false };
             goals.iter().any(|goal| {
                 action.add.iter().filter(|added| added.predicate == goal[0]).all(|added| {
